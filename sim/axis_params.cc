@@ -1,0 +1,22 @@
+#include "sim/axis_params.h"
+
+namespace axis {
+
+std::vector<ParamInfo> ListParams() {
+  std::vector<ParamInfo> out;
+  AxisParams<double> p;
+  VisitParams([&](const char* name, const char* unit,
+                  double&) { out.push_back({name, unit}); },
+              p);
+  return out;
+}
+
+double* FindParam(AxisParams<double>* params, const std::string& name) {
+  double* found = nullptr;
+  VisitParams([&](const char* n, const char*, double& field) {
+    if (name == n) found = &field;
+  }, *params);
+  return found;
+}
+
+}  // namespace axis

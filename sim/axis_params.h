@@ -1,0 +1,192 @@
+// Parameters of one servo axis: the symbols of MODEL.md §2 and the effect
+// parameters of MODEL.md §7, as a plain struct templated on the scalar so that
+// the same values can be doubles or ceres::Jet for automatic differentiation.
+//
+// Every field carries the config name used in YAML files, in the fit's
+// parameter tables and on the command line (`--set NAME=VALUE`); the table of
+// names and units is VisitParams() below, the single place that lists them.
+#ifndef SIM_AXIS_PARAMS_H_
+#define SIM_AXIS_PARAMS_H_
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "sim/channels.h"
+
+namespace axis {
+
+// Amplifier configuration, MODEL.md §4.
+enum class Amplifier {
+  kAnalogVelocityLoop,  // preamp, current loop and both limits (§3 as written)
+  kCurrentSource,       // y6 = K_i·V_c exactly; V_c clamped only if V_L finite
+  kForceSource,         // F = g_F·U on the load; no motor or preamp states
+};
+
+// Mechanical coupling between motor and load, MODEL.md §4.
+enum class Coupling {
+  kGear,   // eq. 4–5: separate motor and load states, backlash H, stiffness k_g
+  kRigid,  // X ≡ 0: one inertia, x = r_g·θ
+};
+
+// Which dynamic effects of MODEL.md §7 are switched on. An enabled effect
+// whose parameters are zero adds nothing, which the score test relies on.
+// The sensor effects (`sensor_delay`, `sensor_bias`) are per output channel
+// and live in AxisParams::tau_d and AxisParams::b with SensorSwitches.
+struct EffectSwitches {
+  bool coulomb = false;
+  bool stribeck = false;
+  bool viscous_asymmetry = false;
+  bool load_offset = false;
+  bool spring = false;
+  bool payload = false;
+  bool motor_coulomb = false;
+  bool cogging = false;
+};
+
+// Per-channel sensor effects of MODEL.md §7, indexed by Channel.
+struct SensorSwitches {
+  std::array<bool, kNumChannels> delay{};  // sensor_delay on this channel
+  std::array<bool, kNumChannels> bias{};   // sensor_bias on this channel
+};
+
+// The discrete (non-differentiable) part of a model: which equations apply.
+struct AxisStructure {
+  Amplifier amplifier = Amplifier::kAnalogVelocityLoop;
+  Coupling coupling = Coupling::kGear;
+  EffectSwitches effects;
+  SensorSwitches sensors;
+  int N_cog = 6;  // cogging periods per motor revolution (fixed, §7)
+};
+
+// Numerical parameters. Defaults are the X axis of MODEL.md §2 and the
+// "off" values of the §7 effects. Units are SI as listed in VisitParams.
+template <typename T>
+struct AxisParams {
+  // MODEL.md §2 (paper table, fitted values and assumptions).
+  T R{0.56};
+  T L{0.00235};
+  T K_e{0.289};
+  T K_tau{0.289};
+  T J_m{0.000847};
+  T B_m{0.000733};
+  T K_t{0.0668};
+  T r_g{0.00573};
+  T H{0.00001};
+  T M{146.0};
+  T T_z{0.00705};
+  T T_p{0.04};
+  T T_r{0.000159};
+  T K1{1014.0};
+  T K2{870.0};
+  T K_i{3.0};
+  T V_M{95.0};
+  T V_L{2.7};
+  T B_a{200.0};
+  T b_g{1500.0};
+  T k_g{5.0e6};
+  T K_a{1000.0};
+  T F_s{0.0};
+  T w{0.001};
+  // MODEL.md §4, force_source drive gain.
+  T g_F{0.0};
+  // MODEL.md §7 effects.
+  T v_eps{1e-3};      // sgn_ε width on the load side
+  T omega_eps{1e-3};  // sgn_ε width on the motor side
+  T F_c{0.0};
+  T F_st{0.0};
+  T v_st{0.01};
+  T Delta_B{0.0};
+  T F_0{0.0};
+  T k_x{0.0};
+  T x_0{0.0};
+  T Delta_M{0.0};
+  T T_c{0.0};
+  T A_cog{0.0};
+  T phi_cog{0.0};
+  // Sensor effects, per channel (index Channel): tau_d.<channel>, b.<channel>.
+  std::array<T, kNumChannels> tau_d{};
+  std::array<T, kNumChannels> b{};
+
+  // Element-wise conversion, e.g. AxisParams<double> → AxisParams<Jet>.
+  template <typename U>
+  AxisParams<U> cast() const;
+};
+
+// Calls visit(name, unit, field...) once for every parameter, passing the
+// same field of each of the structs `params...` (all AxisParams of any
+// scalar). Names are the config names of MODEL.md §2/§7; per-channel sensor
+// parameters are named "tau_d.<channel>" and "b.<channel>" (unit of the
+// channel for b). This is the only list of parameter names in the project.
+template <typename Visitor, typename... Params>
+void VisitParams(Visitor&& visit, Params&... params) {
+  visit("R", "Ohm", params.R...);
+  visit("L", "H", params.L...);
+  visit("K_e", "V*s/rad", params.K_e...);
+  visit("K_tau", "N*m/A", params.K_tau...);
+  visit("J_m", "kg*m^2", params.J_m...);
+  visit("B_m", "N*m*s", params.B_m...);
+  visit("K_t", "V*s/rad", params.K_t...);
+  visit("r_g", "m", params.r_g...);
+  visit("H", "m", params.H...);
+  visit("M", "kg", params.M...);
+  visit("T_z", "s", params.T_z...);
+  visit("T_p", "s", params.T_p...);
+  visit("T_r", "s", params.T_r...);
+  visit("K1", "1", params.K1...);
+  visit("K2", "1", params.K2...);
+  visit("K_i", "A/V", params.K_i...);
+  visit("V_M", "V", params.V_M...);
+  visit("V_L", "V", params.V_L...);
+  visit("B_a", "N*s/m", params.B_a...);
+  visit("b_g", "N*s/m", params.b_g...);
+  visit("k_g", "N/m", params.k_g...);
+  visit("K_a", "V/V", params.K_a...);
+  visit("F_s", "N", params.F_s...);
+  visit("w", "m/s", params.w...);
+  visit("g_F", "N/V", params.g_F...);
+  visit("v_eps", "m/s", params.v_eps...);
+  visit("omega_eps", "rad/s", params.omega_eps...);
+  visit("F_c", "N", params.F_c...);
+  visit("F_st", "N", params.F_st...);
+  visit("v_st", "m/s", params.v_st...);
+  visit("Delta_B", "N*s/m", params.Delta_B...);
+  visit("F_0", "N", params.F_0...);
+  visit("k_x", "N/m", params.k_x...);
+  visit("x_0", "m", params.x_0...);
+  visit("Delta_M", "kg", params.Delta_M...);
+  visit("T_c", "N*m", params.T_c...);
+  visit("A_cog", "N*m", params.A_cog...);
+  visit("phi_cog", "rad", params.phi_cog...);
+  for (int c = 0; c < kNumChannels; ++c) {
+    const Channel ch = static_cast<Channel>(c);
+    if (ch == Channel::kT) continue;
+    const std::string name = ChannelName(ch);
+    visit(("tau_d." + name).c_str(), "s", params.tau_d[c]...);
+    visit(("b." + name).c_str(), ChannelUnit(ch), params.b[c]...);
+  }
+}
+
+template <typename T>
+template <typename U>
+AxisParams<U> AxisParams<T>::cast() const {
+  AxisParams<U> out;
+  VisitParams([](const char*, const char*, const T& from,
+                 U& to) { to = U(from); },
+              *this, out);
+  return out;
+}
+
+// Name and unit of every parameter, in VisitParams order.
+struct ParamInfo {
+  std::string name;
+  std::string unit;
+};
+std::vector<ParamInfo> ListParams();
+
+// Pointer to the field called `name`, or nullptr if no parameter has it.
+double* FindParam(AxisParams<double>* params, const std::string& name);
+
+}  // namespace axis
+
+#endif  // SIM_AXIS_PARAMS_H_

@@ -1,0 +1,532 @@
+#include "sim/config.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "sim/csv.h"
+
+namespace axis {
+namespace {
+
+using Range = YamlMap::Range;
+
+const std::vector<std::string> kAmplifiers = {
+    "analog_velocity_loop", "current_source", "force_source"};
+const std::vector<std::string> kCouplings = {"gear", "rigid"};
+
+Amplifier ParseAmplifier(const std::string& s) {
+  if (s == "current_source") return Amplifier::kCurrentSource;
+  if (s == "force_source") return Amplifier::kForceSource;
+  return Amplifier::kAnalogVelocityLoop;
+}
+
+Coupling ParseCoupling(const std::string& s) {
+  return s == "rigid" ? Coupling::kRigid : Coupling::kGear;
+}
+
+// Parameters a configuration needs (MODEL.md §2–4): the ones the equations
+// of that configuration read.
+std::vector<std::string> RequiredParams(const AxisStructure& s) {
+  std::vector<std::string> out = {"M", "B_a"};
+  const bool force = s.amplifier == Amplifier::kForceSource;
+  if (force) {
+    out.push_back("g_F");
+  } else {
+    for (const char* n : {"r_g", "J_m", "B_m", "K_tau", "K_t", "T_z", "T_p",
+                          "T_r", "K1", "K2", "K_i", "V_L"}) {
+      out.push_back(n);
+    }
+    if (s.amplifier == Amplifier::kAnalogVelocityLoop) {
+      for (const char* n : {"R", "L", "K_e", "V_M", "K_a"}) out.push_back(n);
+    }
+  }
+  if (s.coupling == Coupling::kGear) {
+    for (const char* n : {"H", "k_g", "b_g"}) out.push_back(n);
+  }
+  return out;
+}
+
+// Range of each parameter that has one (MODEL.md §2, §7).
+Range ParamRange(const std::string& name) {
+  static const std::set<std::string> positive = {
+      "L", "J_m", "r_g", "M", "T_p", "T_r", "K_i", "V_M", "V_L", "K_a",
+      "w", "v_eps", "omega_eps", "v_st"};
+  static const std::set<std::string> non_negative = {
+      "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
+  if (positive.count(name)) return Range::kPositive;
+  if (non_negative.count(name)) return Range::kNonNegative;
+  if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
+  return Range::kAny;
+}
+
+bool InRange(double x, Range r) {
+  if (std::isnan(x)) return false;
+  switch (r) {
+    case Range::kAny: return true;
+    case Range::kPositive: return x > 0.0;
+    case Range::kNonNegative: return x >= 0.0;
+    case Range::kFinitePositive: return x > 0.0 && std::isfinite(x);
+  }
+  return true;
+}
+
+const char* RangeWords(Range r) {
+  switch (r) {
+    case Range::kPositive: return "a positive number";
+    case Range::kNonNegative: return "a number >= 0";
+    default: return "a number";
+  }
+}
+
+std::string FormatNumber(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+void ParseParameters(YamlMap& map, AxisConfig* config) {
+  std::set<std::string> given;
+  for (const auto& entry : map.node()) given.insert(entry.first.Scalar());
+  VisitParams([&](const char* name, const char*, double& field) {
+    if (!given.count(name)) return;
+    field = map.Number(name, ParamRange(name));
+  }, config->params);
+  for (const std::string& name : RequiredParams(config->structure)) {
+    if (!given.count(name)) {
+      ThrowConfigError(map.file(), map.node(), map.KeyPath(name),
+                       "a value (required by this amplifier and coupling)",
+                       "nothing");
+    }
+  }
+  map.Finish();
+}
+
+struct EffectSpec {
+  const char* name;
+  std::vector<const char*> params;
+  bool EffectSwitches::*flag;
+};
+
+const std::vector<EffectSpec>& DynamicEffects() {
+  static const std::vector<EffectSpec> effects = {
+      {"coulomb", {"F_c"}, &EffectSwitches::coulomb},
+      {"stribeck", {"F_st", "v_st"}, &EffectSwitches::stribeck},
+      {"viscous_asymmetry", {"Delta_B"}, &EffectSwitches::viscous_asymmetry},
+      {"load_offset", {"F_0"}, &EffectSwitches::load_offset},
+      {"spring", {"k_x", "x_0"}, &EffectSwitches::spring},
+      {"payload", {"Delta_M"}, &EffectSwitches::payload},
+      {"motor_coulomb", {"T_c"}, &EffectSwitches::motor_coulomb},
+      {"cogging", {"A_cog", "phi_cog"}, &EffectSwitches::cogging},
+  };
+  return effects;
+}
+
+void ParseSensorEffect(YamlMap& map, bool delay, AxisConfig* config) {
+  for (const auto& entry : map.node()) {
+    const std::string channel_name = entry.first.Scalar();
+    const auto channel = ParseChannel(channel_name);
+    if (!channel || *channel == Channel::kT) {
+      ThrowConfigError(map.file(), entry.first, map.KeyPath(channel_name),
+                       "a channel name (" + ChannelNameList() + ", not t)",
+                       "'" + channel_name + "'");
+    }
+    const int c = static_cast<int>(*channel);
+    if (delay) {
+      config->structure.sensors.delay[c] = true;
+      config->params.tau_d[c] = map.Number(channel_name, Range::kNonNegative);
+    } else {
+      config->structure.sensors.bias[c] = true;
+      config->params.b[c] = map.Number(channel_name, Range::kAny);
+    }
+  }
+  map.Finish();
+}
+
+}  // namespace
+
+void ParseEffects(YamlMap& effects, AxisConfig* config) {
+  for (const auto& entry : effects.node()) {
+    const std::string name = entry.first.Scalar();
+    YamlMap body(effects.Optional(name), effects.file(),
+                 effects.KeyPath(name) + ".");
+    if (name == "sensor_delay" || name == "sensor_bias") {
+      ParseSensorEffect(body, name == "sensor_delay", config);
+      continue;
+    }
+    const EffectSpec* spec = nullptr;
+    for (const EffectSpec& e : DynamicEffects()) {
+      if (name == e.name) spec = &e;
+    }
+    if (spec == nullptr) {
+      std::string known;
+      for (const EffectSpec& e : DynamicEffects()) known += std::string(e.name) + ", ";
+      known += "sensor_delay, sensor_bias";
+      ThrowConfigError(effects.file(), entry.first, effects.KeyPath(name),
+                       "an effect of MODEL.md section 7 (" + known + ")",
+                       "'" + name + "'");
+    }
+    config->structure.effects.*(spec->flag) = true;
+    for (const char* p : spec->params) {
+      *FindParam(&config->params, p) = body.Number(p, ParamRange(p));
+    }
+    if (name == "cogging") {
+      config->structure.N_cog =
+          static_cast<int>(body.Integer("N_cog", config->structure.N_cog, 1, 10000));
+    }
+    body.Finish();
+  }
+}
+
+void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
+  AxisParams<double> p = config.params;
+  VisitParams([&](const char* name, const char*, double& value) {
+    const Range r = ParamRange(name);
+    if (!InRange(value, r)) {
+      throw std::invalid_argument(where + ": parameter '" + name +
+                                  "': expected " + RangeWords(r) + ", got " +
+                                  FormatNumber(value));
+    }
+  }, p);
+  if (config.structure.amplifier == Amplifier::kForceSource &&
+      config.structure.coupling != Coupling::kRigid) {
+    throw std::invalid_argument(
+        where + ": key 'coupling': expected rigid with amplifier "
+                "force_source (there is no motor to couple), got gear");
+  }
+}
+
+AxisConfig LoadAxisConfig(const std::string& path) {
+  AxisConfig config;
+  config.path = path;
+  YamlMap root(LoadYamlFile(path), path, "");
+  config.name = root.String("name");
+  config.source = root.String("source", "");
+  root.String("description", "");
+  config.structure.amplifier = ParseAmplifier(root.Choice("amplifier", kAmplifiers));
+  config.structure.coupling = ParseCoupling(root.Choice("coupling", kCouplings));
+  YamlMap params(root.Required("parameters"), path, "parameters.");
+  ParseParameters(params, &config);
+  if (const YAML::Node effects = root.Optional("effects")) {
+    YamlMap map(effects, path, "effects.");
+    ParseEffects(map, &config);
+  }
+  if (const YAML::Node controller = root.Optional("controller")) {
+    YamlMap map(controller, path, "controller.");
+    config.controller = ParseController(map, ControllerConfig{});
+    config.has_controller = true;
+  }
+  root.Finish();
+  ValidateAxisConfig(config, path);
+  return config;
+}
+
+void SetParam(AxisConfig* config, const std::string& name, double value,
+              const std::string& where) {
+  double* field = FindParam(&config->params, name);
+  if (field == nullptr) {
+    std::string names;
+    for (const ParamInfo& info : ListParams()) {
+      if (info.name.find('.') != std::string::npos) continue;
+      names += (names.empty() ? "" : ", ") + info.name;
+    }
+    throw std::invalid_argument(where + ": expected a parameter name of the "
+                                "model (" + names + ", tau_d.<channel>, "
+                                "b.<channel>), got '" + name + "'");
+  }
+  *field = value;
+}
+
+void ApplySetArgument(AxisConfig* config, const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  const std::string where = "--set " + assignment;
+  if (eq == std::string::npos || eq == 0) {
+    throw std::invalid_argument(where + ": expected NAME=VALUE, got '" +
+                                assignment + "'");
+  }
+  const std::string name = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end == nullptr || *end != '\0' || std::isnan(value)) {
+    throw std::invalid_argument(where + ": expected a number after '=', got '" +
+                                text + "'");
+  }
+  SetParam(config, name, value, where);
+  ValidateAxisConfig(*config, where);
+}
+
+InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir) {
+  InputSignal s;
+  s.kind = InputSignal::Kind::kTable;
+  const std::string file = ResolvePath(base_dir, map.String("file"));
+  const std::string time_col = map.String("time", "t");
+  const std::string value_col = map.String("column");
+  const double scale = map.Number("scale", 1.0);
+  s.offset = map.Number("offset", 0.0);
+  s.hold = map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
+  const CsvTable table = ReadCsv(file);
+  for (const std::string& name : {time_col, value_col}) {
+    if (!table.HasColumn(name)) {
+      std::string columns;
+      for (const std::string& n : table.names) {
+        columns += (columns.empty() ? "" : ", ") + n;
+      }
+      ThrowConfigError(map.file(), map.node(),
+                       map.KeyPath(name == time_col ? "time" : "column"),
+                       "a column of " + file + " (" + columns + ")",
+                       "'" + name + "'");
+    }
+  }
+  CheckStrictlyIncreasing(table, time_col);
+  s.times = table.Column(time_col);
+  s.values = table.Column(value_col);
+  for (double& v : s.values) v *= scale;
+  return s;
+}
+
+InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
+                             double duration) {
+  const std::string type = map.Choice(
+      "type", {"zero", "step", "ramp", "sine", "chirp", "prbs", "table", "column"});
+  InputSignal s;
+  s.offset = map.Number("offset", 0.0);
+  if (type == "zero") {
+    s.kind = InputSignal::Kind::kZero;
+  } else if (type == "step") {
+    s.kind = InputSignal::Kind::kStep;
+    s.amplitude = map.Number("amplitude");
+    s.start = map.Number("start", 0.0, Range::kNonNegative);
+  } else if (type == "ramp") {
+    s.kind = InputSignal::Kind::kRamp;
+    s.slope = map.Number("slope");
+    s.start = map.Number("start", 0.0, Range::kNonNegative);
+  } else if (type == "sine") {
+    s.kind = InputSignal::Kind::kSine;
+    s.amplitude = map.Number("amplitude");
+    s.frequency = map.Number("frequency", Range::kFinitePositive);
+    s.phase = map.Number("phase", 0.0);
+    s.start = map.Number("start", 0.0, Range::kNonNegative);
+  } else if (type == "chirp") {
+    s.kind = InputSignal::Kind::kChirp;
+    s.amplitude = map.Number("amplitude");
+    s.f0 = map.Number("f0", Range::kNonNegative);
+    s.f1 = map.Number("f1", Range::kNonNegative);
+    s.sweep_time = map.Number("sweep_time", Range::kFinitePositive);
+    s.start = map.Number("start", 0.0, Range::kNonNegative);
+  } else if (type == "prbs") {
+    const double amplitude = map.Number("amplitude");
+    const double bit_time = map.Number("bit_time", Range::kFinitePositive);
+    const int order = static_cast<int>(map.Integer("order", 10, 2, 20));
+    const long seed = map.Integer("seed", 1, 1, 1L << 30);
+    s = MakePrbs(amplitude, s.offset, bit_time, order,
+                 static_cast<std::uint32_t>(seed), duration);
+  } else if (type == "table") {
+    s.kind = InputSignal::Kind::kTable;
+    const YAML::Node points = map.Required("points");
+    const std::string key = map.KeyPath("points");
+    if (!points.IsSequence() || points.size() < 1) {
+      ThrowConfigError(map.file(), points, key,
+                       "a list of [time, value] pairs", Describe(points));
+    }
+    for (const YAML::Node& point : points) {
+      if (!point.IsSequence() || point.size() != 2) {
+        ThrowConfigError(map.file(), point, key, "a [time, value] pair",
+                         Describe(point));
+      }
+      const double t = map.NumberFrom(point[0], key, Range::kAny);
+      if (!s.times.empty() && !(t > s.times.back())) {
+        ThrowConfigError(map.file(), point, key,
+                         "strictly increasing times",
+                         FormatNumber(t) + " after " + FormatNumber(s.times.back()));
+      }
+      s.times.push_back(t);
+      s.values.push_back(map.NumberFrom(point[1], key, Range::kAny));
+    }
+    s.hold = map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
+  } else {  // column
+    s = ParseColumnSignal(map, base_dir);
+  }
+  map.Finish();
+  return s;
+}
+
+ControllerConfig ParseController(YamlMap& map, const ControllerConfig& d) {
+  ControllerConfig c;
+  c.T_s = map.Number("T_s", d.T_s, Range::kFinitePositive);
+  c.T_track = map.Number("T_track", d.T_track, Range::kFinitePositive);
+  c.G_ff = map.Number("G_ff", d.G_ff);
+  c.G_p = map.Number("G_p", d.G_p);
+  c.G_i = map.Number("G_i", d.G_i);
+  c.G_v = map.Number("G_v", d.G_v);
+  c.alpha = map.Number("alpha", d.alpha, Range::kNonNegative);
+  if (c.alpha > 1.0) {
+    ThrowConfigError(map.file(), map.Optional("alpha"), map.KeyPath("alpha"),
+                     "a number in [0, 1]", FormatNumber(c.alpha));
+  }
+  c.U_max = map.Number("U_max", d.U_max, Range::kPositive);
+  c.delay_samples = static_cast<int>(
+      map.Integer("delay_samples", d.delay_samples, 0, 1000));
+  c.counts_per_rev = map.Number("counts_per_rev", d.counts_per_rev,
+                                Range::kNonNegative);
+  c.load_quantum = map.Number("load_quantum", d.load_quantum,
+                              Range::kNonNegative);
+  map.Finish();
+  return c;
+}
+
+AxisState<double> ConsistentInitialState(const AxisConfig& config,
+                                         const AxisState<double>& y) {
+  AxisState<double> out = y;
+  if (config.structure.coupling == Coupling::kRigid) {
+    out[2] = y[0] / config.params.r_g;
+    out[3] = y[1] / config.params.r_g;
+  }
+  return out;
+}
+
+ExperimentConfig LoadExperiment(const std::string& path) {
+  ExperimentConfig e;
+  e.path = path;
+  const std::string dir = DirectoryOf(path);
+  YamlMap root(LoadYamlFile(path), path, "");
+  e.description = root.String("description", "");
+  e.model = LoadAxisConfig(ResolvePath(dir, root.String("model")));
+  if (const YAML::Node node = root.Optional("configuration")) {
+    YamlMap map(node, path, "configuration.");
+    if (map.Has("amplifier")) {
+      e.model.structure.amplifier = ParseAmplifier(map.Choice("amplifier", kAmplifiers));
+    }
+    if (map.Has("coupling")) {
+      e.model.structure.coupling = ParseCoupling(map.Choice("coupling", kCouplings));
+    }
+    map.Finish();
+  }
+  if (const YAML::Node node = root.Optional("effects")) {
+    YamlMap map(node, path, "effects.");
+    ParseEffects(map, &e.model);
+  }
+  if (const YAML::Node node = root.Optional("set")) {
+    YamlMap map(node, path, "set.");
+    for (const auto& entry : node) {
+      const std::string name = entry.first.Scalar();
+      if (FindParam(&e.model.params, name) == nullptr) {
+        ThrowConfigError(path, entry.first, "set." + name,
+                         "a parameter name of the model (MODEL.md sections 2 "
+                         "and 7, e.g. V_L, B_a, k_g)",
+                         "'" + name + "'");
+      }
+      *FindParam(&e.model.params, name) = map.Number(name);
+    }
+    map.Finish();
+  }
+  ValidateAxisConfig(e.model, path);
+
+  e.options.duration = root.Number("duration", Range::kFinitePositive);
+  e.options.step = root.Number("step", 1e-5, Range::kFinitePositive);
+  const double rate = root.Number("output_rate", 1000.0, Range::kFinitePositive);
+  e.options.output_period = 1.0 / rate;
+  {
+    const YAML::Node channels = root.Required("channels");
+    if (!channels.IsSequence() || channels.size() == 0) {
+      ThrowConfigError(path, channels, "channels",
+                       "a list of channel names (" + ChannelNameList() + ")",
+                       Describe(channels));
+    }
+    for (const YAML::Node& c : channels) {
+      const auto channel = c.IsScalar() ? ParseChannel(c.Scalar()) : std::nullopt;
+      if (!channel) {
+        ThrowConfigError(path, c, "channels",
+                         "a channel name (" + ChannelNameList() + ")", Describe(c));
+      }
+      if (*channel != Channel::kT) e.options.channels.push_back(*channel);
+    }
+  }
+  if (const YAML::Node node = root.Optional("noise")) {
+    YamlMap map(node, path, "noise.");
+    for (const auto& entry : node) {
+      const std::string name = entry.first.Scalar();
+      const auto channel = ParseChannel(name);
+      if (!channel || *channel == Channel::kT) {
+        ThrowConfigError(path, entry.first, "noise." + name,
+                         "a channel name (" + ChannelNameList() + ", not t)",
+                         "'" + name + "'");
+      }
+      e.noise_sigma[static_cast<int>(*channel)] =
+          map.Number(name, Range::kNonNegative);
+    }
+    map.Finish();
+  }
+  e.seed = static_cast<std::uint64_t>(root.Integer("seed", 0, 0, 1L << 62));
+  if (const YAML::Node node = root.Optional("initial_state")) {
+    YamlMap map(node, path, "initial_state.");
+    for (int k = 0; k < kNumStates; ++k) {
+      e.initial_state[k] = map.Number("y" + std::to_string(k), 0.0);
+    }
+    map.Finish();
+  }
+  e.initial_state = ConsistentInitialState(e.model, e.initial_state);
+
+  const bool has_input = root.Has("input");
+  const bool has_reference = root.Has("reference");
+  if (has_input == has_reference) {
+    ThrowConfigError(path, root.node(), has_input ? "reference" : "input",
+                     "exactly one of 'input' (open loop) or 'reference' "
+                     "(closed loop through the controller)",
+                     has_input ? "both" : "neither");
+  }
+  if (has_input) {
+    for (const char* key : {"controller", "injection"}) {
+      if (root.Has(key)) {
+        ThrowConfigError(path, root.node()[key], key,
+                         std::string(key) + " only with a 'reference' (closed loop)",
+                         "an open-loop experiment with 'input'");
+      }
+    }
+    YamlMap map(root.Required("input"), path, "input.");
+    e.drive.input = ParseInputSignal(map, dir, e.options.duration);
+  } else {
+    e.drive.closed_loop = true;
+    ControllerConfig base = e.model.controller;
+    if (const YAML::Node node = root.Optional("controller")) {
+      YamlMap map(node, path, "controller.");
+      base = ParseController(map, base);
+    } else if (!e.model.has_controller) {
+      ThrowConfigError(path, root.node(), "controller",
+                       "a controller section here or in the model config " +
+                           e.model.path,
+                       "none");
+    }
+    e.drive.controller = base;
+    YamlMap map(root.Required("reference"), path, "reference.");
+    const std::string type = map.Choice("type", {"trapezoid", "column"});
+    if (type == "trapezoid") {
+      e.drive.reference.kind = Reference::Kind::kTrapezoid;
+      e.drive.reference.distance = map.Number("distance");
+      e.drive.reference.velocity = map.Number("velocity", Range::kFinitePositive);
+      e.drive.reference.acceleration =
+          map.Number("acceleration", Range::kFinitePositive);
+      e.drive.reference.start = map.Number("start", 0.0, Range::kNonNegative);
+      e.drive.reference.origin = map.Number("origin", e.initial_state[0]);
+      map.Finish();
+    } else {
+      e.drive.reference.kind = Reference::Kind::kTable;
+      e.drive.reference.table = ParseColumnSignal(map, dir);
+      map.Finish();
+    }
+    if (const YAML::Node node = root.Optional("injection")) {
+      YamlMap inj(node, path, "injection.");
+      e.drive.injection = ParseInputSignal(inj, dir, e.options.duration);
+      e.drive.has_injection = true;
+    }
+  }
+  root.Finish();
+  try {
+    MakeGrid(e.options, e.drive);
+  } catch (const std::invalid_argument& err) {
+    throw std::invalid_argument(path + ": " + err.what());
+  }
+  return e;
+}
+
+}  // namespace axis

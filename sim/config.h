@@ -1,0 +1,98 @@
+// Model configs (configs/axes/*.yaml) and experiment files
+// (configs/experiments/*.yaml): aggregate structs with defaults and one
+// strict loader each. Unknown keys, missing required keys, wrong types and
+// out-of-range values are std::invalid_argument naming file, line and key.
+// The file formats are described in configs/README.md.
+#ifndef SIM_CONFIG_H_
+#define SIM_CONFIG_H_
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/axis_model.h"
+#include "sim/axis_params.h"
+#include "sim/controller.h"
+#include "sim/input_signal.h"
+#include "sim/simulate.h"
+#include "sim/yaml_util.h"
+
+namespace axis {
+
+// A model config: structure, parameters and an optional controller.
+struct AxisConfig {
+  std::string path;         // file it came from (for messages)
+  std::string name;         // e.g. "x_axis"
+  std::string source;       // provenance of the values
+  AxisStructure structure;
+  AxisParams<double> params;
+  bool has_controller = false;
+  ControllerConfig controller;  // MODEL.md §5, if has_controller
+};
+
+// Loads a model config. Throws std::invalid_argument as described above,
+// including for non-positive M, J_m, L, T_p, T_r, r_g, K_i and for
+// amplifier: force_source without coupling: rigid.
+AxisConfig LoadAxisConfig(const std::string& path);
+
+// Parses the `effects:` mapping of a model config or experiment into
+// `config` (switches on the named effects and sets their parameters).
+// Effect names are those of MODEL.md §7; sensor_delay and sensor_bias take a
+// mapping of channel name to value.
+void ParseEffects(YamlMap& effects, AxisConfig* config);
+
+// Checks the parameters of `config` against the ranges of MODEL.md §2
+// (positive masses, inertias, time constants, ...). `where` prefixes the
+// message (a file or "--set"). Throws std::invalid_argument.
+void ValidateAxisConfig(const AxisConfig& config, const std::string& where);
+
+// Sets parameter `name` (a VisitParams name, MODEL.md §2/§7) to `value`.
+// Throws std::invalid_argument "<where>: expected a parameter name of the
+// model (R, L, ...), got 'X'" for an unknown name.
+void SetParam(AxisConfig* config, const std::string& name, double value,
+              const std::string& where);
+
+// Parses `NAME=VALUE` (a --set argument) and applies it with SetParam,
+// then re-validates. Throws std::invalid_argument.
+void ApplySetArgument(AxisConfig* config, const std::string& assignment);
+
+// An input signal from a mapping with `type:` step | ramp | sine | chirp |
+// prbs | table | column (see configs/README.md); `duration` bounds the PRBS.
+// Data files are resolved against `base_dir`.
+InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
+                             double duration);
+
+// A column of a data file (keys file, time, column, scale, offset,
+// interpolation) as a table signal; does not call Finish(). Throws
+// std::invalid_argument naming the key if a column does not exist, and the
+// CSV errors of ReadCsv (file, line).
+InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir);
+
+// The controller settings of MODEL.md §5, starting from `defaults`.
+ControllerConfig ParseController(YamlMap& map, const ControllerConfig& defaults);
+
+// An experiment file: the model (with overrides), what drives it, the time
+// grid, recorded channels, noise and seed.
+struct ExperimentConfig {
+  std::string path;
+  std::string description;
+  AxisConfig model;
+  Drive drive;
+  SimulationOptions options;
+  std::array<double, kNumChannels> noise_sigma{};  // Gaussian σ per channel
+  std::uint64_t seed = 0;
+  AxisState<double> initial_state = AxisState<double>::Zero();
+};
+
+// Loads an experiment file. Throws std::invalid_argument.
+ExperimentConfig LoadExperiment(const std::string& path);
+
+// The initial state made consistent with the coupling: in rigid coupling
+// y2 = y0/r_g and y3 = y1/r_g.
+AxisState<double> ConsistentInitialState(const AxisConfig& config,
+                                         const AxisState<double>& y);
+
+}  // namespace axis
+
+#endif  // SIM_CONFIG_H_

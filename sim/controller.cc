@@ -1,0 +1,52 @@
+#include "sim/controller.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace axis {
+
+double Reference::Profile(double t) const {
+  const double tau = t - start;
+  if (tau <= 0.0 || distance == 0.0) return origin;
+  const double d = std::abs(distance);
+  const double sign = distance > 0.0 ? 1.0 : -1.0;
+  // Triangular if the set velocity cannot be reached.
+  const double v_peak = std::min(velocity, std::sqrt(d * acceleration));
+  const double t_acc = v_peak / acceleration;
+  const double d_acc = 0.5 * acceleration * t_acc * t_acc;
+  const double t_cruise = (d - 2.0 * d_acc) / v_peak;
+  const double t_end = 2.0 * t_acc + t_cruise;
+  double s;
+  if (tau < t_acc) {
+    s = 0.5 * acceleration * tau * tau;
+  } else if (tau < t_acc + t_cruise) {
+    s = d_acc + v_peak * (tau - t_acc);
+  } else if (tau < t_end) {
+    const double r = t_end - tau;
+    s = d - 0.5 * acceleration * r * r;
+  } else {
+    s = d;
+  }
+  return origin + sign * s;
+}
+
+ReferenceSample SampleReference(const Reference& ref,
+                                const ControllerConfig& c, long k) {
+  const double t = k * c.T_s;
+  ReferenceSample out;
+  if (ref.kind == Reference::Kind::kTrapezoid) {
+    const double j = std::floor(t / c.T_track + 1e-9);
+    const double t0 = j * c.T_track;
+    const double p0 = ref.Profile(t0);
+    const double p1 = ref.Profile(t0 + c.T_track);
+    out.v_ref = (p1 - p0) / c.T_track;
+    out.x_ref = p0 + out.v_ref * (t - t0);
+  } else {
+    out.x_ref = ref.table.Evaluate(t);
+    out.v_ref = k == 0 ? 0.0
+                       : (out.x_ref - ref.table.Evaluate(t - c.T_s)) / c.T_s;
+  }
+  return out;
+}
+
+}  // namespace axis

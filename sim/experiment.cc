@@ -1,0 +1,62 @@
+#include "sim/experiment.h"
+
+#include <cstdio>
+#include <random>
+#include <stdexcept>
+
+#include "sim/csv.h"
+
+namespace axis {
+
+Trace<double> RunExperiment(const ExperimentConfig& e,
+                            const std::function<void(double)>& progress) {
+  const SimulationGrid grid = MakeGrid(e.options, e.drive);
+  return Simulate(e.model.structure, e.model.params, e.initial_state, e.drive,
+                  e.options, grid, progress);
+}
+
+void AddNoise(const std::array<double, kNumChannels>& sigma, std::uint64_t seed,
+              Trace<double>* trace) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int c = 0; c < kNumChannels; ++c) {
+    if (!(sigma[c] > 0.0)) continue;
+    for (double& value : trace->values[c]) value += sigma[c] * normal(rng);
+  }
+}
+
+void WriteTraceCsv(const std::string& path, const Trace<double>& trace,
+                   const std::vector<Channel>& channels) {
+  std::vector<std::string> names = {"t"};
+  std::vector<std::vector<double>> columns = {trace.t};
+  for (Channel c : channels) {
+    names.push_back(ChannelName(c));
+    columns.push_back(trace[c]);
+  }
+  WriteCsvAtomic(path, names, columns, 12);
+}
+
+void SimulateAxis(const SimulateAxisOptions& options) {
+  ExperimentConfig e = LoadExperiment(options.experiment_path);
+  for (const std::string& set : options.sets) ApplySetArgument(&e.model, set);
+  e.initial_state = ConsistentInitialState(e.model, e.initial_state);
+  if (options.has_seed) e.seed = options.seed;
+  std::function<void(double)> progress;
+  if (options.show_progress) {
+    progress = [](double fraction) {
+      std::fprintf(stderr, "\rsimulating %3d %%", static_cast<int>(100 * fraction));
+    };
+  }
+  Trace<double> trace = RunExperiment(e, progress);
+  if (options.show_progress) std::fprintf(stderr, "\rsimulating 100 %%\n");
+  if (!trace.finite) {
+    throw std::runtime_error(
+        options.experiment_path +
+        ": the simulation left the finite numbers (unstable: try a smaller "
+        "step or check the parameters); nothing written");
+  }
+  AddNoise(e.noise_sigma, e.seed, &trace);
+  WriteTraceCsv(options.out_path, trace, e.options.channels);
+}
+
+}  // namespace axis

@@ -1,0 +1,51 @@
+// Running an experiment file end to end: simulate, add measurement noise,
+// write the trace. The library side of `simulate-axis`.
+#ifndef SIM_EXPERIMENT_H_
+#define SIM_EXPERIMENT_H_
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "sim/config.h"
+#include "sim/simulate.h"
+
+namespace axis {
+
+// Simulates the experiment (noise-free). `progress` as in Simulate().
+// Throws std::invalid_argument if the grid is inconsistent (MakeGrid).
+Trace<double> RunExperiment(const ExperimentConfig& experiment,
+                            const std::function<void(double)>& progress = nullptr);
+
+// Adds independent Gaussian noise N(0, σ_c²) to every recorded channel c with
+// σ_c = sigma[c] > 0, from a std::mt19937_64 seeded with `seed` (channels in
+// Channel order, samples in time order: fixed seeds give identical files).
+void AddNoise(const std::array<double, kNumChannels>& sigma, std::uint64_t seed,
+              Trace<double>* trace);
+
+// Writes t and the recorded channels (in `channels` order) as CSV with the
+// canonical channel names of MODEL.md §6 as header, atomically (temporary
+// file, then rename). Throws std::runtime_error if it cannot write.
+void WriteTraceCsv(const std::string& path, const Trace<double>& trace,
+                   const std::vector<Channel>& channels);
+
+// Options of the simulate-axis command.
+struct SimulateAxisOptions {
+  std::string experiment_path;
+  std::string out_path;
+  bool has_seed = false;
+  std::uint64_t seed = 0;           // overrides the experiment's seed
+  std::vector<std::string> sets;    // NAME=VALUE parameter overrides
+  bool show_progress = false;       // progress bar on stderr
+};
+
+// Loads the experiment, applies the overrides, simulates, adds noise and
+// writes the CSV. Throws std::invalid_argument on bad input (nothing is
+// written then) and std::runtime_error if the output cannot be written or
+// the simulation leaves the finite numbers.
+void SimulateAxis(const SimulateAxisOptions& options);
+
+}  // namespace axis
+
+#endif  // SIM_EXPERIMENT_H_

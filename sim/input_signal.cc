@@ -1,0 +1,87 @@
+#include "sim/input_signal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace axis {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925;
+
+double EvaluateTable(const std::vector<double>& times,
+                     const std::vector<double>& values, bool hold, double t) {
+  if (times.empty()) return 0.0;
+  if (t <= times.front()) return values.front();
+  if (t >= times.back()) return values.back();
+  const auto upper = std::upper_bound(times.begin(), times.end(), t);
+  const size_t k = static_cast<size_t>(upper - times.begin()) - 1;
+  if (hold) return values[k];
+  const double s = (t - times[k]) / (times[k + 1] - times[k]);
+  return values[k] + s * (values[k + 1] - values[k]);
+}
+
+}  // namespace
+
+double InputSignal::Evaluate(double t) const {
+  const double tau = t - start;
+  switch (kind) {
+    case Kind::kZero:
+      return offset;
+    case Kind::kStep:
+      return offset + (tau >= 0.0 ? amplitude : 0.0);
+    case Kind::kRamp:
+      return offset + (tau > 0.0 ? slope * tau : 0.0);
+    case Kind::kSine:
+      return offset +
+             (tau >= 0.0 ? amplitude * std::sin(kTwoPi * frequency * tau + phase)
+                         : 0.0);
+    case Kind::kChirp: {
+      if (tau < 0.0 || tau > sweep_time) return offset;
+      const double cycles =
+          f0 * tau + 0.5 * (f1 - f0) * tau * tau / sweep_time;
+      return offset + amplitude * std::sin(kTwoPi * cycles);
+    }
+    case Kind::kTable:
+      return offset + EvaluateTable(times, values, hold, t);
+  }
+  return offset;
+}
+
+InputSignal MakePrbs(double amplitude, double offset, double bit_time,
+                     int order, std::uint32_t seed, double duration) {
+  // Feedback taps of maximum-length Fibonacci LFSRs (Xilinx XAPP052 table),
+  // 1-based bit positions, for orders 2..20.
+  static const int kTaps[21][2] = {
+      {0, 0},   {0, 0},   {2, 1},   {3, 2},   {4, 3},   {5, 3},   {6, 5},
+      {7, 6},   {8, 6},   {9, 5},   {10, 7},  {11, 9},  {12, 6},  {13, 4},
+      {14, 5},  {15, 14}, {16, 15}, {17, 14}, {18, 11}, {19, 6},  {20, 17}};
+  if (order < 2 || order > 20) {
+    throw std::invalid_argument("PRBS: expected order in 2..20, got " +
+                                std::to_string(order));
+  }
+  if (!(bit_time > 0.0) || !(duration > 0.0)) {
+    throw std::invalid_argument(
+        "PRBS: expected positive bit_time and duration, got " +
+        std::to_string(bit_time) + " and " + std::to_string(duration));
+  }
+  const std::uint32_t mask = (1u << order) - 1u;
+  std::uint32_t reg = seed & mask;
+  if (reg == 0) reg = 1;
+  InputSignal s;
+  s.kind = InputSignal::Kind::kTable;
+  s.hold = true;
+  s.offset = offset;
+  const long bits = static_cast<long>(std::ceil(duration / bit_time)) + 1;
+  for (long k = 0; k < bits; ++k) {
+    s.times.push_back(k * bit_time);
+    s.values.push_back((reg & 1u) ? amplitude : -amplitude);
+    const std::uint32_t a = (reg >> (kTaps[order][0] - 1)) & 1u;
+    const std::uint32_t b = (reg >> (kTaps[order][1] - 1)) & 1u;
+    reg = ((reg << 1) | (a ^ b)) & mask;
+  }
+  return s;
+}
+
+}  // namespace axis

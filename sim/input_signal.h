@@ -1,0 +1,45 @@
+// Input signals U(t) for open-loop experiments (set-velocity voltage, V) and
+// for additive injection in closed loop: step, ramp, sine, chirp, PRBS,
+// piecewise-linear table, and a column of a data file.
+#ifndef SIM_INPUT_SIGNAL_H_
+#define SIM_INPUT_SIGNAL_H_
+
+#include <cstdint>
+#include <vector>
+
+namespace axis {
+
+// One input signal; `kind` picks which fields matter. Times in s, values in
+// the input's unit (V for U). Built by the config loader or the Make*
+// functions below; Evaluate never throws.
+struct InputSignal {
+  enum class Kind { kZero, kStep, kRamp, kSine, kChirp, kTable };
+  Kind kind = Kind::kZero;
+  double offset = 0.0;     // added to every kind
+  double start = 0.0;      // s: step time, ramp/sine/chirp start
+  double amplitude = 0.0;  // step height, sine/chirp amplitude
+  double slope = 0.0;      // ramp, unit/s
+  double frequency = 0.0;  // sine, Hz
+  double phase = 0.0;      // sine, rad
+  double f0 = 0.0, f1 = 0.0, sweep_time = 0.0;  // linear chirp f0 → f1 Hz over sweep_time s
+  // kTable: sample times (strictly increasing) and values; linear
+  // interpolation, or zero-order hold if `hold`; constant outside the range.
+  // PRBS and data-file columns are tables.
+  std::vector<double> times, values;
+  bool hold = false;
+
+  // U(t).
+  double Evaluate(double t) const;
+};
+
+// A maximum-length pseudo-random binary sequence of ±amplitude (plus
+// offset) switching every `bit_time` s from t = 0 to `duration`, from a
+// Fibonacci LFSR of `order` bits (2..20) seeded with `seed` (non-zero in the
+// low `order` bits; 0 is replaced by 1). Throws std::invalid_argument on an
+// order outside 2..20 or non-positive bit_time/duration.
+InputSignal MakePrbs(double amplitude, double offset, double bit_time,
+                     int order, std::uint32_t seed, double duration);
+
+}  // namespace axis
+
+#endif  // SIM_INPUT_SIGNAL_H_

@@ -1,0 +1,233 @@
+// One simulated experiment: the axis model (sim/axis_model.h) integrated by
+// fixed-step RK4 (sim/rk4.h), driven open loop by U(t) or in closed loop by
+// the sampled controller of MODEL.md §5, with the channels of MODEL.md §6
+// recorded at a fixed output rate and the sensor effects of §7 applied.
+// Templated on the scalar (double or ceres::Jet).
+#ifndef SIM_SIMULATE_H_
+#define SIM_SIMULATE_H_
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "sim/axis_model.h"
+#include "sim/channels.h"
+#include "sim/controller.h"
+#include "sim/input_signal.h"
+#include "sim/rk4.h"
+#include "sim/scalar.h"
+
+namespace axis {
+
+// What drives the axis.
+struct Drive {
+  // Open loop: U(t), the set-velocity voltage (V).
+  InputSignal input;
+  // Closed loop (MODEL.md §5): the controller computes U from `reference`;
+  // `injection`, if any, is added to its output (sampled at the control
+  // instants and held), and the channel u shows the sum.
+  bool closed_loop = false;
+  ControllerConfig controller;
+  Reference reference;
+  bool has_injection = false;
+  InputSignal injection;
+};
+
+// Time grid of a run (s). step must divide output_period and, in closed
+// loop, the control period T_s.
+struct SimulationOptions {
+  double duration = 1.0;        // s, > 0
+  double step = 1e-5;           // RK4 step h, s, > 0
+  double output_period = 1e-3;  // s, multiple of step
+  std::vector<Channel> channels;  // recorded channels (t is always recorded)
+};
+
+// The integer grid derived from SimulationOptions.
+struct SimulationGrid {
+  double step = 0.0;
+  long num_steps = 0;           // duration / step
+  long steps_per_output = 1;
+  long steps_per_control = 0;   // 0 in open loop
+  long num_outputs = 0;         // samples at 0, output_period, ... ≤ duration
+};
+
+// Checks the options against the drive and derives the grid. Throws
+// std::invalid_argument ("expected …, got …") on a non-positive duration or
+// step, or an output or control period that is not a whole number of steps.
+SimulationGrid MakeGrid(const SimulationOptions& options, const Drive& drive);
+
+// Recorded channels: values[c][k] at time t[k] for every requested c; the
+// others are empty. `finite` is false if the state left the finite numbers,
+// in which case the remaining samples are NaN.
+template <typename T>
+struct Trace {
+  std::vector<double> t;
+  std::array<std::vector<T>, kNumChannels> values;
+  bool finite = true;
+
+  const std::vector<T>& operator[](Channel c) const {
+    return values[static_cast<int>(c)];
+  }
+};
+
+namespace internal {
+
+template <typename T>
+T ChannelValue(Channel c, const AxisStructure& s, const AxisParams<T>& p,
+               const AxisState<T>& y, const AxisAux<T>& aux, const T& u,
+               const ReferenceSample& ref, double t) {
+  const bool rigid = s.coupling == Coupling::kRigid;
+  switch (c) {
+    case Channel::kT: return T(t);
+    case Channel::kU: return u;
+    case Channel::kX: return y[0];
+    case Channel::kV: return y[1];
+    case Channel::kA: return aux.a;
+    case Channel::kTheta: return rigid ? T(y[0] / p.r_g) : y[2];
+    case Channel::kOmega: return rigid ? T(y[1] / p.r_g) : y[3];
+    case Channel::kI: return aux.i;
+    case Channel::kTach:
+      return p.K_t * (rigid ? T(y[1] / p.r_g) : y[3]);
+    case Channel::kVc: return aux.vc;
+    case Channel::kVm: return aux.vm;
+    case Channel::kFg: return aux.fg;
+    case Channel::kForce: return aux.force;
+    case Channel::kXRef: return T(ref.x_ref);
+    case Channel::kVRef: return T(ref.v_ref);
+  }
+  return T(0.0);
+}
+
+template <typename T>
+bool StateIsFinite(const AxisState<T>& y) {
+  for (int k = 0; k < kNumStates; ++k) {
+    if (!std::isfinite(ScalarValue(y[k]))) return false;
+  }
+  return true;
+}
+
+}  // namespace internal
+
+// Simulates one experiment from initial state y_init on the grid of
+// MakeGrid(). The sensor effects enabled in structure.sensors act on the
+// recorded channels: sensor_bias adds b.<channel>; sensor_delay records the
+// channel at t − tau_d.<channel> (linear interpolation between RK4 steps,
+// the value at t = 0 before the start). `progress`, if set, is called with
+// the completed fraction about every 1 % of the run.
+// Never throws (the grid is checked by MakeGrid); a run that goes
+// non-finite returns early with finite = false.
+template <typename T>
+Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
+                  const AxisState<T>& y_init, const Drive& drive,
+                  const SimulationOptions& options, const SimulationGrid& grid,
+                  const std::function<void(double)>& progress = nullptr) {
+  const double h = grid.step;
+  Trace<T> trace;
+  trace.t.reserve(grid.num_outputs);
+  std::array<bool, kNumChannels> wanted{};
+  std::array<bool, kNumChannels> delayed{};
+  bool any_delay = false;
+  for (Channel c : options.channels) {
+    const int k = static_cast<int>(c);
+    wanted[k] = true;
+    trace.values[k].reserve(grid.num_outputs);
+    if (structure.sensors.delay[k]) delayed[k] = any_delay = true;
+  }
+  std::array<std::vector<T>, kNumChannels> fine;  // per-step history
+  if (any_delay) {
+    for (int k = 0; k < kNumChannels; ++k) {
+      if (delayed[k]) fine[k].reserve(grid.num_steps + 1);
+    }
+  }
+
+  AxisState<T> y = y_init;
+  T u_held(0.0);
+  ReferenceSample ref;
+  ControllerState<T> controller;
+  const auto input_at = [&](double t) -> T {
+    return drive.closed_loop ? u_held : T(drive.input.Evaluate(t));
+  };
+  const AxisCoefficients<T> coeffs = MakeAxisCoefficients(structure, params);
+  const auto rhs = [&](double t, const AxisState<T>& state, AxisState<T>* dy) {
+    AxisDerivative(structure, params, coeffs, state, input_at(t), dy);
+  };
+  const long progress_every = std::max(1L, grid.num_steps / 100);
+
+  for (long n = 0; n <= grid.num_steps; ++n) {
+    const double t = n * h;
+    if (drive.closed_loop && n % grid.steps_per_control == 0) {
+      const long k = n / grid.steps_per_control;
+      ref = SampleReference(drive.reference, drive.controller, k);
+      u_held = ControllerUpdate(drive.controller, params, y, ref, &controller);
+      if (drive.has_injection) u_held += T(drive.injection.Evaluate(t));
+    }
+    const bool record = n % grid.steps_per_output == 0;
+    if (record || any_delay) {
+      if (record && !internal::StateIsFinite(y)) {
+        trace.finite = false;
+        break;
+      }
+      AxisState<T> dy;
+      AxisAux<T> aux;
+      const T u = input_at(t);
+      AxisDerivative(structure, params, coeffs, y, u, &dy, &aux);
+      for (int c = 0; c < kNumChannels; ++c) {
+        if (!wanted[c] || !(record || delayed[c])) continue;
+        const T value = internal::ChannelValue(static_cast<Channel>(c),
+                                               structure, params, y, aux, u,
+                                               ref, t);
+        if (delayed[c]) fine[c].push_back(value);
+        if (record) trace.values[c].push_back(value);
+      }
+      if (record) trace.t.push_back(t);
+    }
+    if (n == grid.num_steps) break;
+    Rk4Step(rhs, t, h, &y);
+    if (progress && n % progress_every == 0) {
+      progress(static_cast<double>(n) / grid.num_steps);
+    }
+  }
+
+  if (!trace.finite) {
+    const T nan(std::numeric_limits<double>::quiet_NaN());
+    for (long j = static_cast<long>(trace.t.size()); j < grid.num_outputs; ++j) {
+      trace.t.push_back(j * grid.steps_per_output * h);
+      for (int c = 0; c < kNumChannels; ++c) {
+        if (wanted[c]) trace.values[c].push_back(nan);
+      }
+    }
+    return trace;
+  }
+
+  // Sensor effects (MODEL.md §7).
+  for (int c = 0; c < kNumChannels; ++c) {
+    if (!wanted[c]) continue;
+    std::vector<T>& out = trace.values[c];
+    if (delayed[c]) {
+      const std::vector<T>& hist = fine[c];
+      const long last = static_cast<long>(hist.size()) - 1;
+      for (size_t j = 0; j < out.size(); ++j) {
+        const T pos = (T(trace.t[j]) - params.tau_d[c]) / T(h);
+        const double pv = ScalarValue(pos);
+        if (pv <= 0.0 || last < 1) {
+          out[j] = hist[0];
+          continue;
+        }
+        long n0 = static_cast<long>(std::floor(pv));
+        if (n0 >= last) n0 = last - 1;
+        const T frac = pos - T(double(n0));
+        out[j] = hist[n0] + frac * (hist[n0 + 1] - hist[n0]);
+      }
+    }
+    if (structure.sensors.bias[c]) {
+      for (T& value : out) value += params.b[c];
+    }
+  }
+  return trace;
+}
+
+}  // namespace axis
+
+#endif  // SIM_SIMULATE_H_

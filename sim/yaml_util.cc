@@ -1,0 +1,211 @@
+#include "sim/yaml_util.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace axis {
+namespace {
+
+std::string Location(const std::string& file, const YAML::Node& node) {
+  std::ostringstream out;
+  out << file;
+  if (node.IsDefined() && node.Mark().line >= 0) {
+    out << ":" << node.Mark().line + 1;
+  }
+  return out.str();
+}
+
+const char* RangeText(YamlMap::Range range) {
+  switch (range) {
+    case YamlMap::Range::kAny: return "a number";
+    case YamlMap::Range::kPositive: return "a positive number";
+    case YamlMap::Range::kNonNegative: return "a number >= 0";
+    case YamlMap::Range::kFinitePositive: return "a finite positive number";
+  }
+  return "a number";
+}
+
+}  // namespace
+
+YAML::Node LoadYamlFile(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) {
+    throw std::invalid_argument(file + ": cannot read the file");
+  }
+  try {
+    return YAML::Load(in);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(file + ":" + std::to_string(e.mark.line + 1) +
+                                ": invalid YAML: " + e.msg);
+  }
+}
+
+void ThrowConfigError(const std::string& file, const YAML::Node& node,
+                      const std::string& key, const std::string& expected,
+                      const std::string& got) {
+  throw std::invalid_argument(Location(file, node) + ": key '" + key +
+                              "': expected " + expected + ", got " + got);
+}
+
+std::string Describe(const YAML::Node& node) {
+  if (!node.IsDefined() || node.IsNull()) return "nothing";
+  if (node.IsScalar()) return "'" + node.Scalar() + "'";
+  if (node.IsSequence()) return "a list";
+  return "a mapping";
+}
+
+YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string prefix)
+    : node_(node), file_(std::move(file)), prefix_(std::move(prefix)) {
+  if (!node_.IsMap()) {
+    const std::string key =
+        prefix_.empty() ? "(top level)" : prefix_.substr(0, prefix_.size() - 1);
+    ThrowConfigError(file_, node_, key, "a mapping of keys to values",
+                     Describe(node_));
+  }
+}
+
+bool YamlMap::Has(const std::string& key) const {
+  return static_cast<bool>(node_[key]);
+}
+
+YAML::Node YamlMap::Required(const std::string& key) {
+  used_.insert(key);
+  YAML::Node value = node_[key];
+  if (!value) {
+    ThrowConfigError(file_, node_, KeyPath(key), "a value (required key)",
+                     "nothing");
+  }
+  return value;
+}
+
+YAML::Node YamlMap::Optional(const std::string& key) {
+  used_.insert(key);
+  return node_[key];
+}
+
+double YamlMap::NumberFrom(const YAML::Node& value, const std::string& key_path,
+                           Range range) const {
+  double x = 0.0;
+  bool ok = value.IsScalar();
+  if (ok) {
+    try {
+      x = value.as<double>();
+    } catch (const YAML::Exception&) {
+      ok = false;
+    }
+  }
+  if (ok && std::isnan(x)) ok = false;
+  if (ok) {
+    switch (range) {
+      case Range::kAny: break;
+      case Range::kPositive: ok = x > 0.0; break;
+      case Range::kNonNegative: ok = x >= 0.0; break;
+      case Range::kFinitePositive: ok = x > 0.0 && std::isfinite(x); break;
+    }
+  }
+  if (!ok) ThrowConfigError(file_, value, key_path, RangeText(range), Describe(value));
+  return x;
+}
+
+double YamlMap::Number(const std::string& key, Range range) {
+  return NumberFrom(Required(key), KeyPath(key), range);
+}
+
+double YamlMap::Number(const std::string& key, double fallback, Range range) {
+  const YAML::Node value = Optional(key);
+  if (!value) return fallback;
+  return NumberFrom(value, KeyPath(key), range);
+}
+
+long YamlMap::Integer(const std::string& key, long fallback, long min,
+                      long max) {
+  const YAML::Node value = Optional(key);
+  if (!value) return fallback;
+  long x = 0;
+  bool ok = value.IsScalar();
+  if (ok) {
+    try {
+      x = value.as<long>();
+    } catch (const YAML::Exception&) {
+      ok = false;
+    }
+  }
+  if (!ok || x < min || x > max) {
+    ThrowConfigError(file_, value, KeyPath(key),
+                     "an integer in " + std::to_string(min) + ".." +
+                         std::to_string(max),
+                     Describe(value));
+  }
+  return x;
+}
+
+std::string YamlMap::String(const std::string& key) {
+  const YAML::Node value = Required(key);
+  if (!value.IsScalar()) {
+    ThrowConfigError(file_, value, KeyPath(key), "a string", Describe(value));
+  }
+  return value.Scalar();
+}
+
+std::string YamlMap::String(const std::string& key,
+                            const std::string& fallback) {
+  if (!Has(key)) {
+    used_.insert(key);
+    return fallback;
+  }
+  return String(key);
+}
+
+std::string YamlMap::Choice(const std::string& key,
+                            const std::vector<std::string>& choices) {
+  const YAML::Node value = Required(key);
+  std::string list;
+  for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
+  if (value.IsScalar()) {
+    for (const std::string& c : choices) {
+      if (value.Scalar() == c) return c;
+    }
+  }
+  ThrowConfigError(file_, value, KeyPath(key), "one of " + list,
+                   Describe(value));
+}
+
+std::string YamlMap::Choice(const std::string& key,
+                            const std::vector<std::string>& choices,
+                            const std::string& fallback) {
+  if (!Has(key)) {
+    used_.insert(key);
+    return fallback;
+  }
+  return Choice(key, choices);
+}
+
+void YamlMap::Finish() const {
+  for (const auto& entry : node_) {
+    const std::string key = entry.first.Scalar();
+    if (used_.count(key)) continue;
+    std::string known;
+    for (const std::string& k : used_) known += (known.empty() ? "" : ", ") + k;
+    ThrowConfigError(file_, entry.first, KeyPath(key),
+                     "one of the known keys (" + known + ")",
+                     "unknown key '" + key + "'");
+  }
+}
+
+std::string DirectoryOf(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  if (slash == 0) return "/";
+  return path.substr(0, slash);
+}
+
+std::string ResolvePath(const std::string& base_dir,
+                        const std::string& relative) {
+  if (!relative.empty() && relative[0] == '/') return relative;
+  if (base_dir.empty() || base_dir == ".") return relative;
+  return base_dir + "/" + relative;
+}
+
+}  // namespace axis

@@ -1,0 +1,89 @@
+// Strict reading of YAML mappings for the config loaders: every key must be
+// known, required keys must be present, values must have the expected type
+// and range. Errors are std::invalid_argument with the message
+//   "<file>:<line>: key '<path>': expected <what>, got <value>"
+// so that a user can find the offending line.
+#ifndef SIM_YAML_UTIL_H_
+#define SIM_YAML_UTIL_H_
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+namespace axis {
+
+// Loads a YAML file. Throws std::invalid_argument "<file>: cannot read"
+// or "<file>:<line>: invalid YAML: <reason>".
+YAML::Node LoadYamlFile(const std::string& file);
+
+// Throws std::invalid_argument "<file>:<line>: key '<key>': expected
+// <expected>, got <got>" with the line of `node` (1-based).
+[[noreturn]] void ThrowConfigError(const std::string& file,
+                                   const YAML::Node& node,
+                                   const std::string& key,
+                                   const std::string& expected,
+                                   const std::string& got);
+
+// The text of a scalar node, or a short description of a non-scalar one.
+std::string Describe(const YAML::Node& node);
+
+// A mapping that must be read completely: call Finish() after reading the
+// keys; it throws on any key nobody asked for ("unknown key").
+class YamlMap {
+ public:
+  // `node` must be a mapping, else throws. `prefix` is the key path of the
+  // mapping ("" at top level, "controller." inside controller).
+  YamlMap(const YAML::Node& node, std::string file, std::string prefix);
+
+  bool Has(const std::string& key) const;
+  // The child node; throws if missing ("expected a value, got nothing").
+  YAML::Node Required(const std::string& key);
+  // The child node or an undefined node if absent.
+  YAML::Node Optional(const std::string& key);
+
+  // Numbers. `range` is checked: kAny, kPositive (> 0, +inf allowed),
+  // kNonNegative (≥ 0).
+  enum class Range { kAny, kPositive, kNonNegative, kFinitePositive };
+  double Number(const std::string& key, Range range = Range::kAny);
+  double Number(const std::string& key, double fallback,
+                Range range = Range::kAny);
+  long Integer(const std::string& key, long fallback, long min, long max);
+  std::string String(const std::string& key);
+  std::string String(const std::string& key, const std::string& fallback);
+  // One of `choices`; error lists them.
+  std::string Choice(const std::string& key,
+                     const std::vector<std::string>& choices);
+  std::string Choice(const std::string& key,
+                     const std::vector<std::string>& choices,
+                     const std::string& fallback);
+
+  // Throws on the first key that was never asked for, listing the known ones.
+  void Finish() const;
+
+  const std::string& file() const { return file_; }
+  const std::string& prefix() const { return prefix_; }
+  const YAML::Node& node() const { return node_; }
+  // Key path for messages: prefix + key.
+  std::string KeyPath(const std::string& key) const { return prefix_ + key; }
+  // Reads a number from any node (used for sequences); same range rules.
+  double NumberFrom(const YAML::Node& value, const std::string& key_path,
+                    Range range) const;
+
+ private:
+  YAML::Node node_;
+  std::string file_;
+  std::string prefix_;
+  std::set<std::string> used_;
+};
+
+// Directory part of a path ("." if none), and `relative` resolved against it
+// (absolute paths are kept).
+std::string DirectoryOf(const std::string& path);
+std::string ResolvePath(const std::string& base_dir,
+                        const std::string& relative);
+
+}  // namespace axis
+
+#endif  // SIM_YAML_UTIL_H_

@@ -1,0 +1,226 @@
+// Strict loading of model configs and experiment files: every committed
+// config loads, and bad input gives a message naming the file, the line and
+// the key and saying what was expected.
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "sim/config.h"
+
+namespace axis {
+namespace {
+
+const std::string kRoot = PROJECT_SOURCE_DIR;
+
+std::string WriteTemp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// The message of the std::invalid_argument thrown by `load`, or "" if none.
+template <typename F>
+std::string ErrorOf(F&& load) {
+  try {
+    load();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A valid experiment around the X axis config, with `extra` appended.
+std::string Experiment(const std::string& extra,
+                       const std::string& input = "input: {type: step, amplitude: 1}\n") {
+  return "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+         "duration: 0.01\nchannels: [v]\n" + input + extra;
+}
+
+TEST(ConfigTest, EveryCommittedAxisConfigLoads) {
+  for (const char* name : {"x_axis", "y_axis", "z_axis", "wrist_pitch",
+                           "wrist_roll", "emps"}) {
+    SCOPED_TRACE(name);
+    const AxisConfig c = LoadAxisConfig(kRoot + "/configs/axes/" + name + ".yaml");
+    EXPECT_EQ(c.name, name);
+  }
+}
+
+TEST(ConfigTest, XAxisHasThePapersValues) {
+  const AxisConfig c = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
+  const AxisParams<double> paper;  // defaults are MODEL.md §2
+  VisitParams([&](const char* name, const char*, const double& got,
+                  const double& want) { EXPECT_EQ(got, want) << name; },
+              c.params, paper);
+  EXPECT_EQ(c.structure.amplifier, Amplifier::kAnalogVelocityLoop);
+  EXPECT_EQ(c.structure.coupling, Coupling::kGear);
+  EXPECT_TRUE(c.has_controller);
+  EXPECT_EQ(c.controller.T_s, 0.005);
+  EXPECT_EQ(c.controller.T_track, 0.08);
+}
+
+TEST(ConfigTest, EmpsConfigIsForceSourceRigidWithItsController) {
+  const AxisConfig c = LoadAxisConfig(kRoot + "/configs/axes/emps.yaml");
+  EXPECT_EQ(c.structure.amplifier, Amplifier::kForceSource);
+  EXPECT_EQ(c.structure.coupling, Coupling::kRigid);
+  EXPECT_NEAR(c.params.g_F, 35.15065188248547, 1e-12);
+  EXPECT_NEAR(c.controller.G_p, 160.18 * 243.45, 1e-6);
+  EXPECT_EQ(c.controller.G_v, 243.45);
+  EXPECT_EQ(c.controller.alpha, 0.5);
+  EXPECT_EQ(c.controller.T_s, 0.001);
+}
+
+TEST(ConfigTest, ZAxisCarriesGravityAsALoadOffset) {
+  const AxisConfig c = LoadAxisConfig(kRoot + "/configs/axes/z_axis.yaml");
+  EXPECT_TRUE(c.structure.effects.load_offset);
+  EXPECT_NEAR(c.params.F_0, c.params.M * 9.81, 1e-9);
+}
+
+TEST(ConfigTest, EveryCommittedExperimentLoads) {
+  for (const char* name : {"x_step_10V", "x_move_1m", "x_linear_tp4.74",
+                           "x_linear_tp0.195"}) {
+    SCOPED_TRACE(name);
+    EXPECT_NO_THROW(LoadExperiment(kRoot + "/configs/experiments/" + name + ".yaml"));
+  }
+}
+
+TEST(ConfigTest, UnknownKeyNamesFileLineAndKey) {
+  const std::string path = WriteTemp("unknown.yaml", Experiment("colour: red\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find(path + ":5:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'colour'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected one of the known keys"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, UnknownNestedKeyNamesItsPath) {
+  const std::string path = WriteTemp(
+      "nested.yaml", Experiment("", "input: {type: step, amplitude: 1, hight: 2}\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("key 'input.hight'"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, MissingKeyIsNamed) {
+  const std::string path = WriteTemp(
+      "missing.yaml", "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+                      "channels: [v]\ninput: {type: step, amplitude: 1}\n");
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("key 'duration'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("required"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, MissingModelParameterIsNamed) {
+  std::ifstream in(kRoot + "/configs/axes/x_axis.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("  M: 146"), 8, "");
+  const std::string path = WriteTemp("no_mass.yaml", text);
+  const std::string msg = ErrorOf([&] { LoadAxisConfig(path); });
+  EXPECT_NE(msg.find("key 'parameters.M'"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, WrongTypeSaysWhatWasExpected) {
+  const std::string path = WriteTemp("type.yaml", Experiment("step: fast\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("key 'step': expected a finite positive number, got 'fast'"),
+            std::string::npos) << msg;
+}
+
+TEST(ConfigTest, NonPositiveMassInertiaAndTimeConstantsAreRejected) {
+  for (const char* name : {"M", "J_m", "T_p", "T_r", "L"}) {
+    SCOPED_TRACE(name);
+    const std::string path = WriteTemp(
+        std::string("neg_") + name + ".yaml",
+        Experiment(std::string("set: {") + name + ": -1}\n"));
+    const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find(std::string("'") + name + "'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("expected a positive number, got -1"), std::string::npos)
+        << msg;
+  }
+}
+
+TEST(ConfigTest, UnknownEffectNameListsTheKnownOnes) {
+  const std::string path =
+      WriteTemp("effect.yaml", Experiment("effects: {magic_friction: {F: 1}}\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("key 'effects.magic_friction'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("coulomb"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, EffectsAreParsedWithTheirParameters) {
+  const std::string path = WriteTemp(
+      "effects_ok.yaml",
+      Experiment("effects:\n  coulomb: {F_c: 30}\n  cogging: {A_cog: 0.02, "
+                 "phi_cog: 0.1, N_cog: 6}\n  sensor_delay: {a: 0.002}\n"
+                 "  sensor_bias: {tach: 0.01}\n"));
+  const ExperimentConfig e = LoadExperiment(path);
+  EXPECT_TRUE(e.model.structure.effects.coulomb);
+  EXPECT_EQ(e.model.params.F_c, 30.0);
+  EXPECT_TRUE(e.model.structure.effects.cogging);
+  EXPECT_EQ(e.model.structure.N_cog, 6);
+  EXPECT_EQ(e.model.params.A_cog, 0.02);
+  EXPECT_TRUE(e.model.structure.sensors.delay[static_cast<int>(Channel::kA)]);
+  EXPECT_EQ(e.model.params.tau_d[static_cast<int>(Channel::kA)], 0.002);
+  EXPECT_EQ(e.model.params.b[static_cast<int>(Channel::kTach)], 0.01);
+}
+
+TEST(ConfigTest, MissingDataColumnIsNamed) {
+  const std::string csv = WriteTemp("data.csv", "t,u\n0,1\n0.001,2\n");
+  const std::string path = WriteTemp(
+      "column.yaml",
+      Experiment("", "input: {type: column, file: " + csv + ", column: volts}\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("key 'input.column'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'volts'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("t, u"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, UnknownSetParameterIsNamed) {
+  const std::string path = WriteTemp("set.yaml", Experiment("set: {V_X: 3}\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("key 'set.V_X'"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, InputAndReferenceAreExclusive) {
+  const std::string path = WriteTemp(
+      "both.yaml",
+      Experiment("reference: {type: trapezoid, distance: 1, velocity: 1, "
+                 "acceleration: 1}\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("exactly one of 'input'"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, OutputPeriodMustBeWholeSteps) {
+  const std::string path = WriteTemp("grid.yaml", Experiment("output_rate: 3000\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("whole number"), std::string::npos) << msg;
+}
+
+TEST(ConfigTest, SetArgumentOverridesAndValidates) {
+  AxisConfig c = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
+  ApplySetArgument(&c, "V_L=3.1");
+  EXPECT_EQ(c.params.V_L, 3.1);
+  EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "M=0"); })
+                .find("parameter 'M': expected a positive number, got 0"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "Q=1"); }).find("got 'Q'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "V_L"); }).find("NAME=VALUE"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "V_L=abc"); }).find("'abc'"),
+            std::string::npos);
+}
+
+TEST(ConfigTest, ForceSourceNeedsRigidCoupling) {
+  std::ifstream in(kRoot + "/configs/axes/emps.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("coupling: rigid"), 15, "coupling: gear\n");
+  text.insert(text.find("parameters:") + 12, "  H: 0\n  k_g: 1\n  b_g: 1\n");
+  const std::string path = WriteTemp("emps_gear.yaml", text);
+  const std::string msg = ErrorOf([&] { LoadAxisConfig(path); });
+  EXPECT_NE(msg.find("expected rigid"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace axis

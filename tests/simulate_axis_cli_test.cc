@@ -1,0 +1,89 @@
+// The simulate-axis command end to end: it writes the trace with canonical
+// headers, and bad input exits with code 2, a message naming the file and
+// key, and no output file.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "sim/csv.h"
+
+namespace {
+
+const std::string kRoot = PROJECT_SOURCE_DIR;
+const std::string kBin = std::string(BINARY_DIR) + "/simulate-axis";
+
+struct Result {
+  int exit_code;
+  std::string err;
+};
+
+Result RunCli(const std::string& args) {
+  const std::string err_path = ::testing::TempDir() + "sim_cli_stderr.txt";
+  const int status = std::system((kBin + " " + args + " 2>" + err_path).c_str());
+  std::ifstream in(err_path);
+  std::string err((std::istreambuf_iterator<char>(in)), {});
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, err};
+}
+
+bool Exists(const std::string& path) { return std::ifstream(path).good(); }
+
+TEST(SimulateAxisCli, WritesTheFig4Trace) {
+  const std::string out = ::testing::TempDir() + "fig4.csv";
+  std::remove(out.c_str());
+  const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const axis::CsvTable table = axis::ReadCsv(out);
+  EXPECT_EQ(table.names.front(), "t");
+  for (const char* name : {"u", "x", "v", "a", "i", "tach", "vc", "fg"}) {
+    EXPECT_TRUE(table.HasColumn(name)) << name;
+  }
+  EXPECT_EQ(table.num_rows(), 1501u);  // 1.5 s at 1 kHz, both ends
+  EXPECT_NEAR(table.Column("v").back(), 1.0, 0.005);
+}
+
+TEST(SimulateAxisCli, SetAndSeedAreApplied) {
+  const std::string out = ::testing::TempDir() + "fig4_set.csv";
+  const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out " +
+                       out + " --set K1=507 --seed 3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Halving K_1 halves the steady velocity (0.5 m/s, MODEL.md §3).
+  EXPECT_NEAR(axis::ReadCsv(out).Column("v").back(), 0.5, 0.0025);
+}
+
+TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
+  const std::string bad = ::testing::TempDir() + "bad_exp.yaml";
+  std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
+                     << "duration: 0.1\nchannels: [v]\n"
+                     << "input: {type: step, amplitude: 1}\nset: {M: -5}\n";
+  const std::string out = ::testing::TempDir() + "never.csv";
+  std::remove(out.c_str());
+  const Result r = RunCli(bad + " --out " + out);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(bad), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'M'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("expected a positive number"), std::string::npos) << r.err;
+  EXPECT_FALSE(Exists(out));
+}
+
+TEST(SimulateAxisCli, BadCommandLineExitsTwo) {
+  EXPECT_EQ(RunCli("").exit_code, 2);
+  const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out " +
+                       ::testing::TempDir() + "x.csv --set NOPE=1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("'NOPE'"), std::string::npos) << r.err;
+  EXPECT_EQ(RunCli("/nonexistent.yaml --out /tmp/x.csv").exit_code, 2);
+}
+
+TEST(SimulateAxisCli, UnwritableOutputFailsWithoutPartialFile) {
+  const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out "
+                       "/nonexistent_dir/x.csv");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("/nonexistent_dir/x.csv"), std::string::npos) << r.err;
+}
+
+}  // namespace
