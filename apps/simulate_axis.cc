@@ -1,4 +1,5 @@
 // simulate-axis EXPERIMENT.yaml --out trace.csv [--seed N] [--set NAME=VALUE ...]
+//               [--no-noise]
 //
 // Simulates one experiment file (configs/experiments/*.yaml) and writes the
 // recorded channels as CSV. Exit codes: 0 success, 2 bad input (command
@@ -23,6 +24,8 @@ int main(int argc, char** argv) {
                               "noise seed (overrides the experiment's)");
   app.add_option("--set", options.sets,
                  "parameter override NAME=VALUE (MODEL.md names), repeatable");
+  app.add_flag("--no-noise", options.no_noise,
+               "write the noise-free trace (ignore the experiment's noise)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -351,6 +351,25 @@ InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
   return s;
 }
 
+Reference ParseReference(YamlMap& map, const std::string& base_dir,
+                         double origin) {
+  Reference r;
+  const std::string type = map.Choice("type", {"trapezoid", "column"});
+  if (type == "trapezoid") {
+    r.kind = Reference::Kind::kTrapezoid;
+    r.distance = map.Number("distance");
+    r.velocity = map.Number("velocity", Range::kFinitePositive);
+    r.acceleration = map.Number("acceleration", Range::kFinitePositive);
+    r.start = map.Number("start", 0.0, Range::kNonNegative);
+    r.origin = map.Number("origin", origin);
+  } else {
+    r.kind = Reference::Kind::kTable;
+    r.table = ParseColumnSignal(map, base_dir);
+  }
+  map.Finish();
+  return r;
+}
+
 ControllerConfig ParseController(YamlMap& map, const ControllerConfig& d) {
   ControllerConfig c;
   c.T_s = map.Number("T_s", d.T_s, Range::kFinitePositive);
@@ -499,21 +518,7 @@ ExperimentConfig LoadExperiment(const std::string& path) {
     }
     e.drive.controller = base;
     YamlMap map(root.Required("reference"), path, "reference.");
-    const std::string type = map.Choice("type", {"trapezoid", "column"});
-    if (type == "trapezoid") {
-      e.drive.reference.kind = Reference::Kind::kTrapezoid;
-      e.drive.reference.distance = map.Number("distance");
-      e.drive.reference.velocity = map.Number("velocity", Range::kFinitePositive);
-      e.drive.reference.acceleration =
-          map.Number("acceleration", Range::kFinitePositive);
-      e.drive.reference.start = map.Number("start", 0.0, Range::kNonNegative);
-      e.drive.reference.origin = map.Number("origin", e.initial_state[0]);
-      map.Finish();
-    } else {
-      e.drive.reference.kind = Reference::Kind::kTable;
-      e.drive.reference.table = ParseColumnSignal(map, dir);
-      map.Finish();
-    }
+    e.drive.reference = ParseReference(map, dir, e.initial_state[0]);
     if (const YAML::Node node = root.Optional("injection")) {
       YamlMap inj(node, path, "injection.");
       e.drive.injection = ParseInputSignal(inj, dir, e.options.duration);

@@ -69,6 +69,12 @@ InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
 // CSV errors of ReadCsv (file, line).
 InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir);
 
+// A controller reference (MODEL.md §5): `type: trapezoid` (distance,
+// velocity, acceleration, start, origin) or `type: column` (the keys of
+// ParseColumnSignal). Calls Finish(). Throws std::invalid_argument.
+Reference ParseReference(YamlMap& map, const std::string& base_dir,
+                         double origin);
+
 // The controller settings of MODEL.md §5, starting from `defaults`.
 ControllerConfig ParseController(YamlMap& map, const ControllerConfig& defaults);
 

@@ -29,11 +29,11 @@ constexpr size_t kChunkSize = size_t{1} << 16;
 // Longest cell text quoted in an error message.
 constexpr size_t kMaxQuotedCell = 40;
 
-std::string ErrnoText(int err) {
-  return std::generic_category().message(err);
-}
+std::string ErrnoText(int err) { return std::generic_category().message(err); }
 
-bool IsSpace(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
+bool IsSpace(char c) {
+  return std::isspace(static_cast<unsigned char>(c)) != 0;
+}
 
 // `text` in single quotes, shortened to kMaxQuotedCell characters.
 std::string QuoteCell(const char* text, size_t len) {
@@ -139,8 +139,8 @@ class Reader {
   CsvTable Finish() {
     ThrowIfFailed();
     if (!have_header_) {
-      throw std::invalid_argument(
-          path_ + ": expected a header row, got an empty file");
+      throw std::invalid_argument(path_ +
+                                  ": expected a header row, got an empty file");
     }
     if (table_.num_rows() == 0) {
       throw std::invalid_argument(
@@ -185,7 +185,9 @@ class Reader {
     } else if (!cell_error_.empty()) {
       Fail(line, cell_error_);
     } else {
-      for (size_t j = 0; j < expected; ++j) table_.columns[j].push_back(row_[j]);
+      for (size_t j = 0; j < expected; ++j) {
+        table_.columns[j].push_back(row_[j]);
+      }
     }
     cell_error_.clear();
   }
@@ -226,10 +228,10 @@ class Reader {
   std::vector<double> row_;          // values of the current data row
   std::string cell_error_;           // first bad cell of the current row
   bool have_header_ = false;
-  size_t num_fields_ = 0;            // fields so far in the current row
-  size_t line_ = 1;                  // line of the row being parsed
+  size_t num_fields_ = 0;  // fields so far in the current row
+  size_t line_ = 1;        // line of the row being parsed
   int last_terminator_ = 0;
-  size_t first_blank_line_ = 0;      // 0: no blank line pending
+  size_t first_blank_line_ = 0;  // 0: no blank line pending
   bool failed_ = false;
   std::string error_;
   std::exception_ptr exception_;
@@ -315,12 +317,12 @@ bool CsvTable::HasColumn(const std::string& name) const {
 CsvTable ReadCsv(const std::string& path) {
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
   if (!file) {
-    throw std::invalid_argument(path + ": cannot open for reading: " +
-                                ErrnoText(errno));
+    throw std::invalid_argument(
+        path + ": cannot open for reading: " + ErrnoText(errno));
   }
   csv_parser parser_storage;
-  if (csv_init(&parser_storage, CSV_STRICT | CSV_STRICT_FINI |
-                                    CSV_APPEND_NULL | CSV_REPALL_NL) != 0) {
+  if (csv_init(&parser_storage, CSV_STRICT | CSV_STRICT_FINI | CSV_APPEND_NULL |
+                                    CSV_REPALL_NL) != 0) {
     throw std::bad_alloc();
   }
   std::unique_ptr<csv_parser, ParserDeleter> parser(&parser_storage);
@@ -332,8 +334,8 @@ CsvTable ReadCsv(const std::string& path) {
     const size_t size = std::fread(buffer.data(), 1, buffer.size(), file.get());
     if (size == 0) {
       if (std::ferror(file.get())) {
-        throw std::invalid_argument(path + ": cannot read: " +
-                                    ErrnoText(errno));
+        throw std::invalid_argument(path +
+                                    ": cannot read: " + ErrnoText(errno));
       }
       break;
     }
@@ -368,7 +370,8 @@ CsvTable ReadCsv(const std::string& path) {
 }
 
 void CheckStrictlyIncreasing(const CsvTable& table, const std::string& column) {
-  const std::vector<double>& values = table.columns.at(table.ColumnIndex(column));
+  const std::vector<double>& values =
+      table.columns.at(table.ColumnIndex(column));
   for (size_t i = 1; i < values.size(); ++i) {
     if (!(values[i] > values[i - 1])) {
       throw std::invalid_argument(
@@ -391,9 +394,10 @@ void WriteFileAtomic(const std::string& path, const std::string& contents) {
     if (fd < 0 && errno != EEXIST) break;
   }
   if (fd < 0) {
-    throw std::runtime_error(path + ": cannot write: cannot create the "
-                             "temporary file '" + temp + "': " +
-                             ErrnoText(errno));
+    throw std::runtime_error(path +
+                             ": cannot write: cannot create the "
+                             "temporary file '" +
+                             temp + "': " + ErrnoText(errno));
   }
   // Closes (if still open) and removes the temporary, then throws.
   auto fail = [&](const std::string& what, int err) {
@@ -427,14 +431,14 @@ void WriteCsvAtomic(const std::string& path,
                     const std::vector<std::vector<double>>& columns,
                     int precision) {
   if (precision < 1 || precision > 17) {
-    throw std::invalid_argument(path + ": expected a precision in [1, 17], got " +
+    throw std::invalid_argument(path +
+                                ": expected a precision in [1, 17], got " +
                                 std::to_string(precision));
   }
   if (columns.size() != names.size()) {
-    throw std::invalid_argument(
-        path + ": expected one column per name (" +
-        std::to_string(names.size()) + "), got " +
-        std::to_string(columns.size()) + " columns");
+    throw std::invalid_argument(path + ": expected one column per name (" +
+                                std::to_string(names.size()) + "), got " +
+                                std::to_string(columns.size()) + " columns");
   }
   const size_t rows = columns.empty() ? 0 : columns.front().size();
   for (size_t j = 0; j < columns.size(); ++j) {
@@ -446,17 +450,18 @@ void WriteCsvAtomic(const std::string& path,
     }
     for (size_t i = 0; i < rows; ++i) {
       if (!std::isfinite(columns[j][i])) {
-        throw std::invalid_argument(
-            path + ": expected finite values, got " +
-            ShortestText(columns[j][i]) + " in column '" + names[j] +
-            "' at row " + std::to_string(i) + " (would be line " +
-            std::to_string(i + 2) + ")");
+        throw std::invalid_argument(path + ": expected finite values, got " +
+                                    ShortestText(columns[j][i]) +
+                                    " in column '" + names[j] + "' at row " +
+                                    std::to_string(i) + " (would be line " +
+                                    std::to_string(i + 2) + ")");
       }
     }
   }
 
   std::string out;
-  out.reserve(64 + rows * columns.size() * (static_cast<size_t>(precision) + 8));
+  out.reserve(64 +
+              rows * columns.size() * (static_cast<size_t>(precision) + 8));
   for (size_t j = 0; j < names.size(); ++j) {
     if (j > 0) out.push_back(',');
     AppendName(names[j], &out);
@@ -466,8 +471,8 @@ void WriteCsvAtomic(const std::string& path,
   for (size_t i = 0; i < rows; ++i) {
     for (size_t j = 0; j < columns.size(); ++j) {
       if (j > 0) out.push_back(',');
-      const int n = std::snprintf(buf, sizeof(buf), "%.*g", precision,
-                                  columns[j][i]);
+      const int n =
+          std::snprintf(buf, sizeof(buf), "%.*g", precision, columns[j][i]);
       out.append(buf, static_cast<size_t>(n));
     }
     out.push_back('\n');

@@ -55,7 +55,7 @@ void SimulateAxis(const SimulateAxisOptions& options) {
         ": the simulation left the finite numbers (unstable: try a smaller "
         "step or check the parameters); nothing written");
   }
-  AddNoise(e.noise_sigma, e.seed, &trace);
+  if (!options.no_noise) AddNoise(e.noise_sigma, e.seed, &trace);
   WriteTraceCsv(options.out_path, trace, e.options.channels);
 }
 

@@ -37,6 +37,7 @@ struct SimulateAxisOptions {
   bool has_seed = false;
   std::uint64_t seed = 0;           // overrides the experiment's seed
   std::vector<std::string> sets;    // NAME=VALUE parameter overrides
+  bool no_noise = false;            // write the noise-free trace
   bool show_progress = false;       // progress bar on stderr
 };
 

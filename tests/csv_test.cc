@@ -1,5 +1,6 @@
 #include "sim/csv.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -11,8 +12,6 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace axis {
 namespace {
@@ -100,8 +99,9 @@ TEST_F(CsvTest, RoundTripIsExactAtPrecision17) {
       {0.0, 0.1, 1.0 / 3.0, 2.0 / 3.0, 1e-3},
       {-0.0, -1.2345678901234567, 6.02214076e23,
        std::numeric_limits<double>::max(), -std::numeric_limits<double>::min()},
-      {std::numeric_limits<double>::denorm_min(), 1e-300, std::nextafter(1.0, 2.0),
-       std::nextafter(0.1, 0.0), 123456789012345678.0},
+      {std::numeric_limits<double>::denorm_min(), 1e-300,
+       std::nextafter(1.0, 2.0), std::nextafter(0.1, 0.0),
+       123456789012345678.0},
   };
   const std::string path = PathOf("round_trip.csv");
   WriteCsvAtomic(path, names, columns, 17);
@@ -113,7 +113,8 @@ TEST_F(CsvTest, RoundTripIsExactAtPrecision17) {
   for (size_t j = 0; j < columns.size(); ++j) {
     ASSERT_EQ(table.columns[j].size(), columns[j].size());
     for (size_t i = 0; i < columns[j].size(); ++i) {
-      EXPECT_EQ(table.columns[j][i], columns[j][i]) << "column " << j << " row " << i;
+      EXPECT_EQ(table.columns[j][i], columns[j][i])
+          << "column " << j << " row " << i;
       EXPECT_EQ(std::signbit(table.columns[j][i]), std::signbit(columns[j][i]));
     }
   }
@@ -127,7 +128,8 @@ TEST_F(CsvTest, DefaultPrecisionIsTwelveSignificantDigits) {
 }
 
 TEST_F(CsvTest, WritesNamesThatNeedQuotesAndReadsThemBack) {
-  const std::vector<std::string> names = {"a,b", "say \"hi\"", " padded ", "plain"};
+  const std::vector<std::string> names = {"a,b", "say \"hi\"", " padded ",
+                                          "plain"};
   const std::string path = PathOf("names.csv");
   WriteCsvAtomic(path, names, {{1}, {2}, {3}, {4}});
   EXPECT_EQ(ReadText(path),
@@ -162,7 +164,8 @@ TEST_F(CsvTest, MissingColumnListsTheColumns) {
 
 TEST_F(CsvTest, ParsesCrlfAndQuotedHeaderNames) {
   const std::string path = WriteText(
-      "crlf.csv", "\"t_s\",\"q, rad\",\"say \"\"x\"\"\"\r\n0,1,2\r\n0.5,\"3\",4\r\n");
+      "crlf.csv",
+      "\"t_s\",\"q, rad\",\"say \"\"x\"\"\"\r\n0,1,2\r\n0.5,\"3\",4\r\n");
   const CsvTable table = ReadCsv(path);
   EXPECT_EQ(table.names,
             (std::vector<std::string>{"t_s", "q, rad", "say \"x\""}));
@@ -172,14 +175,14 @@ TEST_F(CsvTest, ParsesCrlfAndQuotedHeaderNames) {
 }
 
 TEST_F(CsvTest, CrlfErrorsReportTheRightLine) {
-  ExpectReadError("t,x\r\n0,1\r\n1,2\r\n2,oops\r\n", ":4: ",
-                  {"column 'x'", "'oops'"});
+  ExpectReadError("t,x\r\n0,1\r\n1,2\r\n2,oops\r\n",
+                  ":4: ", {"column 'x'", "'oops'"});
   ExpectReadError("t,x\r0,1\r1,2\r2,oops\r", ":4: ", {"'oops'"});  // CR only
 }
 
 TEST_F(CsvTest, AcceptsSpacesByteOrderMarkAndNoFinalNewline) {
-  const std::string path = WriteText(
-      "in.csv", "\xEF\xBB\xBF t , x\n  1 ,\t2\t\n\" 3 \", -4e1");
+  const std::string path =
+      WriteText("in.csv", "\xEF\xBB\xBF t , x\n  1 ,\t2\t\n\" 3 \", -4e1");
   const CsvTable table = ReadCsv(path);
   EXPECT_EQ(table.names, (std::vector<std::string>{"t", "x"}));
   EXPECT_EQ(table.Column("t"), (std::vector<double>{1.0, 3.0}));
@@ -217,25 +220,25 @@ TEST_F(CsvTest, HeaderWithoutDataRows) {
 }
 
 TEST_F(CsvTest, EmptyColumnName) {
-  ExpectReadError("t,,x\n0,1,2\n", ":1: ",
-                  {"expected a name for column 2", "got an empty one"});
+  ExpectReadError("t,,x\n0,1,2\n",
+                  ":1: ", {"expected a name for column 2", "got an empty one"});
   ExpectReadError("t,x,\n0,1,2\n", ":1: ", {"column 3", "got an empty one"});
   ExpectReadError("t,\"  \"\n0,1\n", ":1: ", {"column 2", "got an empty one"});
 }
 
 TEST_F(CsvTest, DuplicatedColumnName) {
-  ExpectReadError("t,x,y,x\n0,1,2,3\n", ":1: ",
-                  {"expected unique column names", "got 'x' twice",
-                   "columns 2 and 4"});
+  ExpectReadError(
+      "t,x,y,x\n0,1,2,3\n", ":1: ",
+      {"expected unique column names", "got 'x' twice", "columns 2 and 4"});
 }
 
 TEST_F(CsvTest, RowWithWrongFieldCount) {
-  ExpectReadError("t,x,y\n0,1,2\n1,2\n", ":3: ",
-                  {"expected 3 fields as in the header, got 2"});
-  ExpectReadError("t,x,y\n0,1,2\n1,2,3\n2,3,4,5\n", ":4: ",
-                  {"expected 3 fields as in the header, got 4"});
-  ExpectReadError("t,x\n0,1,\n", ":2: ",
-                  {"expected 2 fields as in the header, got 3"});
+  ExpectReadError("t,x,y\n0,1,2\n1,2\n",
+                  ":3: ", {"expected 3 fields as in the header, got 2"});
+  ExpectReadError("t,x,y\n0,1,2\n1,2,3\n2,3,4,5\n",
+                  ":4: ", {"expected 3 fields as in the header, got 4"});
+  ExpectReadError("t,x\n0,1,\n",
+                  ":2: ", {"expected 2 fields as in the header, got 3"});
   // The field count is reported before a bad cell in the same row.
   ExpectReadError("t,x,y\n0,1,2\nabc,2\n", ":3: ", {"got 2"});
 }
@@ -251,48 +254,48 @@ TEST_F(CsvTest, EmptyCell) {
 }
 
 TEST_F(CsvTest, NonNumericCell) {
-  ExpectReadError("t,x\n0,1\n1,abc\n", ":3: ",
-                  {"expected a number in column 'x', got 'abc'"});
-  ExpectReadError("t,x\n0,1.5x\n", ":2: ",
-                  {"expected a number in column 'x', got '1.5x'"});
+  ExpectReadError("t,x\n0,1\n1,abc\n",
+                  ":3: ", {"expected a number in column 'x', got 'abc'"});
+  ExpectReadError("t,x\n0,1.5x\n",
+                  ":2: ", {"expected a number in column 'x', got '1.5x'"});
   ExpectReadError("t,x\n0,1 2\n", ":2: ", {"got '1 2'"});
   ExpectReadError("t,x\n0,1,5\n", ":2: ", {"expected 2 fields"});
   ExpectReadError("t,x\n0,\"1,5\"\n", ":2: ", {"got '1,5'"});
-  ExpectReadError("t,x\n0," + std::string(100, '7') + "z\n", ":2: ",
-                  {"got '7777", "...' (101 characters)"});
+  ExpectReadError("t,x\n0," + std::string(100, '7') + "z\n",
+                  ":2: ", {"got '7777", "...' (101 characters)"});
 }
 
 TEST_F(CsvTest, NanOrInfiniteCell) {
   ExpectReadError("t,x\n0,1\n1,nan\n", ":3: ",
                   {"expected a finite number in column 'x', got 'nan' (NaN)"});
   ExpectReadError("t,x\n0,NaN\n", ":2: ", {"got 'NaN' (NaN)"});
-  ExpectReadError("t,x\n0,-inf\n", ":2: ",
-                  {"expected a finite number in column 'x'",
-                   "got '-inf' (infinite)"});
+  ExpectReadError(
+      "t,x\n0,-inf\n", ":2: ",
+      {"expected a finite number in column 'x'", "got '-inf' (infinite)"});
   ExpectReadError("t,x\n0,Infinity\n", ":2: ", {"(infinite)"});
-  ExpectReadError("t,x\n1e999,0\n", ":2: ",
-                  {"column 't'", "got '1e999' (infinite)"});
+  ExpectReadError("t,x\n1e999,0\n",
+                  ":2: ", {"column 't'", "got '1e999' (infinite)"});
 }
 
 TEST_F(CsvTest, BlankLineBeforeMoreRows) {
   ExpectReadError("t,x\n0,1\n\n1,2\n", ":3: ",
                   {"expected 2 fields as in the header, got a blank line"});
-  ExpectReadError("\nt,x\n0,1\n", ":1: ",
-                  {"expected the header row, got a blank line"});
+  ExpectReadError("\nt,x\n0,1\n",
+                  ":1: ", {"expected the header row, got a blank line"});
 }
 
 TEST_F(CsvTest, MalformedQuoting) {
-  ExpectReadError("t,x\n0,1\n1,2\"3\n", ":3: ",
-                  {"expected quotes only around whole fields",
-                   "got a stray quote"});
+  ExpectReadError(
+      "t,x\n0,1\n1,2\"3\n", ":3: ",
+      {"expected quotes only around whole fields", "got a stray quote"});
   ExpectReadError("t,x\n0,\"1\"2\n", ":2: ", {"got a stray quote"});
   ExpectReadError("t,x\n0,1\n1,\"2\n", ":3: ",
                   {"expected a closing quote, got the end of the file"});
   ExpectReadError("t,x\n0,1\n1,\"2\n3\"\n", ":3: ",
                   {"expected each row on one line",
                    "got a line break inside a quoted field"});
-  ExpectReadError("\"t\nx\"\n0\n", ":1: ",
-                  {"got a line break inside a quoted field"});
+  ExpectReadError("\"t\nx\"\n0\n",
+                  ":1: ", {"got a line break inside a quoted field"});
 }
 
 TEST_F(CsvTest, CheckStrictlyIncreasingAcceptsIncreasingColumn) {
@@ -373,21 +376,27 @@ TEST_F(CsvTest, WriteFileAtomicRemovesTemporaryWhenRenameFails) {
 TEST_F(CsvTest, WriteCsvAtomicRejectsBadShapesAndWritesNothing) {
   const std::string path = PathOf("out.csv");
   ExpectInvalidArgument(
-      [&] { WriteCsvAtomic(path, {"t", "x"}, {{0.0, 1.0}}); }, path + ": ",
-      {"expected one column per name (2), got 1 columns"});
+      [&] {
+        WriteCsvAtomic(path, {"t", "x"}, {{0.0, 1.0}});
+      },
+      path + ": ", {"expected one column per name (2), got 1 columns"});
   ExpectInvalidArgument(
-      [&] { WriteCsvAtomic(path, {"t", "x"}, {{0.0, 1.0}, {1.0}}); },
+      [&] {
+        WriteCsvAtomic(path, {"t", "x"}, {{0.0, 1.0}, {1.0}});
+      },
       path + ": ",
       {"expected every column as long as column 't' (2 values), got 1 in "
        "column 'x'"});
   ExpectInvalidArgument(
-      [&] { WriteCsvAtomic(path, {"t", "x"}, {{0.0, 1.0}, {1.0, NAN}}); },
+      [&] {
+        WriteCsvAtomic(path, {"t", "x"}, {{0.0, 1.0}, {1.0, NAN}});
+      },
       path + ": ", {"expected finite values, got nan in column 'x' at row 1"});
-  ExpectInvalidArgument(
-      [&] { WriteCsvAtomic(path, {"t"}, {{INFINITY}}); }, path + ": ",
-      {"got inf in column 't'"});
+  ExpectInvalidArgument([&] { WriteCsvAtomic(path, {"t"}, {{INFINITY}}); },
+                        path + ": ", {"got inf in column 't'"});
   ExpectInvalidArgument([&] { WriteCsvAtomic(path, {"t"}, {{0.0}}, 0); },
-                        path + ": ", {"expected a precision in [1, 17], got 0"});
+                        path + ": ",
+                        {"expected a precision in [1, 17], got 0"});
   ExpectInvalidArgument([&] { WriteCsvAtomic(path, {"t"}, {{0.0}}, 18); },
                         path + ": ", {"got 18"});
   EXPECT_TRUE(Listing().empty());
@@ -396,14 +405,16 @@ TEST_F(CsvTest, WriteCsvAtomicRejectsBadShapesAndWritesNothing) {
 TEST_F(CsvTest, LargeTableRoundTrip) {
   // The size of the bundled data files: 25k rows x 6 columns.
   const size_t rows = 25000;
-  const std::vector<std::string> names = {"t_s", "u_V", "qm_m", "qr_m",
-                                          "i_A", "v_mps"};
-  std::vector<std::vector<double>> columns(names.size(), std::vector<double>(rows));
+  const std::vector<std::string> names = {"t_s",  "u_V", "qm_m",
+                                          "qr_m", "i_A", "v_mps"};
+  std::vector<std::vector<double>> columns(names.size(),
+                                           std::vector<double>(rows));
   for (size_t i = 0; i < rows; ++i) {
     const double t = 0.001 * static_cast<double>(i);
     columns[0][i] = t;
     for (size_t j = 1; j < names.size(); ++j) {
-      columns[j][i] = std::sin(t * static_cast<double>(j)) * std::pow(10.0, j - 3.0);
+      columns[j][i] =
+          std::sin(t * static_cast<double>(j)) * std::pow(10.0, j - 3.0);
     }
   }
   const std::string path = PathOf("large.csv");

@@ -1,0 +1,143 @@
+// The cost of one recorded experiment for Ceres: simulate the experiment
+// with the current parameters (sim/simulate.h, differentiated with
+// ceres::Jet) and return (simulated − measured)/σ for every sample of every
+// fitted channel.
+#ifndef FIT_EXPERIMENT_COST_H_
+#define FIT_EXPERIMENT_COST_H_
+
+#include <atomic>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <ceres/ceres.h>
+
+#include "fit/job.h"
+#include "sim/simulate.h"
+
+namespace axis {
+
+// The map between the optimiser's vector θ and the model parameters:
+// θ_k = log(p_k) for positive parameters (FreeParameter::log), p_k/scale_k
+// otherwise. After the free parameters, θ holds (y0, y1) for every experiment
+// whose initial state is estimated.
+class ParameterMap {
+ public:
+  // Throws std::invalid_argument if a free parameter is not a model name.
+  ParameterMap(const AxisParams<double>& base, std::vector<FreeParameter> free);
+
+  int num_free() const { return static_cast<int>(free_.size()); }
+  const std::vector<FreeParameter>& free() const { return free_; }
+  const AxisParams<double>& base() const { return base_; }
+
+  double ToInternal(int k, double value) const {
+    return free_[k].log ? std::log(value) : value / free_[k].scale;
+  }
+  double FromInternal(int k, double theta) const {
+    return free_[k].log ? std::exp(theta) : theta * free_[k].scale;
+  }
+  // d(value)/d(θ_k) at θ_k: the Jacobian of the map, for the covariance.
+  double Derivative(int k, double theta) const {
+    return free_[k].log ? std::exp(theta) : free_[k].scale;
+  }
+
+  // The model parameters at θ (first num_free() entries). Never throws.
+  template <typename T>
+  AxisParams<T> Apply(const T* theta) const {
+    using std::exp;
+    AxisParams<T> p = base_.cast<T>();
+    int index = 0;
+    size_t next = 0;
+    VisitParams([&](const char*, const char*, T& field) {
+      for (size_t k = next; k < order_.size() && order_[k].first == index; ++k) {
+        const int j = order_[k].second;
+        field = free_[j].log ? T(exp(theta[j])) : T(theta[j] * free_[j].scale);
+        next = k + 1;
+      }
+      ++index;
+    }, p);
+    return p;
+  }
+
+ private:
+  AxisParams<double> base_;
+  std::vector<FreeParameter> free_;
+  // (VisitParams index, free index), sorted by VisitParams index.
+  std::vector<std::pair<int, int>> order_;
+};
+
+// Evaluation counts, shared by the costs of a fit (thread-safe).
+struct EvaluationCounter {
+  std::atomic<int> simulations{0};  // residual-only evaluations
+  std::atomic<int> jacobians{0};    // evaluations with derivatives
+};
+
+// Cost functor of one experiment (one per experiment; the experiments of a
+// job share the parameter block θ).
+class ExperimentCost {
+ public:
+  // Creates the Ceres cost of `experiment` over a parameter block of
+  // `theta_size` entries; `state_index` is the position of the experiment's
+  // (y0, y1) in θ, or -1 to start from experiment.initial_state. The model,
+  // map, experiment and counter must outlive the cost. The number of
+  // residuals is Σ over fitted channels of the sample count.
+  static ceres::CostFunction* Create(const AxisStructure& structure,
+                                     const ParameterMap& map,
+                                     const FitExperiment& experiment,
+                                     int theta_size, int state_index,
+                                     EvaluationCounter* counter);
+
+  ExperimentCost(const AxisStructure& structure, const ParameterMap& map,
+                 const FitExperiment& experiment, int state_index,
+                 EvaluationCounter* counter);
+
+  // Residuals (ŷ − y)/σ, channel by channel in experiment.fitted order.
+  // Returns false (the trial step is rejected) if the simulation or a
+  // residual is not finite. Never throws.
+  template <typename T>
+  bool operator()(T const* const* parameters, T* residuals) const {
+    const T* theta = parameters[0];
+    const AxisParams<T> p = map_.Apply(theta);
+    AxisState<T> y0 = experiment_.initial_state.cast<T>();
+    if (state_index_ >= 0) {
+      y0[0] = theta[state_index_];
+      y0[1] = theta[state_index_ + 1];
+      y0[2] = y0[0] / p.r_g;
+      y0[3] = y0[1] / p.r_g;
+    }
+    if (std::is_same<T, double>::value) {
+      ++counter_->simulations;
+    } else {
+      ++counter_->jacobians;
+    }
+    const Trace<T> trace = Simulate(structure_, p, y0, experiment_.drive,
+                                    experiment_.options, grid_);
+    if (!trace.finite) return false;
+    size_t r = 0;
+    for (const FittedChannel& f : experiment_.fitted) {
+      const std::vector<T>& simulated = trace[f.channel];
+      const std::vector<double>& measured = experiment_.Measured(f.channel);
+      const double inv_sigma = 1.0 / f.sigma;
+      for (size_t k = 0; k < measured.size(); ++k) {
+        residuals[r] = (simulated[k] - measured[k]) * inv_sigma;
+        if (!std::isfinite(ScalarValue(residuals[r]))) return false;
+        ++r;
+      }
+    }
+    return true;
+  }
+
+  int num_residuals() const;
+
+ private:
+  const AxisStructure& structure_;
+  const ParameterMap& map_;
+  const FitExperiment& experiment_;
+  SimulationGrid grid_;
+  int state_index_;
+  EvaluationCounter* counter_;
+};
+
+}  // namespace axis
+
+#endif  // FIT_EXPERIMENT_COST_H_

@@ -1,0 +1,362 @@
+#include "fit/fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <random>
+#include <stdexcept>
+
+#include <ceres/ceres.h>
+
+#include "fit/experiment_cost.h"
+#include "fit/report.h"
+#include "fit/statistics.h"
+
+namespace axis {
+namespace {
+
+// Prints iteration, cost, relative decrease and step norm.
+class ProgressPrinter : public ceres::IterationCallback {
+ public:
+  ProgressPrinter(std::ostream* out, int start) : out_(out), start_(start) {}
+  ceres::CallbackReturnType operator()(
+      const ceres::IterationSummary& s) override {
+    if (out_ != nullptr) {
+      *out_ << "start " << std::setw(2) << start_ << "  iter " << std::setw(3)
+            << s.iteration << "  cost " << std::scientific
+            << std::setprecision(6) << s.cost << "  rel.decrease "
+            << std::setprecision(3) << s.relative_decrease << "  step "
+            << s.step_norm << std::defaultfloat << "\n";
+      out_->flush();
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::ostream* out_;
+  int start_;
+};
+
+struct Problem {
+  std::unique_ptr<ParameterMap> map;
+  std::vector<double> theta;
+  std::vector<double> lower, upper;  // internal bounds
+  ceres::Problem problem;
+  EvaluationCounter counter;
+};
+
+}  // namespace
+
+ExperimentFit EvaluateExperiment(const AxisStructure& structure,
+                                 const AxisParams<double>& params,
+                                 const FitExperiment& e) {
+  ExperimentFit out;
+  out.name = e.name;
+  out.role = e.role;
+  out.t = e.t;
+  const SimulationGrid grid = MakeGrid(e.options, e.drive);
+  const Trace<double> trace =
+      Simulate(structure, params, e.initial_state, e.drive, e.options, grid);
+  const std::vector<double>& u = trace[Channel::kU];
+  for (size_t j = 0; j < e.measured_channels.size(); ++j) {
+    const Channel c = e.measured_channels[j];
+    ChannelFit f;
+    f.channel = ChannelName(c);
+    f.unit = ChannelUnit(c);
+    for (const FittedChannel& fc : e.fitted) {
+      if (fc.channel == c) {
+        f.fitted = true;
+        f.sigma = fc.sigma;
+      }
+    }
+    f.measured = e.measured[j];
+    f.simulated = trace[c];
+    if (!trace.finite) {
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      f.rms = f.fit_percent = f.max_error = f.relative_error_percent = nan;
+      f.ljung_box_q = f.ljung_box_p = nan;
+      out.channels.push_back(f);
+      continue;
+    }
+    std::vector<double> residual(f.measured.size());
+    for (size_t k = 0; k < residual.size(); ++k) {
+      residual[k] = f.simulated[k] - f.measured[k];
+    }
+    f.rms = Rms(f.measured, f.simulated);
+    f.fit_percent = FitPercent(f.measured, f.simulated);
+    f.max_error = MaxAbsError(f.measured, f.simulated);
+    f.relative_error_percent = RelativeErrorPercent(f.measured, f.simulated);
+    const int lags = std::min<int>(20, static_cast<int>(residual.size()) - 2);
+    const LjungBox lb = LjungBoxTest(residual, lags);
+    f.ljung_box_q = lb.q;
+    f.ljung_box_lags = lb.lags;
+    f.ljung_box_p = lb.p_value;
+    const CrossCorrelation xc = PeakCrossCorrelation(residual, u, lags);
+    f.input_xcorr_peak = xc.peak;
+    f.input_xcorr_lag = xc.lag;
+    out.channels.push_back(f);
+  }
+  return out;
+}
+
+FitResult FitParameters(const FitJob& job, std::ostream* progress) {
+  Problem p;
+  p.map = std::make_unique<ParameterMap>(job.model.params, job.free);
+  const int n_free = p.map->num_free();
+  for (int k = 0; k < n_free; ++k) {
+    const FreeParameter& f = job.free[k];
+    p.theta.push_back(p.map->ToInternal(k, f.initial));
+    p.lower.push_back(p.map->ToInternal(k, f.lower));
+    p.upper.push_back(p.map->ToInternal(k, f.upper));
+  }
+  // Estimated initial states (y0, y1) follow the parameters in θ.
+  std::vector<int> state_index;
+  for (const FitExperiment& e : job.experiments) {
+    if (!e.estimate_initial_state) {
+      state_index.push_back(-1);
+      continue;
+    }
+    state_index.push_back(static_cast<int>(p.theta.size()));
+    for (int s = 0; s < 2; ++s) {
+      p.theta.push_back(e.initial_state[s]);
+      p.lower.push_back(-std::numeric_limits<double>::infinity());
+      p.upper.push_back(std::numeric_limits<double>::infinity());
+    }
+  }
+  const int theta_size = static_cast<int>(p.theta.size());
+  double* theta = p.theta.data();
+  int num_residuals = 0;
+  for (size_t j = 0; j < job.experiments.size(); ++j) {
+    ceres::CostFunction* cost = ExperimentCost::Create(
+        job.model.structure, *p.map, job.experiments[j], theta_size,
+        state_index[j], &p.counter);
+    num_residuals += cost->num_residuals();
+    p.problem.AddResidualBlock(cost, nullptr, theta);
+  }
+  for (int k = 0; k < theta_size; ++k) {
+    if (std::isfinite(p.lower[k])) p.problem.SetParameterLowerBound(theta, k, p.lower[k]);
+    if (std::isfinite(p.upper[k])) p.problem.SetParameterUpperBound(theta, k, p.upper[k]);
+  }
+
+  ceres::Solver::Options options;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = job.solver.max_iterations;
+  options.function_tolerance = job.solver.function_tolerance;
+  options.parameter_tolerance = job.solver.parameter_tolerance;
+  options.gradient_tolerance = job.solver.gradient_tolerance;
+  options.num_threads = job.solver.threads;
+  options.logging_type = ceres::SILENT;
+
+  // Starting points: the job's, then random ones within the bounds.
+  std::vector<std::vector<double>> starts = {p.theta};
+  std::mt19937_64 rng(job.solver.seed);
+  for (int s = 0; s < job.solver.starts; ++s) {
+    std::vector<double> start = p.theta;
+    for (int k = 0; k < n_free; ++k) {
+      // Uniform in internal coordinates = log-uniform for positive ones.
+      std::uniform_real_distribution<double> draw(p.lower[k], p.upper[k]);
+      start[k] = draw(rng);
+    }
+    starts.push_back(start);
+  }
+
+  FitResult result;
+  result.num_residuals = num_residuals;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<double> best = p.theta;
+  ceres::Solver::Summary best_summary;
+  for (size_t s = 0; s < starts.size(); ++s) {
+    std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
+    ProgressPrinter printer(job.solver.progress ? progress : nullptr,
+                            static_cast<int>(s));
+    ceres::Solver::Options o = options;
+    o.callbacks.push_back(&printer);
+    ceres::Solver::Summary summary;
+    ceres::Solve(o, &p.problem, &summary);
+    if (s == 0) result.initial_cost = summary.initial_cost;
+    const double cost = summary.IsSolutionUsable()
+                            ? summary.final_cost
+                            : std::numeric_limits<double>::infinity();
+    result.start_costs.push_back(cost);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = p.theta;
+      best_summary = summary;
+    }
+  }
+  std::copy(best.begin(), best.end(), p.theta.begin());
+  result.final_cost = best_cost;
+  result.converged = best_summary.termination_type == ceres::CONVERGENCE;
+  result.termination = best_summary.message;
+  result.iterations = static_cast<int>(best_summary.iterations.size()) - 1;
+  result.simulations = p.counter.simulations;
+  result.jacobian_evaluations = p.counter.jacobians;
+
+  // Covariance of θ (DENSE_SVD), scaled by the residual variance.
+  const int dof = std::max(1, num_residuals - theta_size);
+  result.residual_variance = 2.0 * best_cost / dof;
+  Eigen::MatrixXd cov_theta = Eigen::MatrixXd::Constant(
+      theta_size, theta_size, std::numeric_limits<double>::quiet_NaN());
+  bool rank_deficient = false;
+  {
+    ceres::Covariance::Options co;
+    co.algorithm_type = ceres::DENSE_SVD;
+    co.num_threads = job.solver.threads;
+    co.null_space_rank = 0;
+    co.min_reciprocal_condition_number = 1e-14;
+    ceres::Covariance covariance(co);
+    const std::vector<const double*> blocks = {theta};
+    std::vector<std::pair<const double*, const double*>> pairs = {{theta, theta}};
+    bool ok = std::isfinite(best_cost) && covariance.Compute(pairs, &p.problem);
+    if (!ok && std::isfinite(best_cost)) {
+      // Rank deficient: the pseudo-inverse, with the null space dropped.
+      rank_deficient = true;
+      co.null_space_rank = -1;
+      ceres::Covariance pseudo(co);
+      if (pseudo.Compute(pairs, &p.problem)) {
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(
+            theta_size, theta_size);
+        pseudo.GetCovarianceBlock(theta, theta, c.data());
+        cov_theta = c;
+      }
+    } else if (ok) {
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(
+          theta_size, theta_size);
+      covariance.GetCovarianceBlock(theta, theta, c.data());
+      cov_theta = c;
+    }
+  }
+  // To physical units: value_k = g(θ_k), so Cov = D·Cov_θ·D·s².
+  Eigen::MatrixXd cov = cov_theta.topLeftCorner(n_free, n_free);
+  for (int i = 0; i < n_free; ++i) {
+    for (int j = 0; j < n_free; ++j) {
+      cov(i, j) *= p.map->Derivative(i, p.theta[i]) *
+                   p.map->Derivative(j, p.theta[j]) * result.residual_variance;
+    }
+  }
+  result.correlation = Eigen::MatrixXd::Identity(n_free, n_free);
+  const double t975 = StudentTQuantile975(dof);
+  std::vector<bool> determined(n_free, !rank_deficient);
+  for (int i = 0; i < n_free; ++i) {
+    for (int j = 0; j < n_free; ++j) {
+      if (i == j) continue;
+      const double r = cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
+      result.correlation(i, j) = r;
+      if (std::abs(r) > 0.99 || !std::isfinite(r)) determined[i] = false;
+    }
+  }
+  if (rank_deficient) {
+    // Parameters with no strong correlation are still named: a rank
+    // deficiency with no |r| > 0.99 pair leaves all of them suspect.
+    bool any = false;
+    for (int i = 0; i < n_free; ++i) {
+      for (int j = 0; j < n_free; ++j) {
+        if (i != j && std::abs(result.correlation(i, j)) > 0.99) any = true;
+      }
+    }
+    if (any) {
+      for (int i = 0; i < n_free; ++i) {
+        bool strong = false;
+        for (int j = 0; j < n_free; ++j) {
+          if (i != j && std::abs(result.correlation(i, j)) > 0.99) strong = true;
+        }
+        determined[i] = !strong;
+      }
+    }
+  }
+
+  AxisParams<double> fitted = p.map->Apply(p.theta.data());
+  for (int k = 0; k < n_free; ++k) {
+    ParameterEstimate e;
+    e.name = job.free[k].name;
+    e.unit = job.free[k].unit;
+    e.value = p.map->FromInternal(k, p.theta[k]);
+    e.initial = job.free[k].initial;
+    e.free = true;
+    e.std_error = std::sqrt(cov(k, k));
+    e.ci95_low = e.value - t975 * e.std_error;
+    e.ci95_high = e.value + t975 * e.std_error;
+    e.determined = determined[k] && std::isfinite(e.std_error);
+    if (!e.determined) result.undetermined.push_back(e.name);
+    result.free_names.push_back(e.name);
+    result.parameters.push_back(e);
+  }
+  for (const ParamInfo& info : ListParams()) {
+    if (std::find(result.free_names.begin(), result.free_names.end(),
+                  info.name) != result.free_names.end()) {
+      continue;
+    }
+    // Fixed parameters: only those the model configuration uses.
+    if (info.name.find('.') != std::string::npos) continue;
+    ParameterEstimate e;
+    e.name = info.name;
+    e.unit = info.unit;
+    e.value = *FindParam(&fitted, info.name);
+    e.initial = e.value;
+    e.free = false;
+    e.std_error = e.ci95_low = e.ci95_high =
+        std::numeric_limits<double>::quiet_NaN();
+    result.parameters.push_back(e);
+  }
+
+  const int n = n_free;
+  result.aic = 2.0 * best_cost + 2.0 * n;
+  result.bic = 2.0 * best_cost + n * std::log(static_cast<double>(num_residuals));
+
+  for (size_t j = 0; j < job.experiments.size(); ++j) {
+    FitExperiment e = job.experiments[j];
+    if (state_index[j] >= 0) {
+      e.initial_state[0] = p.theta[state_index[j]];
+      e.initial_state[1] = p.theta[state_index[j] + 1];
+      e.initial_state[2] = e.initial_state[0] / fitted.r_g;
+      e.initial_state[3] = e.initial_state[1] / fitted.r_g;
+    }
+    result.experiments.push_back(
+        EvaluateExperiment(job.model.structure, fitted, e));
+  }
+  for (const FitExperiment& e : job.validate) {
+    result.experiments.push_back(
+        EvaluateExperiment(job.model.structure, fitted, e));
+  }
+  return result;
+}
+
+FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
+                       std::ostream& err) {
+  FitJob job;
+  if (!options.job_path.empty()) {
+    job = LoadFitJob(options.job_path);
+  } else {
+    job = MakeQuickJob(options.model_path, options.data_path,
+                       options.input_column, options.fit_channels,
+                       options.free_names);
+  }
+  if (!options.out_dir.empty()) job.out_dir = options.out_dir;
+  if (job.out_dir.empty()) {
+    throw std::invalid_argument(
+        (options.job_path.empty() ? std::string("command line") : options.job_path) +
+        ": expected an output directory (--out DIR or output.dir in the job), "
+        "got none");
+  }
+  out << "fit-params: " << job.title << "\n"
+      << "  " << job.experiments.size() << " fitted experiment(s), "
+      << job.validate.size() << " validation experiment(s), "
+      << job.free.size() << " free parameter(s), " << job.solver.starts + 1
+      << " start(s)\n";
+  const FitResult result = FitParameters(job, &out);
+  out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
+  out << "cost " << result.initial_cost << " -> " << result.final_cost
+      << (result.converged ? " (converged)" : " (NOT converged)") << ", "
+      << result.simulations << " simulations, " << result.jacobian_evaluations
+      << " Jacobian evaluations\n";
+  std::vector<std::string> warnings;
+  WriteFitOutputs(job.out_dir, result, job.title, &warnings);
+  for (const std::string& w : warnings) err << "fit-params: warning: " << w << "\n";
+  out << "wrote " << job.out_dir << "/{params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";
+  return result;
+}
+
+}  // namespace axis

@@ -1,0 +1,49 @@
+// Estimating the free parameters of a job (fit/job.h) with Ceres Solver:
+// Levenberg–Marquardt on the σ-weighted output error of all experiments,
+// multi-start, covariance from ceres::Covariance (DENSE_SVD) scaled by the
+// residual variance, and goodness of fit per channel.
+#ifndef FIT_FIT_H_
+#define FIT_FIT_H_
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "fit/fit_result.h"
+#include "fit/job.h"
+
+namespace axis {
+
+// Fits the job. Prints one line per iteration to `progress` if non-null and
+// job.solver.progress. Starts: the job's initial point, then job.solver.starts
+// points drawn (seeded by job.solver.seed) log-uniformly within the bounds of
+// positive parameters and uniformly otherwise; the lowest final cost wins.
+// Throws std::invalid_argument only for an inconsistent job (LoadFitJob has
+// checked); the solver itself never throws.
+FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
+
+// Simulates `experiment` with `params` and fills its goodness of fit: every
+// measured channel compared (fitted ones flagged with their σ), residual
+// whiteness and cross-correlation with the simulated input u.
+ExperimentFit EvaluateExperiment(const AxisStructure& structure,
+                                 const AxisParams<double>& params,
+                                 const FitExperiment& experiment);
+
+// Options of the fit-params command.
+struct FitParamsOptions {
+  std::string job_path;               // a job file, or the quick form below
+  std::string model_path, data_path, input_column;
+  std::vector<std::string> fit_channels, free_names;
+  std::string out_dir;                // overrides the job's output.dir
+};
+
+// Loads the job, fits, prints the parameter and fit tables to `out` and
+// writes params.md, params.csv, report.json and fit_<experiment>.csv/.png
+// into the output directory. Throws std::invalid_argument on bad input
+// (before anything is written) and std::runtime_error on output failures.
+FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
+                       std::ostream& err);
+
+}  // namespace axis
+
+#endif  // FIT_FIT_H_

@@ -1,0 +1,81 @@
+// What a fit produces: parameter estimates with their uncertainty, goodness
+// of fit per experiment and channel, and the solver's account. Filled by
+// fit/fit.cc, written by fit/report.cc.
+#ifndef FIT_FIT_RESULT_H_
+#define FIT_FIT_RESULT_H_
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace axis {
+
+// One model parameter in the report (free or fixed).
+struct ParameterEstimate {
+  std::string name;   // MODEL.md name, e.g. "V_L"
+  std::string unit;   // SI unit, e.g. "V"
+  double value = 0.0;
+  double initial = 0.0;
+  bool free = false;
+  // Free parameters only (NaN for fixed): standard error from the
+  // covariance scaled by the residual variance, and the 95 % interval
+  // value ± t_{0.975, m−n}·std_error (m residuals, n free parameters).
+  double std_error = 0.0;
+  double ci95_low = 0.0;
+  double ci95_high = 0.0;
+  // False if the data cannot determine it: the Jacobian is rank deficient
+  // in its direction, or |correlation| > 0.99 with another free parameter.
+  bool determined = true;
+};
+
+// Goodness of fit of one channel of one experiment (MODEL.md §6 channel).
+struct ChannelFit {
+  std::string channel;     // canonical name, e.g. "a"
+  std::string unit;
+  double sigma = 0.0;      // σ used to weight the residual (fitted channels), else 0
+  bool fitted = false;     // residual entered the cost
+  double rms = 0.0;        // sqrt(mean((ŷ − y)²)), channel unit
+  double fit_percent = 0.0;  // NRMSE fit: 100·(1 − ‖y − ŷ‖/‖y − mean(y)‖)
+  double max_error = 0.0;  // max |ŷ − y|
+  double relative_error_percent = 0.0;  // 100·‖ŷ − y‖/‖y‖ (EMPS measure)
+  double ljung_box_q = 0.0;   // Ljung–Box statistic of the residual
+  int ljung_box_lags = 20;
+  double ljung_box_p = 0.0;   // p-value, χ² with ljung_box_lags dof
+  double input_xcorr_peak = 0.0;  // max |normalised cross-correlation| with u
+  int input_xcorr_lag = 0;        // its lag in samples (residual lags input if > 0)
+  std::vector<double> measured;   // y, per sample
+  std::vector<double> simulated;  // ŷ, per sample
+};
+
+// One experiment of the job, fitted or only validated.
+struct ExperimentFit {
+  std::string name;
+  std::string role;  // "fit" or "validate"
+  std::vector<double> t;  // s, sample times of measured/simulated
+  std::vector<ChannelFit> channels;
+};
+
+struct FitResult {
+  std::vector<ParameterEstimate> parameters;  // free first (job order), then fixed
+  std::vector<std::string> free_names;        // order of the correlation matrix
+  Eigen::MatrixXd correlation;                // n×n for the free parameters
+  std::vector<std::string> undetermined;      // names with determined == false
+  std::vector<ExperimentFit> experiments;
+  double initial_cost = 0.0;   // Ceres cost ½Σr² at the initial point
+  double final_cost = 0.0;     // at the estimate
+  bool converged = false;
+  std::vector<double> start_costs;  // final cost of every start (initial point first)
+  int num_residuals = 0;
+  double residual_variance = 0.0;  // 2·final_cost/(m − n)
+  double aic = 0.0;   // Σr² + 2n (Gaussian, σ known up to the weights)
+  double bic = 0.0;   // Σr² + n·ln(m)
+  int iterations = 0;
+  int simulations = 0;            // residual-only evaluations
+  int jacobian_evaluations = 0;   // evaluations with derivatives
+  std::string termination;        // Ceres' message
+};
+
+}  // namespace axis
+
+#endif  // FIT_FIT_RESULT_H_

@@ -1,0 +1,468 @@
+#include "fit/job.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "sim/csv.h"
+
+namespace axis {
+namespace {
+
+using Range = YamlMap::Range;
+
+std::string Num(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+Channel ChannelOrThrow(const std::string& name, const YamlMap& map,
+                       const YAML::Node& node, const std::string& key) {
+  const auto c = ParseChannel(name);
+  if (!c || *c == Channel::kT) {
+    ThrowConfigError(map.file(), node, key,
+                     "a channel name of MODEL.md section 6 (" +
+                         ChannelNameList() + ", not t)",
+                     "'" + name + "'");
+  }
+  return *c;
+}
+
+// Rows of `table` with time in [start, end], as (first row, row count).
+std::pair<size_t, size_t> WindowRows(const std::vector<double>& time,
+                                     double start, double end) {
+  size_t first = 0;
+  while (first < time.size() && time[first] < start) ++first;
+  size_t last = first;
+  while (last < time.size() && time[last] <= end) ++last;
+  return {first, last - first};
+}
+
+// A table signal from `column` of the data, restricted to the window and
+// shifted so that the window starts at t = 0.
+InputSignal ColumnSignal(const CsvTable& data, const std::string& time_column,
+                         const std::string& column, double scale, double offset,
+                         bool hold, size_t first, size_t count) {
+  InputSignal s;
+  s.kind = InputSignal::Kind::kTable;
+  s.hold = hold;
+  const std::vector<double>& time = data.Column(time_column);
+  const std::vector<double>& values = data.Column(column);
+  for (size_t k = first; k < first + count; ++k) {
+    s.times.push_back(time[k] - time[first]);
+    s.values.push_back(scale * values[k] + offset);
+  }
+  return s;
+}
+
+// A drive signal of an experiment: either a profile (`type:` key, see
+// ParseInputSignal) or a column of the experiment's data file.
+InputSignal ParseDriveSignal(YamlMap& map, const CsvTable& data,
+                             const std::string& time_column, size_t first,
+                             size_t count, const std::string& base_dir,
+                             double duration) {
+  if (map.Has("type")) return ParseInputSignal(map, base_dir, duration);
+  const std::string column = map.String("column");
+  if (!data.HasColumn(column)) {
+    std::string names;
+    for (const auto& n : data.names) names += (names.empty() ? "" : ", ") + n;
+    ThrowConfigError(map.file(), map.Optional("column"), map.KeyPath("column"),
+                     "a column of " + data.path + " (" + names + ")",
+                     "'" + column + "'");
+  }
+  const double scale = map.Number("scale", 1.0);
+  const double offset = map.Number("offset", 0.0);
+  const bool hold =
+      map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
+  map.Finish();
+  return ColumnSignal(data, time_column, column, scale, offset, hold, first,
+                      count);
+}
+
+FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
+                              const AxisConfig& model, double step,
+                              const std::string& base_dir) {
+  FitExperiment e;
+  e.role = role;
+  e.name = map.String("name");
+  for (char ch : e.name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' &&
+        ch != '.') {
+      ThrowConfigError(map.file(), map.Optional("name"), map.KeyPath("name"),
+                       "a name of letters, digits, '_', '-', '.' (it names "
+                       "output files)",
+                       "'" + e.name + "'");
+    }
+  }
+  e.data_path = ResolvePath(base_dir, map.String("data"));
+  const CsvTable data = ReadCsv(e.data_path);
+  const std::string time_column = map.String("time", "t");
+  if (!data.HasColumn(time_column)) {
+    ThrowConfigError(map.file(), map.node(), map.KeyPath("time"),
+                     "a time column of " + e.data_path, "'" + time_column + "'");
+  }
+  CheckStrictlyIncreasing(data, time_column);
+  const std::vector<double>& time = data.Column(time_column);
+
+  double start = time.front(), end = time.back();
+  if (const YAML::Node w = map.Optional("window")) {
+    if (!w.IsSequence() || w.size() != 2) {
+      ThrowConfigError(map.file(), w, map.KeyPath("window"),
+                       "[start, end] in seconds", Describe(w));
+    }
+    start = map.NumberFrom(w[0], map.KeyPath("window"), Range::kAny);
+    end = map.NumberFrom(w[1], map.KeyPath("window"), Range::kAny);
+    if (!(end > start)) {
+      ThrowConfigError(map.file(), w, map.KeyPath("window"),
+                       "start < end", Num(start) + " and " + Num(end));
+    }
+  }
+  const auto [first, count] = WindowRows(time, start, end);
+  if (count < 3) {
+    ThrowConfigError(map.file(), map.node(), map.KeyPath("window"),
+                     "at least 3 samples of " + e.data_path + " in the window",
+                     std::to_string(count));
+  }
+  e.t_offset = time[first];
+  const double period = (time[first + count - 1] - time[first]) / (count - 1);
+  for (size_t k = first + 1; k < first + count; ++k) {
+    const double dt = time[k] - time[k - 1];
+    if (std::abs(dt - period) > 1e-3 * period) {
+      throw std::invalid_argument(
+          e.data_path + ":" + std::to_string(k + 2) +
+          ": expected uniform sampling (period " + Num(period) +
+          " s within 0.1 %), got a step of " + Num(dt) + " s");
+    }
+  }
+  for (size_t k = first; k < first + count; ++k) e.t.push_back(time[k] - e.t_offset);
+  // The simulation samples on the data grid: the period rounded to whole
+  // integration steps (the EMPS clock jitters by 3e-8 s).
+  e.options.step = step;
+  e.options.output_period = std::max(1L, std::lround(period / step)) * step;
+  if (std::abs(e.options.output_period - period) > 1e-3 * period) {
+    ThrowConfigError(map.file(), map.node(), "simulation.step",
+                     "a step that divides the data period " + Num(period) + " s",
+                     Num(step) + " s");
+  }
+  e.options.duration = e.options.output_period * (count - 1);
+  for (size_t k = 0; k < e.t.size(); ++k) e.t[k] = k * e.options.output_period;
+
+  // Measured channels: channel: column, or channel: {column, scale, offset}.
+  YamlMap channels(map.Required("channels"), map.file(), map.KeyPath("channels."));
+  for (const auto& entry : channels.node()) {
+    const std::string name = entry.first.Scalar();
+    const Channel c = ChannelOrThrow(name, channels, entry.first,
+                                     channels.KeyPath(name));
+    std::string column;
+    double scale = 1.0, offset = 0.0;
+    const YAML::Node value = channels.Optional(name);
+    if (value.IsScalar()) {
+      column = value.Scalar();
+    } else {
+      YamlMap spec(value, map.file(), channels.KeyPath(name) + ".");
+      column = spec.String("column");
+      scale = spec.Number("scale", 1.0);
+      offset = spec.Number("offset", 0.0);
+      spec.Finish();
+    }
+    if (!data.HasColumn(column)) {
+      std::string names;
+      for (const auto& n : data.names) names += (names.empty() ? "" : ", ") + n;
+      ThrowConfigError(map.file(), value, channels.KeyPath(name),
+                       "a column of " + e.data_path + " (" + names + ")",
+                       "'" + column + "'");
+    }
+    const std::vector<double>& raw = data.Column(column);
+    std::vector<double> values;
+    for (size_t k = first; k < first + count; ++k) {
+      values.push_back(scale * raw[k] + offset);
+    }
+    e.measured_channels.push_back(c);
+    e.measured.push_back(std::move(values));
+  }
+  channels.Finish();
+
+  if (role == "fit") {
+    YamlMap fit(map.Required("fit"), map.file(), map.KeyPath("fit."));
+    for (const auto& entry : fit.node()) {
+      const std::string name = entry.first.Scalar();
+      const Channel c = ChannelOrThrow(name, fit, entry.first, fit.KeyPath(name));
+      if (std::find(e.measured_channels.begin(), e.measured_channels.end(), c) ==
+          e.measured_channels.end()) {
+        ThrowConfigError(map.file(), entry.first, fit.KeyPath(name),
+                         "a channel listed under 'channels' (measured)",
+                         "'" + name + "'");
+      }
+      e.fitted.push_back({c, fit.Number(name, Range::kFinitePositive)});
+    }
+    fit.Finish();
+    if (e.fitted.empty()) {
+      ThrowConfigError(map.file(), map.Optional("fit"), map.KeyPath("fit"),
+                       "at least one channel: sigma", "none");
+    }
+  }
+
+  const std::string init =
+      map.Choice("initial_state", {"rest", "estimate"}, "rest");
+  e.estimate_initial_state = init == "estimate";
+
+  // What drives the axis: an input (open loop) or a reference (closed loop).
+  const bool has_input = map.Has("input");
+  const bool has_reference = map.Has("reference");
+  if (has_input == has_reference) {
+    ThrowConfigError(map.file(), map.node(), map.KeyPath("input"),
+                     "exactly one of 'input' (open loop) or 'reference' "
+                     "(closed loop)",
+                     has_input ? "both" : "neither");
+  }
+  if (has_input) {
+    YamlMap input(map.Required("input"), map.file(), map.KeyPath("input."));
+    e.drive.input = ParseDriveSignal(input, data, time_column, first, count,
+                                     base_dir, e.options.duration);
+  } else {
+    e.drive.closed_loop = true;
+    e.drive.controller = model.controller;
+    if (const YAML::Node node = map.Optional("controller")) {
+      YamlMap c(node, map.file(), map.KeyPath("controller."));
+      e.drive.controller = ParseController(c, model.controller);
+    } else if (!model.has_controller) {
+      ThrowConfigError(map.file(), map.node(), map.KeyPath("controller"),
+                       "a controller here or in the model config", "none");
+    }
+    YamlMap ref(map.Required("reference"), map.file(), map.KeyPath("reference."));
+    if (ref.Has("type")) {
+      e.drive.reference = ParseReference(ref, base_dir, 0.0);
+    } else {
+      e.drive.reference.kind = Reference::Kind::kTable;
+      e.drive.reference.table = ParseDriveSignal(
+          ref, data, time_column, first, count, base_dir, e.options.duration);
+    }
+    if (const YAML::Node node = map.Optional("injection")) {
+      YamlMap inj(node, map.file(), map.KeyPath("injection."));
+      e.drive.injection = ParseDriveSignal(inj, data, time_column, first, count,
+                                           base_dir, e.options.duration);
+      e.drive.has_injection = true;
+    }
+  }
+  map.Optional("controller");
+  map.Finish();
+  // Record every measured channel and the input.
+  e.options.channels = e.measured_channels;
+  if (std::find(e.options.channels.begin(), e.options.channels.end(),
+                Channel::kU) == e.options.channels.end()) {
+    e.options.channels.push_back(Channel::kU);
+  }
+  try {
+    MakeGrid(e.options, e.drive);
+  } catch (const std::invalid_argument& err) {
+    throw std::invalid_argument(map.file() + ": experiment '" + e.name +
+                                "': " + err.what());
+  }
+  return e;
+}
+
+std::vector<FitExperiment> ParseExperimentList(YamlMap& root,
+                                               const std::string& key,
+                                               const std::string& role,
+                                               const AxisConfig& model,
+                                               double step,
+                                               const std::string& base_dir,
+                                               bool required) {
+  std::vector<FitExperiment> out;
+  const YAML::Node list = required ? root.Required(key) : root.Optional(key);
+  if (!list) return out;
+  if (!list.IsSequence() || (required && list.size() == 0)) {
+    ThrowConfigError(root.file(), list, key, "a list of experiments",
+                     Describe(list));
+  }
+  for (size_t k = 0; k < list.size(); ++k) {
+    YamlMap map(list[k], root.file(), key + "[" + std::to_string(k) + "].");
+    out.push_back(ParseExperiment(map, role, model, step, base_dir));
+  }
+  return out;
+}
+
+void CheckFreeParameter(const FreeParameter& f, const std::string& where) {
+  if (!(f.lower < f.upper)) {
+    throw std::invalid_argument(where + ": expected lower < upper, got lower " +
+                                Num(f.lower) + " and upper " + Num(f.upper));
+  }
+  if (!(f.initial >= f.lower && f.initial <= f.upper)) {
+    throw std::invalid_argument(where + ": expected the initial value within [" +
+                                Num(f.lower) + ", " + Num(f.upper) + "], got " +
+                                Num(f.initial));
+  }
+}
+
+std::string UnitOf(const std::string& name) {
+  for (const ParamInfo& info : ListParams()) {
+    if (info.name == name) return info.unit;
+  }
+  return "";
+}
+
+}  // namespace
+
+const std::vector<double>& FitExperiment::Measured(Channel c) const {
+  for (size_t k = 0; k < measured_channels.size(); ++k) {
+    if (measured_channels[k] == c) return measured[k];
+  }
+  throw std::invalid_argument("experiment '" + name + "': expected channel '" +
+                              ChannelName(c) + "' to be measured, got none");
+}
+
+FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
+                   const std::string& dir) {
+  FitJob job;
+  job.path = path;
+  YamlMap root(node, path, "");
+  job.title = root.String("title", path);
+  root.String("description", "");
+  job.model = LoadAxisConfig(ResolvePath(dir, root.String("model")));
+  if (const YAML::Node node = root.Optional("effects")) {
+    YamlMap map(node, path, "effects.");
+    ParseEffects(map, &job.model);
+  }
+  if (const YAML::Node node = root.Optional("set")) {
+    YamlMap map(node, path, "set.");
+    for (const auto& entry : node) {
+      const std::string name = entry.first.Scalar();
+      if (FindParam(&job.model.params, name) == nullptr) {
+        ThrowConfigError(path, entry.first, "set." + name,
+                         "a parameter name of the model (MODEL.md sections 2 and 7)",
+                         "'" + name + "'");
+      }
+      *FindParam(&job.model.params, name) = map.Number(name);
+    }
+    map.Finish();
+  }
+  if (const YAML::Node node = root.Optional("controller")) {
+    YamlMap map(node, path, "controller.");
+    job.model.controller = ParseController(map, job.model.controller);
+    job.model.has_controller = true;
+  }
+  ValidateAxisConfig(job.model, path);
+  double step = 1e-5;
+  if (const YAML::Node node = root.Optional("simulation")) {
+    YamlMap map(node, path, "simulation.");
+    step = map.Number("step", step, Range::kFinitePositive);
+    map.Finish();
+  }
+
+  // Free parameters, before the experiments so that a bad name is reported
+  // without reading data.
+  {
+    YamlMap free(root.Required("free"), path, "free.");
+    for (const auto& entry : free.node()) {
+      const std::string name = entry.first.Scalar();
+      double* field = FindParam(&job.model.params, name);
+      if (field == nullptr) {
+        ThrowConfigError(path, entry.first, "free." + name,
+                         "a parameter name of the model (MODEL.md sections 2 "
+                         "and 7, e.g. V_L, B_a, b_g, k_g, T_p)",
+                         "'" + name + "'");
+      }
+      YamlMap spec(free.Optional(name), path, "free." + name + ".");
+      FreeParameter f;
+      f.name = name;
+      f.unit = UnitOf(name);
+      f.initial = spec.Number("initial", *field);
+      f.lower = spec.Number("lower");
+      f.upper = spec.Number("upper");
+      f.scale = spec.Number("scale", 1.0, Range::kFinitePositive);
+      f.log = f.lower > 0.0;
+      spec.Finish();
+      const int line = entry.first.Mark().line + 1;
+      CheckFreeParameter(f, path + (line > 0 ? ":" + std::to_string(line) : "") +
+                                ": key 'free." + name + "'");
+      job.free.push_back(f);
+    }
+    free.Finish();
+    if (job.free.empty()) {
+      ThrowConfigError(path, free.node(), "free", "at least one free parameter",
+                       "none");
+    }
+  }
+
+  if (const YAML::Node node = root.Optional("solver")) {
+    YamlMap map(node, path, "solver.");
+    SolverSettings& s = job.solver;
+    s.max_iterations = static_cast<int>(map.Integer("max_iterations", s.max_iterations, 1, 100000));
+    s.function_tolerance = map.Number("function_tolerance", s.function_tolerance, Range::kNonNegative);
+    s.parameter_tolerance = map.Number("parameter_tolerance", s.parameter_tolerance, Range::kNonNegative);
+    s.gradient_tolerance = map.Number("gradient_tolerance", s.gradient_tolerance, Range::kNonNegative);
+    s.starts = static_cast<int>(map.Integer("starts", s.starts, 0, 10000));
+    s.threads = static_cast<int>(map.Integer("threads", s.threads, 1, 256));
+    s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
+    map.Finish();
+  }
+  if (const YAML::Node node = root.Optional("output")) {
+    YamlMap map(node, path, "output.");
+    job.out_dir = ResolvePath(dir, map.String("dir"));
+    map.Finish();
+  }
+  job.experiments = ParseExperimentList(root, "experiments", "fit", job.model,
+                                        step, dir, true);
+  job.validate = ParseExperimentList(root, "validate", "validate", job.model,
+                                     step, dir, false);
+  root.Finish();
+  return job;
+}
+
+FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
+                    const std::string& input_column,
+                    const std::vector<std::string>& fit_channels,
+                    const std::vector<std::string>& free_names) {
+  // Build the equivalent job YAML and load it through the strict loader, so
+  // the quick form has exactly the checks of a job file.
+  YAML::Node job;
+  job["title"] = "fit-params quick form: " + data_path;
+  job["model"] = model_path;
+  const CsvTable data = ReadCsv(data_path);
+  YAML::Node experiment;
+  experiment["name"] = "data";
+  experiment["data"] = data_path;
+  YAML::Node channels(YAML::NodeType::Map);
+  for (const std::string& name : data.names) {
+    const auto c = ParseChannel(name);
+    if (c && *c != Channel::kT) channels[name] = name;
+  }
+  experiment["channels"] = channels;
+  experiment["input"]["column"] = input_column;
+  for (const std::string& name : fit_channels) {
+    if (!data.HasColumn(name)) {
+      throw std::invalid_argument("--fit: expected a column of " + data_path +
+                                  ", got '" + name + "'");
+    }
+    const std::vector<double>& y = data.Column(name);
+    double mean = 0.0, var = 0.0;
+    for (double v : y) mean += v / y.size();
+    for (double v : y) var += (v - mean) * (v - mean) / y.size();
+    experiment["fit"][name] = var > 0.0 ? std::sqrt(var) : 1.0;
+  }
+  job["experiments"].push_back(experiment);
+  AxisConfig model = LoadAxisConfig(model_path);
+  for (const std::string& name : free_names) {
+    double* field = FindParam(&model.params, name);
+    if (field == nullptr) {
+      throw std::invalid_argument("--free: expected a parameter name of the "
+                                  "model, got '" + name + "'");
+    }
+    const double v = *field;
+    YAML::Node spec;
+    spec["initial"] = v;
+    spec["lower"] = v > 0 ? v / 10 : (v < 0 ? v * 10 : -1.0);
+    spec["upper"] = v > 0 ? v * 10 : (v < 0 ? v / 10 : 1.0);
+    job["free"][name] = spec;
+  }
+  return ParseFitJob(job, "(command line)", ".");
+}
+
+FitJob LoadFitJob(const std::string& path) {
+  return ParseFitJob(LoadYamlFile(path), path, DirectoryOf(path));
+}
+
+}  // namespace axis

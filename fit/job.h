@@ -1,0 +1,104 @@
+// A fit job (configs/jobs/*.yaml): the model, the recorded experiments and
+// how their columns map to MODEL.md §6 channels, which parameters are free,
+// and the solver settings. One strict loader; the format is described in
+// configs/README.md.
+#ifndef FIT_JOB_H_
+#define FIT_JOB_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/config.h"
+#include "sim/simulate.h"
+
+namespace axis {
+
+// A fitted channel and the σ its residual is divided by (channel unit).
+struct FittedChannel {
+  Channel channel;
+  double sigma = 1.0;
+};
+
+// One recorded experiment, loaded and cut to its window. Times are relative
+// to the first sample in the window (the simulation starts there).
+struct FitExperiment {
+  std::string name;
+  std::string role = "fit";  // "fit" or "validate"
+  std::string data_path;
+  Drive drive;                       // input or controller, times relative
+  std::vector<double> t;             // s, relative, first = 0
+  double t_offset = 0.0;             // s, absolute time of the first sample
+  std::vector<Channel> measured_channels;
+  std::vector<std::vector<double>> measured;  // per measured channel, per sample
+  std::vector<FittedChannel> fitted;          // subset of measured_channels
+  bool estimate_initial_state = false;  // y0, y1 free per experiment
+  AxisState<double> initial_state = AxisState<double>::Zero();
+  SimulationOptions options;  // duration, step, output period = data period
+
+  // Measured samples of channel c (throws std::invalid_argument if absent).
+  const std::vector<double>& Measured(Channel c) const;
+};
+
+// A free parameter: a VisitParams name, its initial value and bounds.
+// Positive parameters (lower > 0) are optimised as log(value); the others as
+// value/scale.
+struct FreeParameter {
+  std::string name;
+  std::string unit;
+  double initial = 0.0;
+  double lower = 0.0;
+  double upper = 0.0;
+  double scale = 1.0;
+  bool log = false;
+};
+
+struct SolverSettings {
+  int max_iterations = 100;
+  double function_tolerance = 1e-12;
+  double parameter_tolerance = 1e-12;
+  double gradient_tolerance = 1e-14;
+  int starts = 0;               // extra random starts (log-uniform in bounds)
+  int threads = 2;              // Ceres evaluation threads
+  std::uint64_t seed = 1;       // for the random starts
+  bool progress = true;         // print one line per iteration
+};
+
+struct FitJob {
+  std::string path;
+  std::string title;
+  AxisConfig model;
+  std::vector<FitExperiment> experiments;  // role "fit"
+  std::vector<FitExperiment> validate;     // role "validate"
+  std::vector<FreeParameter> free;
+  SolverSettings solver;
+  std::string out_dir;  // from output.dir (relative to the job file) or --out
+};
+
+// Loads and checks a job: all files, columns and names are resolved here, so
+// that fitting cannot fail on input. Throws std::invalid_argument naming the
+// file, line and key (YAML) or file and line (CSV): unknown keys, a missing
+// column, NaN or empty cells, time not strictly increasing, an empty file, a
+// free parameter the model does not have, reversed bounds, an initial value
+// outside its bounds, a fitted channel that is not measured.
+FitJob LoadFitJob(const std::string& path);
+
+// As LoadFitJob, from a parsed YAML document; `path` names it in messages
+// and relative file names are resolved against `base_dir`.
+FitJob ParseFitJob(const YAML::Node& root, const std::string& path,
+                   const std::string& base_dir);
+
+// The quick form of fit-params: one experiment from `data_path` (time column
+// "t", every other column whose name is a channel is measured), open loop
+// with input column `input_column`, fitting `fit_channels` each with σ set
+// to the standard deviation of its measured signal (equal weight per
+// channel; the covariance is rescaled by the residual variance), freeing `free_names` with initial values from the
+// model and bounds [value/10, value·10]. Throws std::invalid_argument.
+FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
+                    const std::string& input_column,
+                    const std::vector<std::string>& fit_channels,
+                    const std::vector<std::string>& free_names);
+
+}  // namespace axis
+
+#endif  // FIT_JOB_H_
