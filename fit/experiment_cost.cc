@@ -40,20 +40,18 @@ ParameterMap::ParameterMap(const AxisParams<double>& base,
 ExperimentCost::ExperimentCost(const AxisStructure& structure,
                                const ParameterMap& map,
                                const FitExperiment& experiment,
-                               int state_index, EvaluationCounter* counter)
+                               int theta_size, int state_index,
+                               EvaluationCounter* counter)
     : structure_(structure),
       map_(map),
       experiment_(experiment),
       grid_(MakeGrid(experiment.options, experiment.drive)),
       state_index_(state_index),
-      counter_(counter) {}
-
-int ExperimentCost::num_residuals() const {
-  int n = 0;
+      theta_size_(theta_size),
+      counter_(counter) {
   for (const FittedChannel& f : experiment_.fitted) {
-    n += static_cast<int>(experiment_.Measured(f.channel).size());
+    num_residuals_ += static_cast<int>(experiment_.Measured(f.channel).size());
   }
-  return n;
 }
 
 ceres::CostFunction* ExperimentCost::Create(const AxisStructure& structure,
@@ -62,7 +60,8 @@ ceres::CostFunction* ExperimentCost::Create(const AxisStructure& structure,
                                             int theta_size, int state_index,
                                             EvaluationCounter* counter) {
   auto* functor =
-      new ExperimentCost(structure, map, experiment, state_index, counter);
+      new ExperimentCost(structure, map, experiment, theta_size, state_index,
+                         counter);
   // Strides instantiated: each is a full Jet instantiation of the simulator.
   if (theta_size <= 4) return MakeDynamic<4>(functor, theta_size);
   if (theta_size <= 5) return MakeDynamic<5>(functor, theta_size);

@@ -88,15 +88,48 @@ class ExperimentCost {
                                      EvaluationCounter* counter);
 
   ExperimentCost(const AxisStructure& structure, const ParameterMap& map,
-                 const FitExperiment& experiment, int state_index,
-                 EvaluationCounter* counter);
+                 const FitExperiment& experiment, int theta_size,
+                 int state_index, EvaluationCounter* counter);
 
   // Residuals (ŷ − y)/σ, channel by channel in experiment.fitted order.
-  // Returns false (the trial step is rejected) if the simulation or a
-  // residual is not finite. Never throws.
+  // Returns false, so that Ceres rejects the trial step, if the simulation
+  // or a residual is not finite, or if a residual's sensitivity to θ exceeds
+  // kMaxSensitivity. Residual-only evaluations (T = double) simulate with a
+  // one-direction Jet (all θ moved together) so that a candidate point whose
+  // Jacobian would blow up is rejected before Ceres accepts it: Ceres
+  // evaluates the Jacobian only after accepting a step, and fails outright if
+  // that evaluation fails. Never throws.
   template <typename T>
   bool operator()(T const* const* parameters, T* residuals) const {
-    const T* theta = parameters[0];
+    if constexpr (std::is_same<T, double>::value) {
+      ++counter_->simulations;
+      using Direction = ceres::Jet<double, 1>;
+      std::vector<Direction> theta(theta_size_);
+      for (int k = 0; k < theta_size_; ++k) {
+        theta[k] = Direction(parameters[0][k], 0);
+      }
+      std::vector<Direction> r(num_residuals_);
+      if (!Residuals(theta.data(), r.data())) return false;
+      for (int k = 0; k < num_residuals_; ++k) residuals[k] = r[k].a;
+      return true;
+    } else {
+      ++counter_->jacobians;
+      return Residuals(parameters[0], residuals);
+    }
+  }
+
+  // Bound on |∂r/∂θ| (r weighted by 1/σ, θ in log units for positive
+  // parameters): beyond it a relative parameter change of 1e-6 would move a
+  // residual by more than 10⁴ σ, i.e. the trajectory is hypersensitive
+  // (chattering at a limit, sensitivities growing exponentially) and its
+  // linearisation means nothing.
+  static constexpr double kMaxSensitivity = 1e10;
+
+  int num_residuals() const { return num_residuals_; }
+
+ private:
+  template <typename T>
+  bool Residuals(const T* theta, T* residuals) const {
     const AxisParams<T> p = map_.Apply(theta);
     AxisState<T> y0 = experiment_.initial_state.cast<T>();
     if (state_index_ >= 0) {
@@ -104,11 +137,6 @@ class ExperimentCost {
       y0[1] = theta[state_index_ + 1];
       y0[2] = y0[0] / p.r_g;
       y0[3] = y0[1] / p.r_g;
-    }
-    if (std::is_same<T, double>::value) {
-      ++counter_->simulations;
-    } else {
-      ++counter_->jacobians;
     }
     const Trace<T> trace = Simulate(structure_, p, y0, experiment_.drive,
                                     experiment_.options, grid_);
@@ -120,21 +148,23 @@ class ExperimentCost {
       const double inv_sigma = 1.0 / f.sigma;
       for (size_t k = 0; k < measured.size(); ++k) {
         residuals[r] = (simulated[k] - measured[k]) * inv_sigma;
-        if (!std::isfinite(ScalarValue(residuals[r]))) return false;
+        if (!AllFinite(residuals[r]) ||
+            MaxAbsDerivative(residuals[r]) > kMaxSensitivity) {
+          return false;
+        }
         ++r;
       }
     }
     return true;
   }
 
-  int num_residuals() const;
-
- private:
   const AxisStructure& structure_;
   const ParameterMap& map_;
   const FitExperiment& experiment_;
   SimulationGrid grid_;
   int state_index_;
+  int theta_size_;
+  int num_residuals_ = 0;
   EvaluationCounter* counter_;
 };
 

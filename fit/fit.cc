@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -20,12 +21,14 @@ namespace {
 // Prints iteration, cost, relative decrease and step norm.
 class ProgressPrinter : public ceres::IterationCallback {
  public:
-  ProgressPrinter(std::ostream* out, int start) : out_(out), start_(start) {}
+  ProgressPrinter(std::ostream* out, int start, double horizon)
+      : out_(out), start_(start), horizon_(horizon) {}
   ceres::CallbackReturnType operator()(
       const ceres::IterationSummary& s) override {
     if (out_ != nullptr) {
-      *out_ << "start " << std::setw(2) << start_ << "  iter " << std::setw(3)
-            << s.iteration << "  cost " << std::scientific
+      *out_ << "start " << std::setw(2) << start_ << "  horizon "
+            << std::fixed << std::setprecision(3) << horizon_ << " s  iter "
+            << std::setw(3) << s.iteration << "  cost " << std::scientific
             << std::setprecision(6) << s.cost << "  rel.decrease "
             << std::setprecision(3) << s.relative_decrease << "  step "
             << s.step_norm << std::defaultfloat << "\n";
@@ -37,15 +40,57 @@ class ProgressPrinter : public ceres::IterationCallback {
  private:
   std::ostream* out_;
   int start_;
+  double horizon_;
 };
 
+// The first `horizon` seconds of an experiment (all of it if shorter).
+FitExperiment Truncate(const FitExperiment& e, double horizon) {
+  FitExperiment out = e;
+  size_t n = 0;
+  while (n < e.t.size() && e.t[n] <= horizon * (1 + 1e-9)) ++n;
+  n = std::max<size_t>(n, 3);
+  if (n >= e.t.size()) return out;
+  out.t.resize(n);
+  for (auto& m : out.measured) m.resize(n);
+  out.options.duration = out.t.back();
+  return out;
+}
+
+// The optimisation vector θ, its map to parameters and its bounds.
 struct Problem {
   std::unique_ptr<ParameterMap> map;
   std::vector<double> theta;
   std::vector<double> lower, upper;  // internal bounds
-  ceres::Problem problem;
   EvaluationCounter counter;
 };
+
+// One least-squares problem over a set of experiments (a horizon stage).
+struct Stage {
+  double horizon = 0.0;  // s; the last stage covers every sample
+  std::vector<FitExperiment> experiments;  // referenced by the costs
+  std::unique_ptr<ceres::Problem> problem;
+  int num_residuals = 0;
+};
+
+void BuildStage(const FitJob& job, const ParameterMap& map,
+                const std::vector<int>& state_index,
+                const std::vector<double>& lower,
+                const std::vector<double>& upper, double* theta,
+                EvaluationCounter* counter, Stage* stage) {
+  const int theta_size = static_cast<int>(lower.size());
+  stage->problem = std::make_unique<ceres::Problem>();
+  for (size_t j = 0; j < stage->experiments.size(); ++j) {
+    ceres::CostFunction* cost =
+        ExperimentCost::Create(job.model.structure, map, stage->experiments[j],
+                               theta_size, state_index[j], counter);
+    stage->num_residuals += cost->num_residuals();
+    stage->problem->AddResidualBlock(cost, nullptr, theta);
+  }
+  for (int k = 0; k < theta_size; ++k) {
+    if (std::isfinite(lower[k])) stage->problem->SetParameterLowerBound(theta, k, lower[k]);
+    if (std::isfinite(upper[k])) stage->problem->SetParameterUpperBound(theta, k, upper[k]);
+  }
+}
 
 }  // namespace
 
@@ -127,18 +172,33 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   }
   const int theta_size = static_cast<int>(p.theta.size());
   double* theta = p.theta.data();
-  int num_residuals = 0;
-  for (size_t j = 0; j < job.experiments.size(); ++j) {
-    ceres::CostFunction* cost = ExperimentCost::Create(
-        job.model.structure, *p.map, job.experiments[j], theta_size,
-        state_index[j], &p.counter);
-    num_residuals += cost->num_residuals();
-    p.problem.AddResidualBlock(cost, nullptr, theta);
+
+  // Horizon continuation: stages over the first h0, 2·h0, 4·h0, ... seconds
+  // of every experiment, then all of it. The fitted signals ring at the gear
+  // resonance from t = 0, so on long records a mistuned k_g accumulates
+  // several radians of phase and the cost has a local minimum per cycle; a
+  // short horizon keeps the phase error below one cycle, and each stage
+  // warm-starts the next.
+  std::vector<Stage> stages;
+  double longest = 0.0;
+  for (const FitExperiment& e : job.experiments) longest = std::max(longest, e.t.back());
+  for (double h = job.solver.first_horizon; h > 0.0 && h < longest; h *= 2.0) {
+    Stage stage;
+    stage.horizon = h;
+    for (const FitExperiment& e : job.experiments) stage.experiments.push_back(Truncate(e, h));
+    stages.push_back(std::move(stage));
   }
-  for (int k = 0; k < theta_size; ++k) {
-    if (std::isfinite(p.lower[k])) p.problem.SetParameterLowerBound(theta, k, p.lower[k]);
-    if (std::isfinite(p.upper[k])) p.problem.SetParameterUpperBound(theta, k, p.upper[k]);
+  {
+    Stage full;
+    full.horizon = longest;
+    full.experiments = job.experiments;
+    stages.push_back(std::move(full));
   }
+  for (Stage& stage : stages) {
+    BuildStage(job, *p.map, state_index, p.lower, p.upper, theta, &p.counter, &stage);
+  }
+  const int num_residuals = stages.back().num_residuals;
+  ceres::Problem& full_problem = *stages.back().problem;
 
   ceres::Solver::Options options;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -149,6 +209,11 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   options.gradient_tolerance = job.solver.gradient_tolerance;
   options.num_threads = job.solver.threads;
   options.logging_type = ceres::SILENT;
+  // Start LM well damped: Ceres' default initial radius (1e4) is nearly a
+  // Gauss–Newton step, which from a factor-2 start jumps by a factor ~7 in
+  // log space into parameter regions where the velocity loop chatters at its
+  // limits and the sensitivities overflow.
+  options.initial_trust_region_radius = job.solver.initial_trust_region_radius;
 
   // Starting points: the job's, then random ones within the bounds.
   std::vector<std::vector<double>> starts = {p.theta};
@@ -170,13 +235,31 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   ceres::Solver::Summary best_summary;
   for (size_t s = 0; s < starts.size(); ++s) {
     std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
-    ProgressPrinter printer(job.solver.progress ? progress : nullptr,
-                            static_cast<int>(s));
-    ceres::Solver::Options o = options;
-    o.callbacks.push_back(&printer);
     ceres::Solver::Summary summary;
-    ceres::Solve(o, &p.problem, &summary);
-    if (s == 0) result.initial_cost = summary.initial_cost;
+    for (Stage& stage : stages) {
+      ProgressPrinter printer(job.solver.progress ? progress : nullptr,
+                              static_cast<int>(s), stage.horizon);
+      ceres::Solver::Options o = options;
+      o.callbacks.push_back(&printer);
+      if (&stage != &stages.back()) {
+        // Intermediate horizons only deliver a warm start for the next.
+        o.function_tolerance = std::max(o.function_tolerance, 1e-4);
+        o.parameter_tolerance = std::max(o.parameter_tolerance, 1e-4);
+        o.max_num_iterations = std::min(o.max_num_iterations, 30);
+      }
+      ceres::Solve(o, stage.problem.get(), &summary);
+      if (!summary.IsSolutionUsable()) break;
+    }
+    if (s == 0) {
+      // The cost of the job's initial point on all the data.
+      double initial = 0.0;
+      std::vector<double> current = p.theta;
+      std::copy(starts[0].begin(), starts[0].end(), p.theta.begin());
+      full_problem.Evaluate(ceres::Problem::EvaluateOptions(), &initial,
+                            nullptr, nullptr, nullptr);
+      result.initial_cost = initial;
+      std::copy(current.begin(), current.end(), p.theta.begin());
+    }
     const double cost = summary.IsSolutionUsable()
                             ? summary.final_cost
                             : std::numeric_limits<double>::infinity();
@@ -210,13 +293,13 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     ceres::Covariance covariance(co);
     const std::vector<const double*> blocks = {theta};
     std::vector<std::pair<const double*, const double*>> pairs = {{theta, theta}};
-    bool ok = std::isfinite(best_cost) && covariance.Compute(pairs, &p.problem);
+    bool ok = std::isfinite(best_cost) && covariance.Compute(pairs, &full_problem);
     if (!ok && std::isfinite(best_cost)) {
       // Rank deficient: the pseudo-inverse, with the null space dropped.
       rank_deficient = true;
       co.null_space_rank = -1;
       ceres::Covariance pseudo(co);
-      if (pseudo.Compute(pairs, &p.problem)) {
+      if (pseudo.Compute(pairs, &full_problem)) {
         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(
             theta_size, theta_size);
         pseudo.GetCovarianceBlock(theta, theta, c.data());

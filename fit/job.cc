@@ -395,6 +395,11 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     s.parameter_tolerance = map.Number("parameter_tolerance", s.parameter_tolerance, Range::kNonNegative);
     s.gradient_tolerance = map.Number("gradient_tolerance", s.gradient_tolerance, Range::kNonNegative);
     s.starts = static_cast<int>(map.Integer("starts", s.starts, 0, 10000));
+    s.first_horizon = map.Number("first_horizon", s.first_horizon,
+                                 Range::kNonNegative);
+    s.initial_trust_region_radius = map.Number(
+        "initial_trust_region_radius", s.initial_trust_region_radius,
+        Range::kFinitePositive);
     s.threads = static_cast<int>(map.Integer("threads", s.threads, 1, 256));
     s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
     map.Finish();

@@ -55,10 +55,14 @@ struct FreeParameter {
 
 struct SolverSettings {
   int max_iterations = 100;
-  double function_tolerance = 1e-12;
-  double parameter_tolerance = 1e-12;
-  double gradient_tolerance = 1e-14;
+  double function_tolerance = 1e-8;   // relative cost change to stop
+  double parameter_tolerance = 1e-8;  // relative step to stop
+  double gradient_tolerance = 1e-10;
   int starts = 0;               // extra random starts (log-uniform in bounds)
+  double initial_trust_region_radius = 1.0;  // LM damping at the start (1/μ)
+  // Horizon continuation (fit/fit.h): first window in s, doubled per stage
+  // up to the whole record; 0 fits the whole record at once.
+  double first_horizon = 0.05;
   int threads = 2;              // Ceres evaluation threads
   std::uint64_t seed = 1;       // for the random starts
   bool progress = true;         // print one line per iteration

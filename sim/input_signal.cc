@@ -49,6 +49,20 @@ double InputSignal::Evaluate(double t) const {
   return offset;
 }
 
+double InputSignal::Evaluate(double t, size_t* cursor) const {
+  if (kind != Kind::kTable || times.size() < 2 || t <= times.front() ||
+      t >= times.back()) {
+    return Evaluate(t);
+  }
+  size_t k = *cursor < times.size() - 1 ? *cursor : 0;
+  if (times[k] > t) k = 0;
+  while (times[k + 1] <= t) ++k;
+  *cursor = k;
+  if (hold) return offset + values[k];
+  const double s = (t - times[k]) / (times[k + 1] - times[k]);
+  return offset + values[k] + s * (values[k + 1] - values[k]);
+}
+
 InputSignal MakePrbs(double amplitude, double offset, double bit_time,
                      int order, std::uint32_t seed, double duration) {
   // Feedback taps of maximum-length Fibonacci LFSRs (Xilinx XAPP052 table),

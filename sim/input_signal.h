@@ -4,6 +4,7 @@
 #ifndef SIM_INPUT_SIGNAL_H_
 #define SIM_INPUT_SIGNAL_H_
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -30,6 +31,10 @@ struct InputSignal {
 
   // U(t).
   double Evaluate(double t) const;
+  // U(t) for non-decreasing t: `cursor` (start at 0) remembers the table
+  // segment of the last call, making a table lookup O(1) instead of a
+  // binary search in the simulation loop. Same values as Evaluate(t).
+  double Evaluate(double t, size_t* cursor) const;
 };
 
 // A maximum-length pseudo-random binary sequence of ±amplitude (plus

@@ -15,6 +15,22 @@ double ScalarValue(const ceres::Jet<T, N>& x) {
   return ScalarValue(x.a);
 }
 
+// True if the value and every derivative part are finite. (ceres::isfinite
+// looks at the value only; a simulation whose sensitivities overflow has
+// finite values and a non-finite Jacobian.)
+inline bool AllFinite(double x) { return std::isfinite(x); }
+template <typename T, int N>
+bool AllFinite(const ceres::Jet<T, N>& x) {
+  return AllFinite(x.a) && x.v.allFinite();
+}
+
+// Largest |derivative part| (0 for double).
+inline double MaxAbsDerivative(double) { return 0.0; }
+template <typename T, int N>
+double MaxAbsDerivative(const ceres::Jet<T, N>& x) {
+  return x.v.cwiseAbs().maxCoeff();
+}
+
 // out = y + alpha·x, with alpha a plain double. For Jets this runs one pass
 // over the value and derivative parts without temporaries (the RK4 stages
 // are a third of the cost of a Jet step otherwise; bench/).

@@ -146,8 +146,10 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
   T u_held(0.0);
   ReferenceSample ref;
   ControllerState<T> controller;
+  size_t input_cursor = 0;
   const auto input_at = [&](double t) -> T {
-    return drive.closed_loop ? u_held : T(drive.input.Evaluate(t));
+    return drive.closed_loop ? u_held
+                             : T(drive.input.Evaluate(t, &input_cursor));
   };
   const AxisCoefficients<T> coeffs = MakeAxisCoefficients(structure, params);
   const auto rhs = [&](double t, const AxisState<T>& state, AxisState<T>* dy) {

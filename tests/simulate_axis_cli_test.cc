@@ -23,7 +23,8 @@ struct Result {
 };
 
 Result RunCli(const std::string& args) {
-  const std::string err_path = ::testing::TempDir() + "sim_cli_stderr.txt";
+  const std::string err_path = ::testing::TempDir() +
+      ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_sim_cli_stderr.txt";
   const int status = std::system((kBin + " " + args + " 2>" + err_path).c_str());
   std::ifstream in(err_path);
   std::string err((std::istreambuf_iterator<char>(in)), {});

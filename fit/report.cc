@@ -1,0 +1,757 @@
+#include "fit/report.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sim/csv.h"
+
+extern char** environ;
+
+namespace axis {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+// ---------------------------------------------------------------- numbers
+
+// "%.*g" of `digits` significant digits; "nan", "inf", "-inf" if not finite.
+std::string Num(double value, int digits = 6) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
+  return buf;
+}
+
+// The shortest "%.*g" text that reads back as `value` (non-finite as Num).
+std::string Exact(double value) {
+  if (!std::isfinite(value)) return Num(value);
+  char buf[40];
+  for (int precision = 1; precision <= 17; ++precision) {
+    std::snprintf(buf, sizeof(buf), "%.*g", precision, value);
+    if (std::strtod(buf, nullptr) == value) break;
+  }
+  return buf;
+}
+
+// A JSON number, or null if not finite.
+Json JsonNumber(double value) {
+  if (!std::isfinite(value)) return Json(nullptr);
+  return Json(value);
+}
+
+// ---------------------------------------------------------------- tables
+
+// Indices of result.parameters, free ones first, each group in result order.
+std::vector<size_t> ParameterOrder(const FitResult& result) {
+  std::vector<size_t> order;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t k = 0; k < result.parameters.size(); ++k) {
+      if (result.parameters[k].free == (pass == 0)) order.push_back(k);
+    }
+  }
+  return order;
+}
+
+// A table of text cells, rendered fixed-width or as Markdown.
+struct Table {
+  std::vector<std::string> headers;
+  std::vector<bool> right;  // right-align the column (numbers)
+  std::vector<std::vector<std::string>> rows;
+};
+
+// Length of `s` in UTF-8 code points (for column widths with "±", "σ").
+size_t DisplayWidth(const std::string& s) {
+  size_t n = 0;
+  for (unsigned char c : s) {
+    if ((c & 0xC0) != 0x80) ++n;
+  }
+  return n;
+}
+
+std::string Pad(const std::string& s, size_t width, bool right) {
+  const size_t w = DisplayWidth(s);
+  if (w >= width) return s;
+  const std::string fill(width - w, ' ');
+  return right ? fill + s : s + fill;
+}
+
+// Line breaks and tabs to spaces (one table row per line).
+std::string OneLine(std::string s) {
+  for (char& c : s) {
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+  }
+  return s;
+}
+
+std::string RenderText(const Table& table) {
+  const size_t n = table.headers.size();
+  std::vector<size_t> width(n, 0);
+  for (size_t j = 0; j < n; ++j) width[j] = DisplayWidth(table.headers[j]);
+  for (const auto& row : table.rows) {
+    for (size_t j = 0; j < n && j < row.size(); ++j) {
+      width[j] = std::max(width[j], DisplayWidth(OneLine(row[j])));
+    }
+  }
+  auto line = [&](const std::vector<std::string>& cells) {
+    std::string out;
+    for (size_t j = 0; j < n; ++j) {
+      const std::string cell = j < cells.size() ? OneLine(cells[j]) : "";
+      const bool last = j + 1 == n;
+      out += last && !table.right[j] ? cell : Pad(cell, width[j], table.right[j]);
+      if (!last) out += "  ";
+    }
+    while (!out.empty() && out.back() == ' ') out.pop_back();
+    return out + "\n";
+  };
+  std::string out = line(table.headers);
+  size_t total = 0;
+  for (size_t j = 0; j < n; ++j) total += width[j] + (j + 1 < n ? 2 : 0);
+  out += std::string(total, '-') + "\n";
+  for (const auto& row : table.rows) out += line(row);
+  return out;
+}
+
+std::string MarkdownCell(const std::string& s) {
+  std::string out;
+  for (char c : OneLine(s)) {
+    if (c == '|') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+std::string RenderMarkdown(const Table& table) {
+  std::string out = "|";
+  for (const std::string& h : table.headers) out += " " + MarkdownCell(h) + " |";
+  out += "\n|";
+  for (bool right : table.right) out += right ? " ---: |" : " --- |";
+  out += "\n";
+  for (const auto& row : table.rows) {
+    out += "|";
+    for (size_t j = 0; j < table.headers.size(); ++j) {
+      out += " " + MarkdownCell(j < row.size() ? row[j] : "") + " |";
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+constexpr const char* kNotDetermined = "(not determined by the data)";
+
+Table ParameterTable(const FitResult& result) {
+  Table table;
+  table.headers = {"name",     "unit",    "value", "std error",
+                   "95 % interval", "initial", "free/fixed"};
+  table.right = {false, false, true, true, false, true, false};
+  for (size_t k : ParameterOrder(result)) {
+    const ParameterEstimate& p = result.parameters[k];
+    std::string status = p.free ? "free" : "fixed";
+    if (!p.determined) status += std::string(" ") + kNotDetermined;
+    table.rows.push_back(
+        {p.name, p.unit, Num(p.value), p.free ? Num(p.std_error) : "-",
+         p.free ? "[" + Num(p.ci95_low) + ", " + Num(p.ci95_high) + "]" : "-",
+         Num(p.initial), status});
+  }
+  return table;
+}
+
+Table FitTable(const FitResult& result) {
+  Table table;
+  table.headers = {"experiment", "role",    "channel", "unit",
+                   "fitted",     "rms",     "fit %",   "max error",
+                   "rel. err %", "LB p",    "xcorr u", "lag"};
+  table.right = {false, false, false, false, false, true,
+                 true,  true,  true,  true,  true,  true};
+  for (const ExperimentFit& e : result.experiments) {
+    for (const ChannelFit& c : e.channels) {
+      table.rows.push_back(
+          {e.name, e.role, c.channel, c.unit, c.fitted ? "yes" : "no",
+           Num(c.rms, 4), Num(c.fit_percent, 4), Num(c.max_error, 4),
+           Num(c.relative_error_percent, 4),
+           Num(c.ljung_box_p, 3) + " (" + std::to_string(c.ljung_box_lags) + ")",
+           Num(c.input_xcorr_peak, 3), std::to_string(c.input_xcorr_lag)});
+    }
+  }
+  return table;
+}
+
+// The name of free parameter i of the correlation matrix.
+std::string CorrelationName(const FitResult& result, Eigen::Index i) {
+  if (i < static_cast<Eigen::Index>(result.free_names.size())) {
+    return result.free_names[static_cast<size_t>(i)];
+  }
+  return "#" + std::to_string(i + 1);
+}
+
+// ---------------------------------------------------------------- CSV
+
+// A CSV cell: quoted (quotes doubled) if it has a comma, quote, line break
+// or leading/trailing blank.
+std::string CsvCell(const std::string& s) {
+  const bool quote =
+      s.find_first_of(",\"\r\n") != std::string::npos ||
+      (!s.empty() && (s.front() == ' ' || s.front() == '\t' ||
+                      s.back() == ' ' || s.back() == '\t'));
+  if (!quote) return s;
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// ---------------------------------------------------------------- gnuplot
+
+// The executable `name` in a directory of $PATH, or "" if none.
+std::string FindOnPath(const std::string& name) {
+  const char* env = std::getenv("PATH");
+  const std::string path = env != nullptr ? env : "/usr/local/bin:/usr/bin:/bin";
+  size_t begin = 0;
+  while (begin <= path.size()) {
+    size_t end = path.find(':', begin);
+    if (end == std::string::npos) end = path.size();
+    std::string dir = path.substr(begin, end - begin);
+    if (dir.empty()) dir = ".";
+    const std::string candidate = dir + "/" + name;
+    struct stat st;
+    if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+        ::access(candidate.c_str(), X_OK) == 0) {
+      return candidate;
+    }
+    begin = end + 1;
+  }
+  return "";
+}
+
+// `s` as a gnuplot single-quoted string: quotes doubled, control characters
+// replaced by spaces (callers reject line breaks in paths beforehand).
+std::string GnuplotString(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') {
+      out += "''";
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      out += ' ';
+    } else {
+      out += c;
+    }
+  }
+  return out + "'";
+}
+
+std::string WithUnit(const std::string& text, const std::string& unit) {
+  return unit.empty() ? text : text + " [" + unit + "]";
+}
+
+bool AnyFinite(const std::vector<double>& x) {
+  for (double v : x) {
+    if (std::isfinite(v)) return true;
+  }
+  return false;
+}
+
+// Whether simulated − measured is finite at some sample.
+bool AnyFiniteDifference(const ChannelFit& c) {
+  for (size_t k = 0; k < c.measured.size() && k < c.simulated.size(); ++k) {
+    if (std::isfinite(c.simulated[k] - c.measured[k])) return true;
+  }
+  return false;
+}
+
+// The gnuplot commands (joined by "; " for -e) that draw `fit` from the CSV
+// `csv_path` into the PNG `output`. A series with no finite value is left
+// out (gnuplot refuses to plot it); a panel with none is drawn empty with
+// the note "no finite values".
+std::string PlotScript(const std::string& output, const std::string& csv_path,
+                       const ExperimentFit& fit) {
+  const size_t n = fit.channels.size();
+  const int width = 1400;
+  const int height = static_cast<int>(std::max<size_t>(400, 300 * n));
+  const std::string size = " size " + std::to_string(width) + "," +
+                           std::to_string(height);
+  std::vector<std::string> cmd;
+  cmd.push_back(
+      "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) { set terminal pngcairo "
+      "noenhanced" + size + " font ',9' } else { set terminal png noenhanced" +
+      size + " }");
+  cmd.push_back("set output " + GnuplotString(output));
+  cmd.push_back("set datafile separator ','");
+  cmd.push_back("set grid");
+  cmd.push_back("set key top right");
+  cmd.push_back("set multiplot layout " + std::to_string(n) + ",2 title " +
+                GnuplotString(fit.name + " (" + fit.role + ")"));
+  const std::string data = GnuplotString(csv_path) + " skip 1";
+  // One panel: the series (column, title, line width) with finite values.
+  struct Series {
+    size_t column;
+    const char* title;
+    const char* width;
+    bool finite;
+  };
+  auto panel = [&](const std::vector<Series>& series) {
+    std::string plot;
+    for (const Series& s : series) {
+      if (!s.finite) continue;
+      plot += (plot.empty() ? "plot " : ", ") + data + " using 1:" +
+              std::to_string(s.column) + " with lines lw " + s.width +
+              " title '" + s.title + "'";
+    }
+    if (plot.empty()) {
+      cmd.push_back("set label 1 'no finite values' at graph 0.5,0.5 center");
+      cmd.push_back("plot [0:1] [0:1] -1 notitle");
+      cmd.push_back("unset label 1");
+    } else {
+      cmd.push_back(plot);
+    }
+  };
+  for (size_t j = 0; j < n; ++j) {
+    const ChannelFit& c = fit.channels[j];
+    const std::string name = WithUnit(fit.name + ": " + c.channel, c.unit);
+    cmd.push_back(j + 1 == n ? "set xlabel 't [s]'" : "unset xlabel");
+    cmd.push_back("set title " + GnuplotString(name + ", measured and simulated"));
+    cmd.push_back("set ylabel " + GnuplotString(WithUnit(c.channel, c.unit)));
+    panel({{2 + 3 * j, "measured", "1.5", AnyFinite(c.measured)},
+           {3 + 3 * j, "simulated", "1.5", AnyFinite(c.simulated)}});
+    cmd.push_back("set title " +
+                  GnuplotString(name + ", residual (simulated - measured)"));
+    cmd.push_back("set ylabel " +
+                  GnuplotString(WithUnit(c.channel + " residual", c.unit)));
+    panel({{4 + 3 * j, "residual", "1", AnyFiniteDifference(c)}});
+  }
+  cmd.push_back("unset multiplot");
+  cmd.push_back("unset output");
+  std::string script;
+  for (const std::string& c : cmd) script += (script.empty() ? "" : "; ") + c;
+  return script;
+}
+
+// Runs `program` with `args` (argv[1..]), stdin and stdout on /dev/null;
+// returns the wait status (-1 if it could not be started, errno in *err) and
+// its stderr in *errors.
+int Run(const std::string& program, const std::vector<std::string>& args,
+        std::string* errors, int* err) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) {
+    *err = errno;
+    return -1;
+  }
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], 2);
+  std::vector<std::string> storage;
+  storage.push_back(program);
+  storage.insert(storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& s : storage) argv.push_back(&s[0]);
+  argv.push_back(nullptr);
+  pid_t pid = -1;
+  const int spawned = ::posix_spawn(&pid, program.c_str(), &actions, nullptr,
+                                    argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(fds[1]);
+  if (spawned != 0) {
+    ::close(fds[0]);
+    *err = spawned;
+    return -1;
+  }
+  char buf[4096];
+  for (;;) {
+    const ssize_t got = ::read(fds[0], buf, sizeof(buf));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) break;
+    if (errors->size() < 65536) errors->append(buf, static_cast<size_t>(got));
+  }
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) {
+      *err = errno;
+      return -1;
+    }
+  }
+  return status;
+}
+
+// The last non-blank line of `text`, trimmed (gnuplot echoes the failing
+// command and a caret before its message).
+std::string LastLine(const std::string& text) {
+  std::string last;
+  size_t begin = 0;
+  while (begin < text.size()) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(begin, end - begin);
+    const size_t a = line.find_first_not_of(" \t\r");
+    if (a != std::string::npos) {
+      const size_t b = line.find_last_not_of(" \t\r");
+      last = line.substr(a, b - a + 1);
+    }
+    begin = end + 1;
+  }
+  return last;
+}
+
+bool HasLineBreak(const std::string& s) {
+  return s.find_first_of("\r\n") != std::string::npos;
+}
+
+std::atomic<unsigned> plot_counter{0};
+
+}  // namespace
+
+std::string FormatParameterTable(const FitResult& result) {
+  return RenderText(ParameterTable(result));
+}
+
+std::string FormatFitTable(const FitResult& result) {
+  return RenderText(FitTable(result));
+}
+
+std::vector<std::string> ExperimentFileStems(const FitResult& result) {
+  std::vector<std::string> stems;
+  std::set<std::string> used;
+  for (size_t i = 0; i < result.experiments.size(); ++i) {
+    std::string name = result.experiments[i].name;
+    for (char& c : name) {
+      const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                      (c >= '0' && c <= '9') || c == '.' || c == '-' ||
+                      c == '_';
+      if (!ok) c = '_';
+    }
+    if (name.empty()) name = "experiment" + std::to_string(i + 1);
+    std::string stem = "fit_" + name;
+    for (int n = 2; used.count(stem) != 0; ++n) {
+      stem = "fit_" + name + "_" + std::to_string(n);
+    }
+    used.insert(stem);
+    stems.push_back(stem);
+  }
+  return stems;
+}
+
+void WriteParamsCsv(const std::string& path, const FitResult& result) {
+  std::string out = "name,unit,value,std_error,ci95_low,ci95_high,initial,free\n";
+  for (size_t k : ParameterOrder(result)) {
+    const ParameterEstimate& p = result.parameters[k];
+    out += CsvCell(p.name) + "," + CsvCell(p.unit) + "," + Exact(p.value) + ",";
+    if (p.free) {
+      out += Exact(p.std_error) + "," + Exact(p.ci95_low) + "," +
+             Exact(p.ci95_high);
+    } else {
+      out += ",,";
+    }
+    out += "," + Exact(p.initial) + "," + (p.free ? "free" : "fixed") + "\n";
+  }
+  WriteFileAtomic(path, out);
+}
+
+void WriteParamsMarkdown(const std::string& path, const FitResult& result,
+                         const std::string& title) {
+  std::string out = "# " + OneLine(title.empty() ? "Fit report" : title) + "\n\n";
+
+  out += "## Parameters\n\n";
+  if (result.parameters.empty()) {
+    out += "No parameters.\n\n";
+  } else {
+    out += RenderMarkdown(ParameterTable(result)) + "\n";
+    out += "Std errors from the covariance scaled by the residual variance; "
+           "95 % interval value ± t(0.975, m − n)·std error.\n\n";
+  }
+
+  out += "## Correlation of the free parameters\n\n";
+  const Eigen::MatrixXd& r = result.correlation;
+  if (r.rows() == 0 || r.cols() == 0) {
+    out += "No free parameters.\n\n";
+  } else {
+    Table table;
+    table.headers.push_back("");
+    table.right.push_back(false);
+    for (Eigen::Index j = 0; j < r.cols(); ++j) {
+      table.headers.push_back(CorrelationName(result, j));
+      table.right.push_back(true);
+    }
+    for (Eigen::Index i = 0; i < r.rows(); ++i) {
+      std::vector<std::string> row = {CorrelationName(result, i)};
+      for (Eigen::Index j = 0; j < r.cols(); ++j) {
+        if (!std::isfinite(r(i, j))) {
+          row.push_back(Num(r(i, j)));
+        } else {
+          char buf[32];
+          std::snprintf(buf, sizeof(buf), "%.3f", r(i, j));
+          row.push_back(buf);
+        }
+      }
+      table.rows.push_back(row);
+    }
+    out += RenderMarkdown(table) + "\n";
+  }
+
+  out += "## Not determined by the data\n\n";
+  if (result.undetermined.empty()) {
+    out += "none\n\n";
+  } else {
+    for (const std::string& name : result.undetermined) {
+      out += "- " + OneLine(name) + "\n";
+    }
+    out += "\n";
+  }
+
+  out += "## Fit\n\n";
+  if (result.experiments.empty()) {
+    out += "No experiments.\n\n";
+  } else {
+    out += RenderMarkdown(FitTable(result)) + "\n";
+    out += "rms and max error in the channel unit; fit % = 100·(1 − ‖y − ŷ‖/"
+           "‖y − mean(y)‖); rel. err % = 100·‖ŷ − y‖/‖y‖; LB p: Ljung–Box "
+           "p-value of the residual (lags); xcorr u: peak normalised "
+           "cross-correlation of the residual with the input u, at lag "
+           "samples (> 0: the residual follows u).\n\n";
+  }
+
+  out += "## Solver\n\n";
+  out += "- cost (½Σr²): initial " + Num(result.initial_cost, 10) + ", final " +
+         Num(result.final_cost, 10) + "\n";
+  out += std::string("- converged: ") + (result.converged ? "yes" : "no") + "\n";
+  out += "- final cost of each start:";
+  if (result.start_costs.empty()) out += " none";
+  for (size_t k = 0; k < result.start_costs.size(); ++k) {
+    out += (k == 0 ? " " : ", ") + Num(result.start_costs[k], 10);
+  }
+  out += "\n";
+  out += "- AIC: " + Num(result.aic, 10) + ", BIC: " + Num(result.bic, 10) + "\n";
+  out += "- residuals: " + std::to_string(result.num_residuals) +
+         ", residual variance: " + Num(result.residual_variance, 6) + "\n";
+  out += "- iterations: " + std::to_string(result.iterations) +
+         ", simulations: " + std::to_string(result.simulations) +
+         ", Jacobian evaluations: " +
+         std::to_string(result.jacobian_evaluations) + "\n";
+  out += "- termination: " +
+         (result.termination.empty() ? std::string("-")
+                                     : OneLine(result.termination)) +
+         "\n";
+  WriteFileAtomic(path, out);
+}
+
+void WriteReportJson(const std::string& path, const FitResult& result) {
+  Json j = Json::object();
+  Json parameters = Json::array();
+  for (size_t k : ParameterOrder(result)) {
+    const ParameterEstimate& p = result.parameters[k];
+    Json e = Json::object();
+    e["name"] = p.name;
+    e["unit"] = p.unit;
+    e["value"] = JsonNumber(p.value);
+    e["std_error"] = p.free ? JsonNumber(p.std_error) : Json(nullptr);
+    e["ci95_low"] = p.free ? JsonNumber(p.ci95_low) : Json(nullptr);
+    e["ci95_high"] = p.free ? JsonNumber(p.ci95_high) : Json(nullptr);
+    e["initial"] = JsonNumber(p.initial);
+    e["free"] = p.free;
+    e["determined"] = p.determined;
+    parameters.push_back(e);
+  }
+  j["parameters"] = parameters;
+
+  const std::vector<std::string> stems = ExperimentFileStems(result);
+  Json experiments = Json::array();
+  for (size_t i = 0; i < result.experiments.size(); ++i) {
+    const ExperimentFit& x = result.experiments[i];
+    Json e = Json::object();
+    e["name"] = x.name;
+    e["role"] = x.role;
+    e["csv"] = stems[i] + ".csv";
+    Json channels = Json::array();
+    for (const ChannelFit& c : x.channels) {
+      Json ch = Json::object();
+      ch["channel"] = c.channel;
+      ch["unit"] = c.unit;
+      ch["rms"] = JsonNumber(c.rms);
+      ch["fit_percent"] = JsonNumber(c.fit_percent);
+      ch["max_error"] = JsonNumber(c.max_error);
+      ch["relative_error_percent"] = JsonNumber(c.relative_error_percent);
+      ch["ljung_box_q"] = JsonNumber(c.ljung_box_q);
+      ch["ljung_box_lags"] = c.ljung_box_lags;
+      ch["ljung_box_p"] = JsonNumber(c.ljung_box_p);
+      ch["input_xcorr_peak"] = JsonNumber(c.input_xcorr_peak);
+      ch["input_xcorr_lag"] = c.input_xcorr_lag;
+      ch["sigma"] = JsonNumber(c.sigma);
+      ch["fitted"] = c.fitted;
+      channels.push_back(ch);
+    }
+    e["channels"] = channels;
+    experiments.push_back(e);
+  }
+  j["experiments"] = experiments;
+
+  j["cost"] = {{"initial", JsonNumber(result.initial_cost)},
+               {"final", JsonNumber(result.final_cost)}};
+  j["converged"] = result.converged;
+  Json starts = Json::array();
+  for (double c : result.start_costs) starts.push_back(JsonNumber(c));
+  j["starts"] = starts;
+  j["aic"] = JsonNumber(result.aic);
+  j["bic"] = JsonNumber(result.bic);
+  j["num_residuals"] = result.num_residuals;
+  j["residual_variance"] = JsonNumber(result.residual_variance);
+  j["iterations"] = result.iterations;
+  j["simulations"] = result.simulations;
+  j["jacobian_evaluations"] = result.jacobian_evaluations;
+  j["termination"] = result.termination;
+
+  const Eigen::MatrixXd& r = result.correlation;
+  Json names = Json::array();
+  for (Eigen::Index i = 0; i < r.rows(); ++i) {
+    names.push_back(CorrelationName(result, i));
+  }
+  Json matrix = Json::array();
+  for (Eigen::Index i = 0; i < r.rows(); ++i) {
+    Json row = Json::array();
+    for (Eigen::Index k = 0; k < r.cols(); ++k) row.push_back(JsonNumber(r(i, k)));
+    matrix.push_back(row);
+  }
+  j["correlation"] = {{"names", names}, {"matrix", matrix}};
+  j["undetermined"] = result.undetermined;
+
+  WriteFileAtomic(path, j.dump(2, ' ', false, Json::error_handler_t::replace) +
+                            "\n");
+}
+
+void WriteExperimentCsv(const std::string& path, const ExperimentFit& fit) {
+  const size_t rows = fit.t.size();
+  for (const ChannelFit& c : fit.channels) {
+    if (c.measured.size() != rows || c.simulated.size() != rows) {
+      throw std::invalid_argument(
+          path + ": expected " + std::to_string(rows) +
+          " samples (the length of t) in the measured and simulated channel '" +
+          c.channel + "' of experiment '" + fit.name + "', got " +
+          std::to_string(c.measured.size()) + " and " +
+          std::to_string(c.simulated.size()));
+    }
+  }
+  std::string out = "t";
+  for (const ChannelFit& c : fit.channels) {
+    out += "," + CsvCell(c.channel + "_measured") + "," +
+           CsvCell(c.channel + "_simulated") + "," +
+           CsvCell(c.channel + "_residual");
+  }
+  out += "\n";
+  out.reserve(out.size() + rows * (1 + 3 * fit.channels.size()) * 20);
+  for (size_t k = 0; k < rows; ++k) {
+    out += Num(fit.t[k], 12);
+    for (const ChannelFit& c : fit.channels) {
+      out += "," + Num(c.measured[k], 12) + "," + Num(c.simulated[k], 12) +
+             "," + Num(c.simulated[k] - c.measured[k], 12);
+    }
+    out += "\n";
+  }
+  WriteFileAtomic(path, out);
+}
+
+bool WriteExperimentPlot(const std::string& png_path,
+                         const std::string& csv_path, const ExperimentFit& fit,
+                         std::string* warning) {
+  std::string ignored;
+  if (warning == nullptr) warning = &ignored;
+  warning->clear();
+  const std::string gnuplot = FindOnPath("gnuplot");
+  if (gnuplot.empty()) {
+    *warning = "gnuplot not found: no plot written for " + fit.name;
+    return false;
+  }
+  if (fit.channels.empty() || fit.t.empty()) {
+    *warning = "nothing to plot (no channels or no samples): no plot written "
+               "for " + fit.name;
+    return false;
+  }
+  if (HasLineBreak(png_path) || HasLineBreak(csv_path)) {
+    *warning = "a path contains a line break: no plot written for " + fit.name;
+    return false;
+  }
+  const std::string temp = png_path + ".tmp." +
+                           std::to_string(static_cast<long>(::getpid())) + "." +
+                           std::to_string(plot_counter++) + ".png";
+  std::string errors;
+  int err = 0;
+  const int status =
+      Run(gnuplot, {"-e", PlotScript(temp, csv_path, fit)}, &errors, &err);
+  std::error_code ec;
+  const bool written = fs::is_regular_file(temp, ec) && fs::file_size(temp, ec) > 0;
+  const bool ok = status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (!ok || !written) {
+    ::unlink(temp.c_str());
+    std::string why;
+    if (status < 0) {
+      why = "cannot run " + gnuplot + ": " + std::generic_category().message(err);
+    } else if (WIFEXITED(status)) {
+      why = "gnuplot exited with status " + std::to_string(WEXITSTATUS(status));
+    } else if (WIFSIGNALED(status)) {
+      why = "gnuplot killed by signal " + std::to_string(WTERMSIG(status));
+    } else {
+      why = "gnuplot failed";
+    }
+    if (ok) why = "gnuplot wrote no image";
+    const std::string last = LastLine(errors);
+    *warning = why + (last.empty() ? "" : " (" + last + ")") +
+               ": no plot written for " + fit.name + " (" + png_path + ")";
+    return false;
+  }
+  if (std::rename(temp.c_str(), png_path.c_str()) != 0) {
+    const int e = errno;
+    ::unlink(temp.c_str());
+    throw std::runtime_error(png_path + ": cannot write: renaming '" + temp +
+                             "' over it: " + std::generic_category().message(e));
+  }
+  return true;
+}
+
+void WriteFitOutputs(const std::string& dir, const FitResult& result,
+                     const std::string& title,
+                     std::vector<std::string>* warnings) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) {
+    throw std::runtime_error(
+        dir + ": cannot create the output directory: " +
+        (ec ? ec.message() : std::string("exists and is not a directory")));
+  }
+  const fs::path base(dir);
+  WriteParamsCsv((base / "params.csv").string(), result);
+  WriteParamsMarkdown((base / "params.md").string(), result, title);
+  WriteReportJson((base / "report.json").string(), result);
+  const std::vector<std::string> stems = ExperimentFileStems(result);
+  for (size_t i = 0; i < result.experiments.size(); ++i) {
+    const std::string csv = (base / (stems[i] + ".csv")).string();
+    const std::string png = (base / (stems[i] + ".png")).string();
+    WriteExperimentCsv(csv, result.experiments[i]);
+    std::string warning;
+    if (!WriteExperimentPlot(png, csv, result.experiments[i], &warning) &&
+        warnings != nullptr) {
+      warnings->push_back(warning);
+    }
+  }
+}
+
+}  // namespace axis

@@ -1,0 +1,130 @@
+// fit-params on bad input: a clear message naming the file, line or key and
+// what was expected, exit code 2, and nothing written in the output folder.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+const std::string kRoot = PROJECT_SOURCE_DIR;
+const std::string kBin = std::string(BINARY_DIR) + "/fit-params";
+
+struct Result {
+  int exit_code;
+  std::string err;
+};
+
+Result RunCli(const std::string& args) {
+  const std::string err_path = ::testing::TempDir() +
+      ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_fit_cli_stderr.txt";
+  const int status =
+      std::system((kBin + " " + args + " >/dev/null 2>" + err_path).c_str());
+  std::ifstream in(err_path);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+          std::string((std::istreambuf_iterator<char>(in)), {})};
+}
+
+std::string Write(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// A one-experiment job on `csv`, with `free` as the free block.
+std::string Job(const std::string& name, const std::string& csv,
+                const std::string& free =
+                    "  B_a: {initial: 150, lower: 10, upper: 2000}\n") {
+  return Write(name, "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+                     "free:\n" + free +
+                     "experiments:\n"
+                     "  - name: e\n"
+                     "    data: " + csv + "\n"
+                     "    channels: {u: u, tach: tach}\n"
+                     "    input: {column: u}\n"
+                     "    fit: {tach: 0.005}\n");
+}
+
+class FitParamsBadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    out_ = ::testing::TempDir() + "fit_out_bad_" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::filesystem::remove_all(out_);
+  }
+  // Runs the job, expects exit 2, every `needles` in stderr, and no output.
+  void ExpectRejected(const std::string& job,
+                      const std::vector<std::string>& needles) {
+    const Result r = RunCli(job + " --out " + out_);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    for (const std::string& n : needles) {
+      EXPECT_NE(r.err.find(n), std::string::npos) << "missing '" << n << "' in: " << r.err;
+    }
+    EXPECT_FALSE(std::filesystem::exists(out_)) << "output written";
+  }
+  std::string out_;
+};
+
+TEST_F(FitParamsBadInput, MissingColumn) {
+  const std::string csv = Write("nocol.csv", "t,u\n0,1\n0.001,1\n0.002,1\n");
+  ExpectRejected(Job("nocol.yaml", csv), {"nocol.yaml", "channels.tach", "'tach'"});
+}
+
+TEST_F(FitParamsBadInput, NaNCell) {
+  const std::string csv = Write("nan.csv", "t,u,tach\n0,1,0\n0.001,nan,0\n0.002,1,0\n");
+  ExpectRejected(Job("nan.yaml", csv), {"nan.csv:3", "column 'u'"});
+}
+
+TEST_F(FitParamsBadInput, EmptyCell) {
+  const std::string csv = Write("empty_cell.csv", "t,u,tach\n0,1,0\n0.001,,0\n0.002,1,0\n");
+  ExpectRejected(Job("empty_cell.yaml", csv), {"empty_cell.csv:3", "empty"});
+}
+
+TEST_F(FitParamsBadInput, TimeNotStrictlyIncreasing) {
+  const std::string csv = Write("time.csv", "t,u,tach\n0,1,0\n0.001,1,0\n0.001,1,0\n");
+  ExpectRejected(Job("time.yaml", csv), {"time.csv:4", "strictly increasing"});
+}
+
+TEST_F(FitParamsBadInput, EmptyAndHeaderOnlyFiles) {
+  ExpectRejected(Job("empty.yaml", Write("empty.csv", "")), {"empty.csv"});
+  ExpectRejected(Job("header.yaml", Write("header.csv", "t,u,tach\n")),
+                 {"header.csv", "data row"});
+}
+
+TEST_F(FitParamsBadInput, FreeParameterTheModelDoesNotHave) {
+  const std::string csv = kRoot + "/testdata/x_step_10V_clean.csv";
+  ExpectRejected(Job("unknown_free.yaml", csv,
+                     "  Q_x: {initial: 1, lower: 0.1, upper: 10}\n"),
+                 {"unknown_free.yaml:3", "free.Q_x", "parameter name"});
+}
+
+TEST_F(FitParamsBadInput, BoundsReversed) {
+  const std::string csv = kRoot + "/testdata/x_step_10V_clean.csv";
+  ExpectRejected(Job("reversed.yaml", csv,
+                     "  B_a: {initial: 150, lower: 2000, upper: 10}\n"),
+                 {"reversed.yaml:3", "free.B_a", "expected lower < upper"});
+}
+
+TEST_F(FitParamsBadInput, InitialOutsideBounds) {
+  const std::string csv = kRoot + "/testdata/x_step_10V_clean.csv";
+  ExpectRejected(Job("outside.yaml", csv,
+                     "  B_a: {initial: 5000, lower: 10, upper: 2000}\n"),
+                 {"outside.yaml:3", "free.B_a", "within [10, 2000]", "5000"});
+}
+
+TEST_F(FitParamsBadInput, UnknownJobKey) {
+  const std::string job = Job("unknown_key.yaml", kRoot + "/testdata/x_step_10V_clean.csv");
+  std::ofstream(job, std::ios::app) << "solvr: {starts: 2}\n";
+  ExpectRejected(job, {"unknown_key.yaml:10", "'solvr'"});
+}
+
+TEST_F(FitParamsBadInput, CommandLine) {
+  EXPECT_EQ(RunCli("").exit_code, 2);
+  EXPECT_EQ(RunCli("--model " + kRoot + "/configs/axes/x_axis.yaml").exit_code, 2);
+}
+
+}  // namespace
