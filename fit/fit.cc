@@ -92,6 +92,46 @@ void BuildStage(const FitJob& job, const ParameterMap& map,
   }
 }
 
+// Free parameters (the first n_free of θ) that lie in the numerical null
+// space of the weighted Jacobian at the current θ: the columns are scaled to
+// unit norm (so units do not matter), and a parameter is in the null space if
+// it has a component above 0.1 in an eigenvector of JᵀJ whose eigenvalue is
+// below 1e-10 of the largest (or if its column is zero).
+std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free) {
+  std::vector<bool> out(n_free, false);
+  ceres::CRSMatrix crs;
+  double cost = 0.0;
+  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr,
+                         nullptr, &crs)) {
+    return std::vector<bool>(n_free, true);
+  }
+  Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(n_free, n_free);
+  for (int row = 0; row < crs.num_rows; ++row) {
+    for (int a = crs.rows[row]; a < crs.rows[row + 1]; ++a) {
+      if (crs.cols[a] >= n_free) continue;
+      for (int b = crs.rows[row]; b < crs.rows[row + 1]; ++b) {
+        if (crs.cols[b] >= n_free) continue;
+        jtj(crs.cols[a], crs.cols[b]) += crs.values[a] * crs.values[b];
+      }
+    }
+  }
+  Eigen::VectorXd scale(n_free);
+  for (int k = 0; k < n_free; ++k) {
+    scale[k] = jtj(k, k) > 0.0 ? 1.0 / std::sqrt(jtj(k, k)) : 0.0;
+    if (jtj(k, k) <= 0.0) out[k] = true;
+  }
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * jtj * scale.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
+  const double largest = eig.eigenvalues().maxCoeff();
+  for (int e = 0; e < n_free; ++e) {
+    if (eig.eigenvalues()[e] > 1e-10 * largest) continue;
+    for (int k = 0; k < n_free; ++k) {
+      if (std::abs(eig.eigenvectors()(k, e)) > 0.1) out[k] = true;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 ExperimentFit EvaluateExperiment(const AxisStructure& structure,
@@ -283,7 +323,6 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.residual_variance = 2.0 * best_cost / dof;
   Eigen::MatrixXd cov_theta = Eigen::MatrixXd::Constant(
       theta_size, theta_size, std::numeric_limits<double>::quiet_NaN());
-  bool rank_deficient = false;
   {
     ceres::Covariance::Options co;
     co.algorithm_type = ceres::DENSE_SVD;
@@ -296,7 +335,6 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     bool ok = std::isfinite(best_cost) && covariance.Compute(pairs, &full_problem);
     if (!ok && std::isfinite(best_cost)) {
       // Rank deficient: the pseudo-inverse, with the null space dropped.
-      rank_deficient = true;
       co.null_space_rank = -1;
       ceres::Covariance pseudo(co);
       if (pseudo.Compute(pairs, &full_problem)) {
@@ -322,35 +360,22 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   }
   result.correlation = Eigen::MatrixXd::Identity(n_free, n_free);
   const double t975 = StudentTQuantile975(dof);
-  std::vector<bool> determined(n_free, !rank_deficient);
+  std::vector<bool> determined(n_free, true);
+  if (std::isfinite(best_cost)) {
+    const std::vector<bool> null = NullSpaceMembers(&full_problem, n_free);
+    for (int i = 0; i < n_free; ++i) determined[i] = !null[i];
+  }
   for (int i = 0; i < n_free; ++i) {
     for (int j = 0; j < n_free; ++j) {
       if (i == j) continue;
       const double r = cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
       result.correlation(i, j) = r;
-      if (std::abs(r) > 0.99 || !std::isfinite(r)) determined[i] = false;
-    }
-  }
-  if (rank_deficient) {
-    // Parameters with no strong correlation are still named: a rank
-    // deficiency with no |r| > 0.99 pair leaves all of them suspect.
-    bool any = false;
-    for (int i = 0; i < n_free; ++i) {
-      for (int j = 0; j < n_free; ++j) {
-        if (i != j && std::abs(result.correlation(i, j)) > 0.99) any = true;
-      }
-    }
-    if (any) {
-      for (int i = 0; i < n_free; ++i) {
-        bool strong = false;
-        for (int j = 0; j < n_free; ++j) {
-          if (i != j && std::abs(result.correlation(i, j)) > 0.99) strong = true;
-        }
-        determined[i] = !strong;
+      // Both members of a nearly collinear pair are undetermined.
+      if (determined[i] && determined[j] && std::abs(r) > 0.99) {
+        determined[i] = false;
       }
     }
   }
-
   AxisParams<double> fitted = p.map->Apply(p.theta.data());
   for (int k = 0; k < n_free; ++k) {
     ParameterEstimate e;

@@ -322,29 +322,12 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
   job.title = root.String("title", path);
   root.String("description", "");
   job.model = LoadAxisConfig(ResolvePath(dir, root.String("model")));
-  if (const YAML::Node node = root.Optional("effects")) {
-    YamlMap map(node, path, "effects.");
-    ParseEffects(map, &job.model);
-  }
-  if (const YAML::Node node = root.Optional("set")) {
-    YamlMap map(node, path, "set.");
-    for (const auto& entry : node) {
-      const std::string name = entry.first.Scalar();
-      if (FindParam(&job.model.params, name) == nullptr) {
-        ThrowConfigError(path, entry.first, "set." + name,
-                         "a parameter name of the model (MODEL.md sections 2 and 7)",
-                         "'" + name + "'");
-      }
-      *FindParam(&job.model.params, name) = map.Number(name);
-    }
-    map.Finish();
-  }
+  ParseModelOverrides(root, &job.model);
   if (const YAML::Node node = root.Optional("controller")) {
     YamlMap map(node, path, "controller.");
     job.model.controller = ParseController(map, job.model.controller);
     job.model.has_controller = true;
   }
-  ValidateAxisConfig(job.model, path);
   double step = 1e-5;
   if (const YAML::Node node = root.Optional("simulation")) {
     YamlMap map(node, path, "simulation.");

@@ -404,6 +404,39 @@ AxisState<double> ConsistentInitialState(const AxisConfig& config,
   return out;
 }
 
+void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
+  const std::string& path = root.file();
+  if (const YAML::Node node = root.Optional("configuration")) {
+    YamlMap map(node, path, "configuration.");
+    if (map.Has("amplifier")) {
+      model->structure.amplifier = ParseAmplifier(map.Choice("amplifier", kAmplifiers));
+    }
+    if (map.Has("coupling")) {
+      model->structure.coupling = ParseCoupling(map.Choice("coupling", kCouplings));
+    }
+    map.Finish();
+  }
+  if (const YAML::Node node = root.Optional("effects")) {
+    YamlMap map(node, path, "effects.");
+    ParseEffects(map, model);
+  }
+  if (const YAML::Node node = root.Optional("set")) {
+    YamlMap map(node, path, "set.");
+    for (const auto& entry : node) {
+      const std::string name = entry.first.Scalar();
+      if (FindParam(&model->params, name) == nullptr) {
+        ThrowConfigError(path, entry.first, "set." + name,
+                         "a parameter name of the model (MODEL.md sections 2 "
+                         "and 7, e.g. V_L, B_a, k_g)",
+                         "'" + name + "'");
+      }
+      *FindParam(&model->params, name) = map.Number(name);
+    }
+    map.Finish();
+  }
+  ValidateAxisConfig(*model, path);
+}
+
 ExperimentConfig LoadExperiment(const std::string& path) {
   ExperimentConfig e;
   e.path = path;
@@ -411,35 +444,7 @@ ExperimentConfig LoadExperiment(const std::string& path) {
   YamlMap root(LoadYamlFile(path), path, "");
   e.description = root.String("description", "");
   e.model = LoadAxisConfig(ResolvePath(dir, root.String("model")));
-  if (const YAML::Node node = root.Optional("configuration")) {
-    YamlMap map(node, path, "configuration.");
-    if (map.Has("amplifier")) {
-      e.model.structure.amplifier = ParseAmplifier(map.Choice("amplifier", kAmplifiers));
-    }
-    if (map.Has("coupling")) {
-      e.model.structure.coupling = ParseCoupling(map.Choice("coupling", kCouplings));
-    }
-    map.Finish();
-  }
-  if (const YAML::Node node = root.Optional("effects")) {
-    YamlMap map(node, path, "effects.");
-    ParseEffects(map, &e.model);
-  }
-  if (const YAML::Node node = root.Optional("set")) {
-    YamlMap map(node, path, "set.");
-    for (const auto& entry : node) {
-      const std::string name = entry.first.Scalar();
-      if (FindParam(&e.model.params, name) == nullptr) {
-        ThrowConfigError(path, entry.first, "set." + name,
-                         "a parameter name of the model (MODEL.md sections 2 "
-                         "and 7, e.g. V_L, B_a, k_g)",
-                         "'" + name + "'");
-      }
-      *FindParam(&e.model.params, name) = map.Number(name);
-    }
-    map.Finish();
-  }
-  ValidateAxisConfig(e.model, path);
+  ParseModelOverrides(root, &e.model);
 
   e.options.duration = root.Number("duration", Range::kFinitePositive);
   e.options.step = root.Number("step", 1e-5, Range::kFinitePositive);

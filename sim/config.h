@@ -78,6 +78,12 @@ Reference ParseReference(YamlMap& map, const std::string& base_dir,
 // The controller settings of MODEL.md §5, starting from `defaults`.
 ControllerConfig ParseController(YamlMap& map, const ControllerConfig& defaults);
 
+// The model overrides an experiment or job may declare next to `model:`:
+// `configuration:` (amplifier, coupling), `effects:` (as in a model config)
+// and `set:` (parameter values by MODEL.md name). Re-validates the model.
+// Throws std::invalid_argument naming the file, line and key.
+void ParseModelOverrides(YamlMap& root, AxisConfig* model);
+
 // An experiment file: the model (with overrides), what drives it, the time
 // grid, recorded channels, noise and seed.
 struct ExperimentConfig {

@@ -1,0 +1,139 @@
+// fit-params features beyond plain recovery: parameters the data cannot
+// determine are named, initial states can be estimated, and the quick
+// command-line form writes the full report.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "fit/fit.h"
+#include "fit/job.h"
+
+namespace axis {
+namespace {
+
+const std::string kRoot = PROJECT_SOURCE_DIR;
+
+std::string Write(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+FitResult Fit(const std::string& path) {
+  FitJob job = LoadFitJob(path);
+  job.solver.progress = false;
+  return FitParameters(job);
+}
+
+const ParameterEstimate& Estimate(const FitResult& r, const std::string& name) {
+  for (const ParameterEstimate& p : r.parameters) {
+    if (p.name == name) return p;
+  }
+  throw std::runtime_error("no parameter " + name);
+}
+
+// F_0 (load_offset) is free but the effect is not enabled in the model: its
+// Jacobian column is zero, the Jacobian is rank deficient, and the report
+// must say that the data cannot determine F_0 while B_a stays determined.
+TEST(FitOptionsTest, RankDeficiencyIsNamed) {
+  const std::string job = Write("rank.yaml",
+      "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+      "free:\n"
+      "  B_a: {initial: 220, lower: 10, upper: 2000}\n"
+      "  F_0: {initial: 0, lower: -100, upper: 100}\n"
+      "experiments:\n"
+      "  - name: step\n"
+      "    data: " + kRoot + "/testdata/x_step_10V.csv\n"
+      "    window: [0, 0.3]\n"
+      "    channels: {u: u, tach: tach}\n"
+      "    input: {column: u}\n"
+      "    fit: {tach: 0.005}\n"
+      "solver: {first_horizon: 0}\n");
+  const FitResult r = Fit(job);
+  ASSERT_EQ(r.undetermined.size(), 1u);
+  EXPECT_EQ(r.undetermined[0], "F_0");
+  EXPECT_FALSE(Estimate(r, "F_0").determined);
+  EXPECT_TRUE(Estimate(r, "B_a").determined);
+}
+
+// The initial arm position and velocity estimated along with B_a, on a
+// window of the noise-free 10 V step that starts in motion (t = 0.2 s):
+// the fit must find the state the truth had there.
+TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
+  // The truth at t = 0.2 s, from the noise-free recording.
+  std::ifstream in(kRoot + "/testdata/x_step_10V_clean.csv");
+  std::string line;
+  double v_true = 0.0;
+  while (std::getline(in, line)) {
+    if (line.rfind("0.2,", 0) == 0) {
+      // t,u,a,tach,i,v
+      v_true = std::stod(line.substr(line.rfind(',') + 1));
+    }
+  }
+  ASSERT_GT(v_true, 0.3);
+  const std::string job = Write("state.yaml",
+      "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+      "free:\n"
+      "  B_a: {initial: 200, lower: 10, upper: 2000}\n"
+      "experiments:\n"
+      "  - name: moving\n"
+      "    data: " + kRoot + "/testdata/x_step_10V_clean.csv\n"
+      "    window: [0.2, 0.4]\n"
+      "    channels: {u: u, v: v}\n"
+      "    input: {column: u}\n"
+      "    fit: {v: 0.001}\n"
+      "    initial_state: estimate\n"
+      "solver: {first_horizon: 0}\n");
+  const FitResult r = Fit(job);
+  // The model restarted in motion has no preamp or current history: the
+  // first milliseconds differ from the truth's (the current loop settles in
+  // ~7 µs, the preamp is saturated), so the estimate of v(0.2 s) is close
+  // but not exact (0.13 % seen): 0.5 % of v, against the 0.42 m/s a rest
+  // start would miss.
+  const auto& fit = r.experiments[0];
+  double v0 = 0.0;
+  for (const auto& c : fit.channels) {
+    if (c.channel == "v") v0 = c.simulated[0];
+  }
+  RecordProperty("v0_estimate", std::to_string(v0));
+  RecordProperty("v0_truth", std::to_string(v_true));
+  std::cout << "v(0.2 s): estimate " << v0 << ", truth " << v_true << "\n";
+  EXPECT_NEAR(v0, v_true, 0.005 * v_true);
+  EXPECT_NEAR(Estimate(r, "B_a").value, 200.0, 200.0 * 0.02);
+}
+
+TEST(FitOptionsTest, QuickFormWritesTheReport) {
+  const std::string out = ::testing::TempDir() + "quick_out";
+  std::filesystem::remove_all(out);
+  const std::string cmd = std::string(BINARY_DIR) + "/fit-params --model " +
+                          kRoot + "/configs/axes/x_axis.yaml --data " + kRoot +
+                          "/testdata/x_step_4V.csv --input u --fit a,tach "
+                          "--free V_L,B_a --out " + out + " > /dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 0);
+  for (const char* f : {"params.md", "params.csv", "report.json", "fit_data.csv"}) {
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
+  }
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["parameters"][0]["name"], "V_L");
+  EXPECT_TRUE(report["parameters"][0]["free"].get<bool>());
+  // Started at the truth (the model's values) on noisy data: the estimate
+  // stays within a few standard errors of it.
+  const double v_l = report["parameters"][0]["value"].get<double>();
+  const double se = report["parameters"][0]["std_error"].get<double>();
+  EXPECT_LT(std::abs(v_l - 2.7), 4.0 * se);
+  EXPECT_EQ(report["experiments"][0]["role"], "fit");
+  EXPECT_EQ(report["starts"].size(), 1u);
+}
+
+}  // namespace
+}  // namespace axis
