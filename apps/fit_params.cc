@@ -10,10 +10,15 @@
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
+#include <glog/logging.h>
 
 #include "fit/fit.h"
 
 int main(int argc, char** argv) {
+  // Ceres logs through glog; fit-params reports solver trouble itself
+  // (termination message, undetermined parameters), so only fatal messages.
+  google::InitGoogleLogging(argv[0]);
+  FLAGS_minloglevel = google::GLOG_FATAL;
   CLI::App app{"Estimate servo-axis parameters from recorded traces"};
   axis::FitParamsOptions options;
   app.add_option("job", options.job_path, "fit job YAML file");

@@ -146,10 +146,21 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
   T u_held(0.0);
   ReferenceSample ref;
   ControllerState<T> controller;
+  // RK4 asks for U at t, t + h/2 (twice) and t + h, which is the next
+  // step's t: remembering the last two evaluations halves the lookups.
   size_t input_cursor = 0;
+  double memo_t[2] = {-1.0, -1.0};
+  double memo_u[2] = {0.0, 0.0};
+  int memo_next = 0;
   const auto input_at = [&](double t) -> T {
-    return drive.closed_loop ? u_held
-                             : T(drive.input.Evaluate(t, &input_cursor));
+    if (drive.closed_loop) return u_held;
+    if (t == memo_t[0]) return T(memo_u[0]);
+    if (t == memo_t[1]) return T(memo_u[1]);
+    const double u = drive.input.Evaluate(t, &input_cursor);
+    memo_t[memo_next] = t;
+    memo_u[memo_next] = u;
+    memo_next ^= 1;
+    return T(u);
   };
   const AxisCoefficients<T> coeffs = MakeAxisCoefficients(structure, params);
   const auto rhs = [&](double t, const AxisState<T>& state, AxisState<T>* dy) {
