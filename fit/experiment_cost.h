@@ -103,15 +103,8 @@ class ExperimentCost {
   bool operator()(T const* const* parameters, T* residuals) const {
     if constexpr (std::is_same<T, double>::value) {
       ++counter_->simulations;
-      using Direction = ceres::Jet<double, 1>;
-      std::vector<Direction> theta(theta_size_);
-      for (int k = 0; k < theta_size_; ++k) {
-        theta[k] = Direction(parameters[0][k], 0);
-      }
-      std::vector<Direction> r(num_residuals_);
-      if (!Residuals(theta.data(), r.data())) return false;
-      for (int k = 0; k < num_residuals_; ++k) residuals[k] = r[k].a;
-      return true;
+      const std::vector<double> all_ones(theta_size_, 1.0);
+      return Directional(parameters[0], all_ones.data(), residuals, nullptr);
     } else {
       ++counter_->jacobians;
       return Residuals(parameters[0], residuals);
@@ -126,6 +119,26 @@ class ExperimentCost {
   static constexpr double kMaxSensitivity = 1e10;
 
   int num_residuals() const { return num_residuals_; }
+
+  // Residuals at θ and, if `derivative` is non-null, their derivative along
+  // `direction` (one Jet<1> simulation): the score test's candidate columns.
+  // Returns false as operator() does. Never throws.
+  bool Directional(const double* theta, const double* direction,
+                   double* residuals, double* derivative) const {
+    using Direction = ceres::Jet<double, 1>;
+    std::vector<Direction> t(theta_size_);
+    for (int k = 0; k < theta_size_; ++k) {
+      t[k] = Direction(theta[k]);
+      t[k].v[0] = direction[k];
+    }
+    std::vector<Direction> r(num_residuals_);
+    if (!Residuals(t.data(), r.data())) return false;
+    for (int k = 0; k < num_residuals_; ++k) {
+      residuals[k] = r[k].a;
+      if (derivative != nullptr) derivative[k] = r[k].v[0];
+    }
+    return true;
+  }
 
  private:
   template <typename T>

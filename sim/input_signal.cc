@@ -60,17 +60,23 @@ double InputSignal::Evaluate(double t, size_t* cursor) const {
   *cursor = k;
   if (hold) return offset + values[k];
   const double s = (t - times[k]) / (times[k + 1] - times[k]);
-  return offset + values[k] + s * (values[k + 1] - values[k]);
+  // Same association as EvaluateTable + offset in Evaluate(t): bit-identical.
+  return offset + (values[k] + s * (values[k + 1] - values[k]));
 }
 
 InputSignal MakePrbs(double amplitude, double offset, double bit_time,
                      int order, std::uint32_t seed, double duration) {
   // Feedback taps of maximum-length Fibonacci LFSRs (Xilinx XAPP052 table),
-  // 1-based bit positions, for orders 2..20.
-  static const int kTaps[21][2] = {
-      {0, 0},   {0, 0},   {2, 1},   {3, 2},   {4, 3},   {5, 3},   {6, 5},
-      {7, 6},   {8, 6},   {9, 5},   {10, 7},  {11, 9},  {12, 6},  {13, 4},
-      {14, 5},  {15, 14}, {16, 15}, {17, 14}, {18, 11}, {19, 6},  {20, 17}};
+  // 1-based bit positions, for orders 2..20; 0 pads the two-tap entries.
+  // Orders 8, 12, 13, 14, 16 and 19 have no primitive trinomial and need
+  // four taps.
+  static const int kTaps[21][4] = {
+      {0, 0, 0, 0},      {0, 0, 0, 0},     {2, 1, 0, 0},    {3, 2, 0, 0},
+      {4, 3, 0, 0},      {5, 3, 0, 0},     {6, 5, 0, 0},    {7, 6, 0, 0},
+      {8, 6, 5, 4},      {9, 5, 0, 0},     {10, 7, 0, 0},   {11, 9, 0, 0},
+      {12, 6, 4, 1},     {13, 4, 3, 1},    {14, 5, 3, 1},   {15, 14, 0, 0},
+      {16, 15, 13, 4},   {17, 14, 0, 0},   {18, 11, 0, 0},  {19, 6, 2, 1},
+      {20, 17, 0, 0}};
   if (order < 2 || order > 20) {
     throw std::invalid_argument("PRBS: expected order in 2..20, got " +
                                 std::to_string(order));
@@ -91,9 +97,11 @@ InputSignal MakePrbs(double amplitude, double offset, double bit_time,
   for (long k = 0; k < bits; ++k) {
     s.times.push_back(k * bit_time);
     s.values.push_back((reg & 1u) ? amplitude : -amplitude);
-    const std::uint32_t a = (reg >> (kTaps[order][0] - 1)) & 1u;
-    const std::uint32_t b = (reg >> (kTaps[order][1] - 1)) & 1u;
-    reg = ((reg << 1) | (a ^ b)) & mask;
+    std::uint32_t feedback = 0;
+    for (int tap : kTaps[order]) {
+      if (tap > 0) feedback ^= (reg >> (tap - 1)) & 1u;
+    }
+    reg = ((reg << 1) | feedback) & mask;
   }
   return s;
 }

@@ -1,0 +1,451 @@
+#include "fit/discovery.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+
+#include "fit/experiment_cost.h"
+#include "fit/fit.h"
+#include "fit/statistics.h"
+
+namespace axis {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct DynamicEffect {
+  const char* name;
+  bool EffectSwitches::*flag;
+};
+
+const std::vector<DynamicEffect>& DynamicEffects() {
+  static const std::vector<DynamicEffect> effects = {
+      {"coulomb", &EffectSwitches::coulomb},
+      {"stribeck", &EffectSwitches::stribeck},
+      {"viscous_asymmetry", &EffectSwitches::viscous_asymmetry},
+      {"load_offset", &EffectSwitches::load_offset},
+      {"spring", &EffectSwitches::spring},
+      {"payload", &EffectSwitches::payload},
+      {"motor_coulomb", &EffectSwitches::motor_coulomb},
+      {"cogging", &EffectSwitches::cogging},
+  };
+  return effects;
+}
+
+// The Stribeck velocities tried (m/s): its shape has no effect at
+// F_st = F_c, so the test spans this small grid of shapes.
+constexpr double kStribeckGrid[] = {0.005, 0.02, 0.1};
+
+std::vector<CandidateColumn> ColumnsOf(const std::string& effect,
+                                      const std::string& channel) {
+  if (effect == "coulomb") return {{"F_c", {}}};
+  if (effect == "stribeck") {
+    std::vector<CandidateColumn> out;
+    for (double v : kStribeckGrid) out.push_back({"F_st", {{"v_st", v}}});
+    return out;
+  }
+  if (effect == "viscous_asymmetry") return {{"Delta_B", {}}};
+  if (effect == "load_offset") return {{"F_0", {}}};
+  if (effect == "spring") return {{"k_x", {{"x_0", 0.0}}}};
+  if (effect == "payload") return {{"Delta_M", {}}};
+  if (effect == "motor_coulomb") return {{"T_c", {}}};
+  if (effect == "cogging") {
+    return {{"A_cog", {{"phi_cog", 0.0}}}, {"A_cog", {{"phi_cog", kPi / 2}}}};
+  }
+  if (effect == "sensor_delay") return {{"tau_d." + channel, {}}};
+  if (effect == "sensor_bias") return {{"b." + channel, {}}};
+  return {};
+}
+
+// The structure with candidate `c` switched on.
+AxisStructure WithEffect(AxisStructure s, const Candidate& c) {
+  for (const DynamicEffect& e : DynamicEffects()) {
+    if (c.effect == e.name) s.effects.*(e.flag) = true;
+  }
+  const int ch = static_cast<int>(c.channel);
+  if (c.effect == "sensor_delay") s.sensors.delay[ch] = true;
+  if (c.effect == "sensor_bias") s.sensors.bias[ch] = true;
+  return s;
+}
+
+// Weighted residuals r (m) and their Jacobian J (m × n) in the optimiser's
+// coordinates θ, stacked over the fitted experiments.
+void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac) {
+  const ParameterMap map(job.model.params, job.free);
+  const int n = map.num_free();
+  std::vector<double> theta(n);
+  for (int k = 0; k < n; ++k) theta[k] = map.ToInternal(k, job.free[k].initial);
+  EvaluationCounter counter;
+  std::vector<Eigen::VectorXd> rs;
+  std::vector<Eigen::MatrixXd> js;
+  int m = 0;
+  for (const FitExperiment& e : job.experiments) {
+    std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
+        job.model.structure, map, e, n, -1, &counter));
+    const int me = cost->num_residuals();
+    Eigen::VectorXd re(me);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> je(me, n);
+    const double* params[] = {theta.data()};
+    double* jacobians[] = {je.data()};
+    if (!cost->Evaluate(params, re.data(), jacobians)) {
+      throw std::runtime_error("experiment '" + e.name +
+                               "': the simulation at the fitted parameters "
+                               "failed; no score test possible");
+    }
+    rs.push_back(re);
+    js.push_back(je);
+    m += me;
+  }
+  r->resize(m);
+  jac->resize(m, n);
+  int row = 0;
+  for (size_t j = 0; j < rs.size(); ++j) {
+    r->segment(row, rs[j].size()) = rs[j];
+    jac->middleRows(row, rs[j].size()) = js[j];
+    row += static_cast<int>(rs[j].size());
+  }
+}
+
+// The candidate's Jacobian columns (m × k), stacked like StackedJacobian.
+Eigen::MatrixXd CandidateColumns(const FitJob& job, const Candidate& c, int m) {
+  Eigen::MatrixXd out(m, c.columns.size());
+  const AxisStructure structure = WithEffect(job.model.structure, c);
+  for (size_t col = 0; col < c.columns.size(); ++col) {
+    const CandidateColumn& column = c.columns[col];
+    AxisParams<double> params = job.model.params;
+    for (const auto& [name, value] : column.settings) *FindParam(&params, name) = value;
+    FreeParameter f;
+    f.name = column.param;
+    f.scale = 1.0;
+    f.log = false;
+    const double at = *FindParam(&params, column.param);
+    const ParameterMap map(params, {f});
+    EvaluationCounter counter;
+    int row = 0;
+    for (const FitExperiment& e : job.experiments) {
+      const ExperimentCost cost(structure, map, e, 1, -1, &counter);
+      std::vector<double> r(cost.num_residuals()), d(cost.num_residuals());
+      const double direction = 1.0;
+      if (!cost.Directional(&at, &direction, r.data(), d.data())) {
+        std::fill(d.begin(), d.end(), 0.0);
+      }
+      for (size_t k = 0; k < d.size(); ++k) out(row + k, col) = d[k];
+      row += static_cast<int>(d.size());
+    }
+  }
+  return out;
+}
+
+// Orthonormal basis of the columns of a (rank-revealing QR; empty if zero).
+Eigen::MatrixXd Basis(const Eigen::MatrixXd& a) {
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+  qr.setThreshold(1e-10);
+  const int rank = static_cast<int>(qr.rank());
+  Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(a.rows(), rank);
+  return q;
+}
+
+FreeParameter Linear(const std::string& name, double value) {
+  FreeParameter f;
+  f.name = name;
+  f.initial = value;
+  const double width = 100.0 * std::abs(value) + 1.0;
+  f.lower = value - width;
+  f.upper = value + width;
+  f.log = false;
+  for (const ParamInfo& info : ListParams()) {
+    if (info.name == name) f.unit = info.unit;
+  }
+  return f;
+}
+
+FreeParameter Positive(const std::string& name, double value, double lo, double hi) {
+  FreeParameter f = Linear(name, value);
+  f.initial = std::clamp(value, lo * 1.0001, hi * 0.9999);
+  f.lower = lo;
+  f.upper = hi;
+  f.log = true;
+  return f;
+}
+
+// Switches candidate `c` on in `job` and frees its parameters, starting from
+// the score step.
+void AddEffect(const Candidate& c, const Score& s, FitJob* job) {
+  job->model.structure = WithEffect(job->model.structure, c);
+  AxisParams<double>& p = job->model.params;
+  std::vector<FreeParameter> added;
+  if (c.effect == "cogging") {
+    const double amplitude = std::hypot(s.step[0], s.step[1]);
+    const double phase = std::atan2(s.step[1], s.step[0]);
+    p.A_cog = std::max(amplitude, 1e-6);
+    p.phi_cog = phase;
+    added.push_back(Positive("A_cog", p.A_cog, p.A_cog / 100, p.A_cog * 100 + 1e-3));
+    added.push_back(Linear("phi_cog", phase));
+    added.back().lower = phase - 2 * kPi;
+    added.back().upper = phase + 2 * kPi;
+  } else if (c.effect == "stribeck") {
+    size_t best = 0;
+    for (size_t k = 1; k < s.step.size(); ++k) {
+      if (std::abs(s.step[k]) > std::abs(s.step[best])) best = k;
+    }
+    p.v_st = kStribeckGrid[best];
+    p.F_st = p.F_c + s.step[best];
+    added.push_back(Linear("F_st", p.F_st));
+    added.push_back(Positive("v_st", p.v_st, 1e-4, 1.0));
+  } else if (c.effect == "sensor_delay") {
+    const std::string name = c.columns[0].param;
+    const double tau = std::clamp(s.step[0], 1e-5, 0.05);
+    *FindParam(&p, name) = tau;
+    added.push_back(Positive(name, tau, 1e-6, 0.1));
+  } else {
+    const std::string name = c.columns[0].param;
+    const double value = *FindParam(&p, name) + s.step[0];
+    *FindParam(&p, name) = value;
+    added.push_back(Linear(name, value));
+    if (name == "Delta_M") added.back().lower = std::min(0.0, value - 1.0);
+  }
+  for (FreeParameter& f : added) {
+    f.initial = std::clamp(f.initial, f.lower, f.upper);
+    job->free.push_back(f);
+  }
+}
+
+// Writes the estimates of `result` into the job as model values and initial
+// values (the warm start of the next fit).
+void ApplyEstimates(const FitResult& result, FitJob* job) {
+  for (FreeParameter& f : job->free) {
+    for (const ParameterEstimate& e : result.parameters) {
+      if (e.free && e.name == f.name) {
+        f.initial = std::clamp(e.value, f.lower, f.upper);
+        *FindParam(&job->model.params, f.name) = e.value;
+      }
+    }
+  }
+}
+
+std::vector<ChannelChange> Changes(const FitResult& before, const FitResult& after) {
+  std::vector<ChannelChange> out;
+  for (const ExperimentFit& b : before.experiments) {
+    for (const ExperimentFit& a : after.experiments) {
+      if (a.name != b.name) continue;
+      for (const ChannelFit& cb : b.channels) {
+        for (const ChannelFit& ca : a.channels) {
+          if (ca.channel != cb.channel || cb.channel == "u") continue;
+          out.push_back({b.name, cb.channel, cb.rms, ca.rms, cb.fit_percent,
+                         ca.fit_percent});
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Candidate> ListCandidates(const FitJob& job,
+                                      const std::vector<std::string>& only) {
+  std::vector<Candidate> all;
+  for (const DynamicEffect& e : DynamicEffects()) {
+    if (job.model.structure.effects.*(e.flag)) continue;
+    all.push_back({e.name, e.name, Channel::kT, ColumnsOf(e.name, "")});
+  }
+  std::vector<Channel> fitted;
+  for (const FitExperiment& e : job.experiments) {
+    for (const FittedChannel& f : e.fitted) {
+      if (std::find(fitted.begin(), fitted.end(), f.channel) == fitted.end()) {
+        fitted.push_back(f.channel);
+      }
+    }
+  }
+  for (const char* effect : {"sensor_delay", "sensor_bias"}) {
+    for (Channel ch : fitted) {
+      const int c = static_cast<int>(ch);
+      const bool has = std::string(effect) == "sensor_delay"
+                           ? job.model.structure.sensors.delay[c]
+                           : job.model.structure.sensors.bias[c];
+      if (has) continue;
+      const std::string name = std::string(effect) + "." + ChannelName(ch);
+      all.push_back({name, effect, ch, ColumnsOf(effect, ChannelName(ch))});
+    }
+  }
+  if (only.empty()) return all;
+  std::vector<Candidate> out;
+  for (const std::string& name : only) {
+    bool known = false;
+    for (const DynamicEffect& e : DynamicEffects()) known = known || name == e.name;
+    for (const Candidate& c : all) known = known || c.name == name || c.effect == name;
+    if (!known && name != "sensor_delay" && name != "sensor_bias") {
+      std::string list;
+      for (const DynamicEffect& e : DynamicEffects()) list += std::string(e.name) + ", ";
+      throw std::invalid_argument(
+          "discover candidates: expected an effect of MODEL.md section 7 (" +
+          list + "sensor_delay[.channel], sensor_bias[.channel]), got '" + name + "'");
+    }
+    for (const Candidate& c : all) {
+      if (c.name == name || c.effect == name) out.push_back(c);
+    }
+  }
+  return out;
+}
+
+Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd jf;
+  StackedJacobian(job, &r, &jf);
+  const int m = static_cast<int>(r.size());
+  const int n = static_cast<int>(jf.cols());
+  const Eigen::MatrixXd q = Basis(jf);
+  const double s2 = r.squaredNorm() / std::max(1, m - n);
+  Ranking ranking;
+  std::vector<Eigen::MatrixXd> bases;
+  for (const Candidate& c : candidates) {
+    Eigen::MatrixXd jc = CandidateColumns(job, c, m);
+    jc -= q * (q.transpose() * jc);  // off the span of the free parameters
+    Score s;
+    s.name = c.name;
+    s.dof = static_cast<int>(jc.cols());
+    const Eigen::MatrixXd info = jc.transpose() * jc;
+    const Eigen::VectorXd g = jc.transpose() * r;
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(info, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    svd.setThreshold(1e-12);
+    const Eigen::VectorXd solved = svd.solve(g);
+    s.chi2 = g.dot(solved) / s2;
+    s.p_value = ChiSquaredSurvival(s.chi2, s.dof);
+    s.step.resize(s.dof);
+    for (int k = 0; k < s.dof; ++k) s.step[k] = -solved[k];
+    ranking.scores.push_back(s);
+    bases.push_back(Basis(jc));
+  }
+  const double threshold = 1e-3 / std::max<size_t>(1, candidates.size());
+  for (size_t a = 0; a < candidates.size(); ++a) {
+    for (size_t b = a + 1; b < candidates.size(); ++b) {
+      if (bases[a].cols() == 0 || bases[b].cols() == 0) continue;
+      if (ranking.scores[a].p_value >= threshold && ranking.scores[b].p_value >= threshold) continue;
+      const Eigen::MatrixXd cross = bases[a].transpose() * bases[b];
+      const double cosine = Eigen::JacobiSVD<Eigen::MatrixXd>(cross).singularValues()[0];
+      if (cosine > 0.95) ranking.indistinguishable.emplace_back(candidates[a].name, candidates[b].name);
+    }
+  }
+  std::stable_sort(ranking.scores.begin(), ranking.scores.end(),
+                   [](const Score& x, const Score& y) {
+                     if (x.p_value != y.p_value) return x.p_value < y.p_value;
+                     return x.chi2 / x.dof > y.chi2 / y.dof;
+                   });
+  return ranking;
+}
+
+DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
+                         FitResult* result, std::ostream* progress) {
+  DiscoveryReport report;
+  for (int step = 0; step < settings.max_effects; ++step) {
+    ApplyEstimates(*result, job);
+    const std::vector<Candidate> candidates = ListCandidates(*job, settings.candidates);
+    if (candidates.empty()) {
+      report.stop_reason = "no candidate left";
+      break;
+    }
+    const Ranking ranking = RankCandidates(*job, candidates);
+    if (step == 0) report.ranking = ranking;
+    const double threshold = settings.alpha / candidates.size();
+    const Score& best = ranking.scores.front();
+    if (progress) {
+      *progress << "discovery step " << step + 1 << ": best candidate " << best.name
+                << " (chi2 " << best.chi2 << ", dof " << best.dof << ", p "
+                << best.p_value << ", threshold " << threshold << ")\n";
+    }
+    if (!(best.p_value < threshold)) {
+      report.stop_reason = "no significant candidate (best " + best.name +
+                           ", p = " + std::to_string(best.p_value) + ")";
+      break;
+    }
+    std::string twin;
+    for (const auto& [a, b] : ranking.indistinguishable) {
+      if (a == best.name) twin = b;
+      if (b == best.name) twin = a;
+    }
+    if (!twin.empty()) {
+      report.stop_reason = best.name + " and " + twin +
+                           " cannot be told apart on this data (projected "
+                           "columns nearly parallel): add an experiment that "
+                           "separates them, e.g. motion in both directions";
+      break;
+    }
+    const Candidate& chosen = *std::find_if(
+        candidates.begin(), candidates.end(),
+        [&](const Candidate& c) { return c.name == best.name; });
+    FitJob next = *job;
+    AddEffect(chosen, best, &next);
+    next.solver.starts = 0;
+    FitResult refit = FitParameters(next, nullptr);
+    DiscoveryStep record;
+    record.effect = chosen.name;
+    record.chi2 = best.chi2;
+    record.dof = best.dof;
+    record.p_value = best.p_value;
+    record.bic_before = result->bic;
+    record.bic_after = refit.bic;
+    record.kept = refit.bic < result->bic;
+    for (const ParameterEstimate& e : refit.parameters) {
+      for (size_t k = job->free.size(); k < next.free.size(); ++k) {
+        if (e.free && e.name == next.free[k].name) record.parameters.push_back(e);
+      }
+    }
+    record.channels = Changes(*result, refit);
+    report.steps.push_back(record);
+    if (!record.kept) {
+      report.stop_reason = chosen.name + " did not improve BIC";
+      break;
+    }
+    report.selected.push_back(chosen.name);
+    *job = next;
+    *result = refit;
+  }
+  if (report.stop_reason.empty()) report.stop_reason = "maximum number of effects reached";
+  ApplyEstimates(*result, job);
+  return report;
+}
+
+std::string FormatDiscovery(const DiscoveryReport& report) {
+  std::ostringstream out;
+  out << "Model discovery (score test, Bonferroni, BIC)\n";
+  out << "Ranking at the first step:\n";
+  out << "  candidate                 chi2      dof   p-value\n";
+  for (const Score& s : report.ranking.scores) {
+    out << "  " << std::left << std::setw(22) << s.name << std::right
+        << std::setw(12) << std::setprecision(4) << s.chi2 << std::setw(6)
+        << s.dof << std::setw(12) << s.p_value << "\n";
+  }
+  for (const auto& [a, b] : report.ranking.indistinguishable) {
+    out << "  indistinguishable on this data: " << a << " ~ " << b << "\n";
+  }
+  for (size_t k = 0; k < report.steps.size(); ++k) {
+    const DiscoveryStep& s = report.steps[k];
+    out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
+        << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
+        << ")  BIC " << s.bic_before << " -> " << s.bic_after << "\n";
+    for (const ParameterEstimate& p : s.parameters) {
+      out << "  " << p.name << " = " << p.value << " +- " << p.std_error << " "
+          << p.unit << "  95% [" << p.ci95_low << ", " << p.ci95_high << "]\n";
+    }
+    out << "  experiment  channel     RMS before   RMS after   fit% before  fit% after\n";
+    for (const ChannelChange& c : s.channels) {
+      out << "  " << std::left << std::setw(12) << c.experiment << std::setw(8)
+          << c.channel << std::right << std::setw(13) << c.rms_before
+          << std::setw(12) << c.rms_after << std::setw(13) << c.fit_percent_before
+          << std::setw(12) << c.fit_percent_after << "\n";
+    }
+  }
+  out << "\nSelected: ";
+  for (const std::string& s : report.selected) out << s << " ";
+  if (report.selected.empty()) out << "none";
+  out << "\nStopped: " << report.stop_reason << "\n";
+  return out.str();
+}
+
+}  // namespace axis

@@ -1,0 +1,113 @@
+// The model-discovery loop (issue 4): after a fit, test every effect of
+// MODEL.md §7 the model does not have with a Lagrange-multiplier (score)
+// test, add the most significant one, refit, keep it if BIC improves, and
+// repeat. The score test needs no refit per candidate: it projects the
+// candidate's Jacobian column(s), taken at the value that switches the effect
+// off, off the span of the free parameters' Jacobian and tests the residual
+// against them (Breusch & Pagan 1980; Engle 1984, "Wald, likelihood ratio and
+// Lagrange multiplier tests in econometrics", §5).
+#ifndef FIT_DISCOVERY_H_
+#define FIT_DISCOVERY_H_
+
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fit/fit_result.h"
+#include "fit/job.h"
+
+namespace axis {
+
+// One Jacobian column of a candidate: the derivative of the residual with
+// respect to `param` at its current (off) value, with `settings` applied to
+// other parameters first (e.g. phi_cog = 0 and π/2 for the two quadratures
+// of cogging, whose phase has no effect at zero amplitude).
+struct CandidateColumn {
+  std::string param;
+  std::vector<std::pair<std::string, double>> settings;
+};
+
+// A candidate effect: a MODEL.md §7 name, for sensor effects with the channel
+// ("sensor_delay.a").
+struct Candidate {
+  std::string name;
+  std::string effect;
+  Channel channel = Channel::kT;  // sensor effects only
+  std::vector<CandidateColumn> columns;
+};
+
+// Score test of one candidate at the current fit.
+struct Score {
+  std::string name;
+  double chi2 = 0.0;   // rᵀJ⊥(J⊥ᵀJ⊥)⁻¹J⊥ᵀr / s², s² the residual variance
+  int dof = 0;         // number of columns
+  double p_value = 1.0;
+  std::vector<double> step;  // Gauss–Newton step of the columns' parameters
+};
+
+struct Ranking {
+  std::vector<Score> scores;  // most significant first
+  // Pairs whose projected columns are nearly parallel (largest canonical
+  // cosine > 0.95): this data cannot tell them apart.
+  std::vector<std::pair<std::string, std::string>> indistinguishable;
+};
+
+// The candidates for `job`: every dynamic effect of MODEL.md §7 its model
+// does not enable, and sensor_delay / sensor_bias for every fitted channel
+// that does not have them. `only`, if non-empty, restricts the list to those
+// names (effect names, or "sensor_delay.a" style); throws
+// std::invalid_argument "expected an effect of MODEL.md section 7 (…), got
+// 'x'" for an unknown name.
+std::vector<Candidate> ListCandidates(const FitJob& job,
+                                      const std::vector<std::string>& only = {});
+
+// Ranks `candidates` by their score-test p-value at the job's current
+// parameter values (job.model.params must hold the fitted values). Throws
+// std::runtime_error if a simulation at the current point fails.
+Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates);
+
+// Discovery settings (job key `discover:`).
+struct DiscoverySettings {
+  bool enabled = false;
+  int max_effects = 3;          // at most this many effects added
+  double alpha = 1e-3;          // family-wise level, Bonferroni over candidates
+  std::vector<std::string> candidates;  // restrict the candidate list
+};
+
+// Before/after figures of one channel across a discovery step.
+struct ChannelChange {
+  std::string experiment, channel;
+  double rms_before = 0.0, rms_after = 0.0;
+  double fit_percent_before = 0.0, fit_percent_after = 0.0;
+};
+
+struct DiscoveryStep {
+  std::string effect;
+  std::vector<ParameterEstimate> parameters;  // the effect's fitted parameters
+  double chi2 = 0.0;
+  int dof = 0;
+  double p_value = 1.0;
+  double bic_before = 0.0, bic_after = 0.0;
+  bool kept = false;  // BIC improved
+  std::vector<ChannelChange> channels;
+};
+
+struct DiscoveryReport {
+  std::vector<std::string> selected;  // effects added, in order
+  std::vector<DiscoveryStep> steps;
+  Ranking ranking;                    // at the first step
+  std::string stop_reason;
+};
+
+// Runs the loop from the fit `result` of `job`; on return `job` and `result`
+// hold the augmented model and its fit. Progress lines go to `progress`.
+DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
+                         FitResult* result, std::ostream* progress);
+
+// The discovery table for the terminal and params.md.
+std::string FormatDiscovery(const DiscoveryReport& report);
+
+}  // namespace axis
+
+#endif  // FIT_DISCOVERY_H_
