@@ -1,4 +1,4 @@
-// fit-params JOB.yaml [--out DIR]
+// fit-params JOB.yaml [--out DIR] [--discover]
 // fit-params --model M.yaml --data D.csv --input u --fit a,tach
 //            --free V_L,B_a,b_g,k_g,T_p [--out DIR]
 //
@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
   app.add_option("--free", options.free_names, "free parameters (quick form)")
       ->delimiter(',');
   app.add_option("--out", options.out_dir, "output directory");
+  app.add_flag("--discover", options.discover,
+               "after the fit, find and add the effects the residual asks for");
   try {
     app.parse(argc, argv);
     const bool quick = !options.model_path.empty() || !options.data_path.empty();

@@ -449,3 +449,54 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
 }
 
 }  // namespace axis
+
+namespace axis {
+
+nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
+  const auto number = [](double x) -> nlohmann::json {
+    return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+  };
+  nlohmann::json out;
+  out["selected"] = report.selected;
+  out["steps"] = nlohmann::json::array();
+  for (const DiscoveryStep& s : report.steps) {
+    nlohmann::json step;
+    step["effect"] = s.effect;
+    step["parameters"] = nlohmann::json::object();
+    for (const ParameterEstimate& p : s.parameters) {
+      step["parameters"][p.name] = {{"value", number(p.value)},
+                                    {"std_error", number(p.std_error)},
+                                    {"ci95_low", number(p.ci95_low)},
+                                    {"ci95_high", number(p.ci95_high)}};
+    }
+    step["chi2"] = number(s.chi2);
+    step["dof"] = s.dof;
+    step["p_value"] = number(s.p_value);
+    step["bic_before"] = number(s.bic_before);
+    step["bic_after"] = number(s.bic_after);
+    step["kept"] = s.kept;
+    step["channels"] = nlohmann::json::array();
+    for (const ChannelChange& c : s.channels) {
+      step["channels"].push_back({{"experiment", c.experiment},
+                                  {"channel", c.channel},
+                                  {"rms_before", number(c.rms_before)},
+                                  {"rms_after", number(c.rms_after)},
+                                  {"fit_percent_before", number(c.fit_percent_before)},
+                                  {"fit_percent_after", number(c.fit_percent_after)}});
+    }
+    out["steps"].push_back(step);
+  }
+  out["ranking"] = nlohmann::json::array();
+  for (const Score& s : report.ranking.scores) {
+    out["ranking"].push_back({{"effect", s.name}, {"chi2", number(s.chi2)},
+                              {"dof", s.dof}, {"p_value", number(s.p_value)}});
+  }
+  out["indistinguishable"] = nlohmann::json::array();
+  for (const auto& [a, b] : report.ranking.indistinguishable) {
+    out["indistinguishable"].push_back({a, b});
+  }
+  out["stop_reason"] = report.stop_reason;
+  return out;
+}
+
+}  // namespace axis

@@ -14,6 +14,9 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "fit/discovery_settings.h"
 #include "fit/fit_result.h"
 #include "fit/job.h"
 
@@ -67,14 +70,6 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
 // std::runtime_error if a simulation at the current point fails.
 Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates);
 
-// Discovery settings (job key `discover:`).
-struct DiscoverySettings {
-  bool enabled = false;
-  int max_effects = 3;          // at most this many effects added
-  double alpha = 1e-3;          // family-wise level, Bonferroni over candidates
-  std::vector<std::string> candidates;  // restrict the candidate list
-};
-
 // Before/after figures of one channel across a discovery step.
 struct ChannelChange {
   std::string experiment, channel;
@@ -107,6 +102,12 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
 
 // The discovery table for the terminal and params.md.
 std::string FormatDiscovery(const DiscoveryReport& report);
+
+// report.json's "discovery" block: {"selected", "steps": [{"effect",
+// "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
+// "bic_before", "bic_after", "kept", "channels": [...]}], "ranking":
+// [{"effect", "chi2", "dof", "p_value"}], "indistinguishable", "stop_reason"}.
+nlohmann::json DiscoveryToJson(const DiscoveryReport& report);
 
 }  // namespace axis
 

@@ -1,6 +1,8 @@
 #include "fit/fit.h"
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -11,9 +13,11 @@
 
 #include <ceres/ceres.h>
 
+#include "fit/discovery.h"
 #include "fit/experiment_cost.h"
 #include "fit/report.h"
 #include "fit/statistics.h"
+#include "sim/csv.h"
 
 namespace axis {
 namespace {
@@ -454,7 +458,17 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
       << job.validate.size() << " validation experiment(s), "
       << job.free.size() << " free parameter(s), " << job.solver.starts + 1
       << " start(s)\n";
-  const FitResult result = FitParameters(job, &out);
+  FitResult result = FitParameters(job, &out);
+  const bool discover = options.discover || job.discover.enabled;
+  DiscoveryReport discovery;
+  if (discover) {
+    out << "\nBefore discovery:\n" << FormatParameterTable(result) << "\n"
+        << FormatFitTable(result);
+    DiscoverySettings settings = job.discover;
+    settings.enabled = true;
+    discovery = Discover(settings, &job, &result, &out);
+    out << "\n" << FormatDiscovery(discovery) << "\nAfter discovery:";
+  }
   out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
   out << "cost " << result.initial_cost << " -> " << result.final_cost
       << (result.converged ? " (converged)" : " (NOT converged)") << ", "
@@ -462,6 +476,25 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
       << " Jacobian evaluations\n";
   std::vector<std::string> warnings;
   WriteFitOutputs(job.out_dir, result, job.title, &warnings);
+  if (discover) {
+    std::ifstream md_in(job.out_dir + "/params.md");
+    std::string md((std::istreambuf_iterator<char>(md_in)), {});
+    WriteFileAtomic(job.out_dir + "/params.md",
+                    md + "\n## Model discovery\n\n```\n" +
+                        FormatDiscovery(discovery) + "```\n");
+    std::ifstream json_in(job.out_dir + "/report.json");
+    nlohmann::json report = nlohmann::json::parse(json_in);
+    report["discovery"] = DiscoveryToJson(discovery);
+    WriteFileAtomic(job.out_dir + "/report.json", report.dump(2) + "\n");
+    AxisConfig discovered = job.model;
+    discovered.name = job.model.name + "_discovered";
+    discovered.source = "fit-params --discover on " + job.title;
+    WriteFileAtomic(job.out_dir + "/model_discovered.yaml",
+                    "# Written by fit-params --discover: the fitted model with the\n"
+                    "# effects the data asked for. Loadable by simulate-axis and\n"
+                    "# fit-params as a model config.\n" +
+                        AxisConfigToYaml(discovered));
+  }
   for (const std::string& w : warnings) err << "fit-params: warning: " << w << "\n";
   out << "wrote " << job.out_dir << "/{params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";
   return result;

@@ -35,6 +35,7 @@ struct FitParamsOptions {
   std::string model_path, data_path, input_column;
   std::vector<std::string> fit_channels, free_names;
   std::string out_dir;                // overrides the job's output.dir
+  bool discover = false;              // run the discovery loop (fit/discovery.h)
 };
 
 // Loads the job, fits, prints the parameter and fit tables to `out` and

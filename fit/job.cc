@@ -387,6 +387,44 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
     map.Finish();
   }
+  if (const YAML::Node node = root.Optional("discover")) {
+    job.discover.enabled = true;
+    if (!node.IsNull()) {
+      YamlMap map(node, path, "discover.");
+      job.discover.max_effects = static_cast<int>(
+          map.Integer("max_effects", job.discover.max_effects, 1, 20));
+      job.discover.alpha = map.Number("alpha", job.discover.alpha,
+                                      Range::kFinitePositive);
+      if (const YAML::Node list = map.Optional("candidates")) {
+        if (!list.IsSequence()) {
+          ThrowConfigError(path, list, "discover.candidates",
+                           "a list of effect names", Describe(list));
+        }
+        static const std::vector<std::string> kEffects = {
+            "coulomb", "stribeck", "viscous_asymmetry", "load_offset", "spring",
+            "payload", "motor_coulomb", "cogging", "sensor_delay", "sensor_bias"};
+        for (const YAML::Node& c : list) {
+          const std::string name = c.IsScalar() ? c.Scalar() : "";
+          const std::string effect = name.substr(0, name.find('.'));
+          const bool sensor = effect == "sensor_delay" || effect == "sensor_bias";
+          const bool known =
+              std::find(kEffects.begin(), kEffects.end(), effect) != kEffects.end() &&
+              (name == effect ||
+               (sensor && ParseChannel(name.substr(name.find('.') + 1)).has_value()));
+          if (!known) {
+            ThrowConfigError(path, c, "discover.candidates",
+                             "an effect of MODEL.md section 7 (coulomb, stribeck, "
+                             "viscous_asymmetry, load_offset, spring, payload, "
+                             "motor_coulomb, cogging, sensor_delay[.channel], "
+                             "sensor_bias[.channel])",
+                             Describe(c));
+          }
+          job.discover.candidates.push_back(name);
+        }
+      }
+      map.Finish();
+    }
+  }
   if (const YAML::Node node = root.Optional("output")) {
     YamlMap map(node, path, "output.");
     job.out_dir = ResolvePath(dir, map.String("dir"));

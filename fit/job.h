@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fit/discovery_settings.h"
 #include "sim/config.h"
 #include "sim/simulate.h"
 
@@ -76,6 +77,7 @@ struct FitJob {
   std::vector<FitExperiment> validate;     // role "validate"
   std::vector<FreeParameter> free;
   SolverSettings solver;
+  DiscoverySettings discover;  // `discover:` key (enabled if present)
   std::string out_dir;  // from output.dir (relative to the job file) or --out
 };
 

@@ -178,6 +178,84 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
   }
 }
 
+std::string AxisConfigToYaml(const AxisConfig& config) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << config.name;
+  out << YAML::Key << "source" << YAML::Value << config.source;
+  const char* amplifiers[] = {"analog_velocity_loop", "current_source", "force_source"};
+  out << YAML::Key << "amplifier" << YAML::Value
+      << amplifiers[static_cast<int>(config.structure.amplifier)];
+  out << YAML::Key << "coupling" << YAML::Value
+      << (config.structure.coupling == Coupling::kRigid ? "rigid" : "gear");
+  // Parameters of MODEL.md §2 and §4 (effect parameters go with their effect).
+  std::set<std::string> effect_params = {"v_eps", "omega_eps"};
+  for (const EffectSpec& e : DynamicEffects()) {
+    for (const char* p : e.params) effect_params.insert(p);
+  }
+  out << YAML::Key << "parameters" << YAML::Value << YAML::BeginMap;
+  AxisParams<double> params = config.params;
+  VisitParams([&](const char* name, const char*, double& value) {
+    const std::string n = name;
+    if (n.find('.') != std::string::npos || effect_params.count(n)) return;
+    out << YAML::Key << n << YAML::Value << value;
+  }, params);
+  out << YAML::EndMap;
+  const EffectSwitches& sw = config.structure.effects;
+  const SensorSwitches& sensors = config.structure.sensors;
+  bool any_sensor = false;
+  for (int c = 0; c < kNumChannels; ++c) any_sensor = any_sensor || sensors.delay[c] || sensors.bias[c];
+  bool any = any_sensor;
+  for (const EffectSpec& e : DynamicEffects()) any = any || sw.*(e.flag);
+  if (any) {
+    out << YAML::Key << "effects" << YAML::Value << YAML::BeginMap;
+    for (const EffectSpec& e : DynamicEffects()) {
+      if (!(sw.*(e.flag))) continue;
+      out << YAML::Key << e.name << YAML::Value << YAML::BeginMap;
+      for (const char* p : e.params) {
+        out << YAML::Key << p << YAML::Value << *FindParam(&params, p);
+      }
+      if (std::string(e.name) == "cogging") {
+        out << YAML::Key << "N_cog" << YAML::Value << config.structure.N_cog;
+      }
+      out << YAML::EndMap;
+    }
+    for (const char* kind : {"sensor_delay", "sensor_bias"}) {
+      const bool delay = std::string(kind) == "sensor_delay";
+      bool has = false;
+      for (int c = 0; c < kNumChannels; ++c) has = has || (delay ? sensors.delay[c] : sensors.bias[c]);
+      if (!has) continue;
+      out << YAML::Key << kind << YAML::Value << YAML::BeginMap;
+      for (int c = 0; c < kNumChannels; ++c) {
+        if (!(delay ? sensors.delay[c] : sensors.bias[c])) continue;
+        out << YAML::Key << ChannelName(static_cast<Channel>(c)) << YAML::Value
+            << (delay ? params.tau_d[c] : params.b[c]);
+      }
+      out << YAML::EndMap;
+    }
+    out << YAML::EndMap;
+  }
+  if (config.has_controller) {
+    const ControllerConfig& c = config.controller;
+    out << YAML::Key << "controller" << YAML::Value << YAML::BeginMap
+        << YAML::Key << "T_s" << YAML::Value << c.T_s
+        << YAML::Key << "T_track" << YAML::Value << c.T_track
+        << YAML::Key << "G_ff" << YAML::Value << c.G_ff
+        << YAML::Key << "G_p" << YAML::Value << c.G_p
+        << YAML::Key << "G_i" << YAML::Value << c.G_i
+        << YAML::Key << "G_v" << YAML::Value << c.G_v
+        << YAML::Key << "alpha" << YAML::Value << c.alpha
+        << YAML::Key << "U_max" << YAML::Value << c.U_max
+        << YAML::Key << "delay_samples" << YAML::Value << c.delay_samples
+        << YAML::Key << "counts_per_rev" << YAML::Value << c.counts_per_rev
+        << YAML::Key << "load_quantum" << YAML::Value << c.load_quantum
+        << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
 void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
   AxisParams<double> p = config.params;
   VisitParams([&](const char* name, const char*, double& value) {

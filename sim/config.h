@@ -47,6 +47,11 @@ void ParseEffects(YamlMap& effects, AxisConfig* config);
 // message (a file or "--set"). Throws std::invalid_argument.
 void ValidateAxisConfig(const AxisConfig& config, const std::string& where);
 
+// The config as YAML that LoadAxisConfig reads back: structure, every
+// parameter of MODEL.md §2, the enabled effects with their parameters, and
+// the controller if any.
+std::string AxisConfigToYaml(const AxisConfig& config);
+
 // Sets parameter `name` (a VisitParams name, MODEL.md §2/§7) to `value`.
 // Throws std::invalid_argument "<where>: expected a parameter name of the
 // model (R, L, ...), got 'X'" for an unknown name.
