@@ -301,7 +301,12 @@ Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidat
   const int m = static_cast<int>(r.size());
   const int n = static_cast<int>(jf.cols());
   const Eigen::MatrixXd q = Basis(jf);
-  const double s2 = r.squaredNorm() / std::max(1, m - n);
+  // Residuals are divided by the declared σ: under the null hypothesis (the
+  // model without the candidate, right noise levels) they have unit
+  // variance, so the statistic uses s² = 1, not the residual variance, which
+  // a misfit inflates and which would deflate every candidate alike.
+  const double s2 = 1.0;
+  (void)n;
   Ranking ranking;
   std::vector<Eigen::MatrixXd> bases;
   for (const Candidate& c : candidates) {
