@@ -13,6 +13,7 @@
 
 #include <ceres/ceres.h>
 
+#include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/experiment_cost.h"
 #include "fit/report.h"
@@ -461,9 +462,17 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
   FitResult result = FitParameters(job, &out);
   const bool discover = options.discover || job.discover.enabled;
   DiscoveryReport discovery;
+  std::vector<ChannelDiagnostics> diagnostics;
   if (discover) {
     out << "\nBefore discovery:\n" << FormatParameterTable(result) << "\n"
         << FormatFitTable(result);
+    // Diagnose the residual of the model as declared, before adding anything.
+    FitJob declared = job;
+    for (const ParameterEstimate& e : result.parameters) {
+      if (e.free) *FindParam(&declared.model.params, e.name) = e.value;
+    }
+    diagnostics = DiagnoseResiduals(declared);
+    out << "\n" << FormatDiagnostics(diagnostics);
     DiscoverySettings settings = job.discover;
     settings.enabled = true;
     discovery = Discover(settings, &job, &result, &out);
@@ -477,10 +486,14 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
   std::vector<std::string> warnings;
   WriteFitOutputs(job.out_dir, result, job.title, &warnings);
   if (discover) {
+    WriteDiagnostics(job.out_dir, diagnostics, &warnings);
+    for (const std::string& w : warnings) err << "fit-params: warning: " << w << "\n";
     std::ifstream md_in(job.out_dir + "/params.md");
     std::string md((std::istreambuf_iterator<char>(md_in)), {});
     WriteFileAtomic(job.out_dir + "/params.md",
-                    md + "\n## Model discovery\n\n```\n" +
+                    md + "\n## Residual diagnostics (model as declared)\n\n```\n" +
+                        FormatDiagnostics(diagnostics) +
+                        "```\n\n## Model discovery\n\n```\n" +
                         FormatDiscovery(discovery) + "```\n");
     std::ifstream json_in(job.out_dir + "/report.json");
     nlohmann::json report = nlohmann::json::parse(json_in);

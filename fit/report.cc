@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -670,24 +671,19 @@ void WriteExperimentCsv(const std::string& path, const ExperimentFit& fit) {
   WriteFileAtomic(path, out);
 }
 
-bool WriteExperimentPlot(const std::string& png_path,
-                         const std::string& csv_path, const ExperimentFit& fit,
-                         std::string* warning) {
+bool RenderGnuplotPng(const std::string& png_path,
+                      const std::function<std::string(const std::string&)>& script,
+                      const std::string& what, std::string* warning) {
   std::string ignored;
   if (warning == nullptr) warning = &ignored;
   warning->clear();
   const std::string gnuplot = FindOnPath("gnuplot");
   if (gnuplot.empty()) {
-    *warning = "gnuplot not found: no plot written for " + fit.name;
+    *warning = "gnuplot not found: no plot written for " + what;
     return false;
   }
-  if (fit.channels.empty() || fit.t.empty()) {
-    *warning = "nothing to plot (no channels or no samples): no plot written "
-               "for " + fit.name;
-    return false;
-  }
-  if (HasLineBreak(png_path) || HasLineBreak(csv_path)) {
-    *warning = "a path contains a line break: no plot written for " + fit.name;
+  if (HasLineBreak(png_path)) {
+    *warning = "a path contains a line break: no plot written for " + what;
     return false;
   }
   const std::string temp = png_path + ".tmp." +
@@ -695,8 +691,7 @@ bool WriteExperimentPlot(const std::string& png_path,
                            std::to_string(plot_counter++) + ".png";
   std::string errors;
   int err = 0;
-  const int status =
-      Run(gnuplot, {"-e", PlotScript(temp, csv_path, fit)}, &errors, &err);
+  const int status = Run(gnuplot, {"-e", script(temp)}, &errors, &err);
   std::error_code ec;
   const bool written = fs::is_regular_file(temp, ec) && fs::file_size(temp, ec) > 0;
   const bool ok = status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
@@ -715,7 +710,7 @@ bool WriteExperimentPlot(const std::string& png_path,
     if (ok) why = "gnuplot wrote no image";
     const std::string last = LastLine(errors);
     *warning = why + (last.empty() ? "" : " (" + last + ")") +
-               ": no plot written for " + fit.name + " (" + png_path + ")";
+               ": no plot written for " + what + " (" + png_path + ")";
     return false;
   }
   if (std::rename(temp.c_str(), png_path.c_str()) != 0) {
@@ -725,6 +720,26 @@ bool WriteExperimentPlot(const std::string& png_path,
                              "' over it: " + std::generic_category().message(e));
   }
   return true;
+}
+
+bool WriteExperimentPlot(const std::string& png_path,
+                         const std::string& csv_path, const ExperimentFit& fit,
+                         std::string* warning) {
+  std::string ignored;
+  if (warning == nullptr) warning = &ignored;
+  if (fit.channels.empty() || fit.t.empty()) {
+    *warning = "nothing to plot (no channels or no samples): no plot written "
+               "for " + fit.name;
+    return false;
+  }
+  if (HasLineBreak(csv_path)) {
+    *warning = "a path contains a line break: no plot written for " + fit.name;
+    return false;
+  }
+  return RenderGnuplotPng(
+      png_path,
+      [&](const std::string& temp) { return PlotScript(temp, csv_path, fit); },
+      fit.name, warning);
 }
 
 void WriteFitOutputs(const std::string& dir, const FitResult& result,

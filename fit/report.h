@@ -9,6 +9,7 @@
 #ifndef FIT_REPORT_H_
 #define FIT_REPORT_H_
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -122,6 +123,14 @@ bool WriteExperimentPlot(const std::string& png_path,
 // Throws std::runtime_error naming the directory or file that cannot be
 // created or written (files written before it stay complete), and
 // std::invalid_argument as WriteExperimentCsv.
+// Runs gnuplot on script(temporary_png_path) and renames the image to
+// png_path. Returns false with *warning set ("gnuplot not found: no plot
+// written for <what>", or gnuplot's failure) instead of throwing; throws
+// std::runtime_error only if the finished image cannot be renamed.
+bool RenderGnuplotPng(const std::string& png_path,
+                      const std::function<std::string(const std::string&)>& script,
+                      const std::string& what, std::string* warning);
+
 void WriteFitOutputs(const std::string& dir, const FitResult& result,
                      const std::string& title,
                      std::vector<std::string>* warnings);

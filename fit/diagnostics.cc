@@ -1,0 +1,155 @@
+#include "fit/diagnostics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "fit/fit.h"
+#include "fit/report.h"
+#include "fit/statistics.h"
+#include "sim/csv.h"
+
+namespace axis {
+namespace {
+
+constexpr int kBins = 12;
+constexpr int kMinCount = 10;
+constexpr double kTwoPi = 6.283185307179586476925;
+
+BinnedResidual Bin(const std::string& variable, const std::string& unit,
+                   const std::vector<double>& x, const std::vector<double>& r) {
+  BinnedResidual b;
+  b.variable = variable;
+  b.unit = unit;
+  const auto [lo_it, hi_it] = std::minmax_element(x.begin(), x.end());
+  const double lo = *lo_it, hi = *hi_it;
+  double mean = 0.0, var = 0.0;
+  for (double e : r) mean += e / r.size();
+  for (double e : r) var += (e - mean) * (e - mean) / std::max<size_t>(1, r.size() - 1);
+  const double s = std::sqrt(var);
+  if (!(hi > lo) || !(s > 0.0)) return b;
+  std::vector<double> sum(kBins, 0.0);
+  std::vector<int> count(kBins, 0);
+  for (size_t k = 0; k < x.size(); ++k) {
+    int j = static_cast<int>((x[k] - lo) / (hi - lo) * kBins);
+    j = std::clamp(j, 0, kBins - 1);
+    sum[j] += r[k];
+    ++count[j];
+  }
+  for (int j = 0; j < kBins; ++j) {
+    if (count[j] < kMinCount) continue;
+    const double m = sum[j] / count[j];
+    const double se = s / std::sqrt(static_cast<double>(count[j]));
+    b.center.push_back(lo + (j + 0.5) * (hi - lo) / kBins);
+    b.mean.push_back(m);
+    b.std_error.push_back(se);
+    b.count.push_back(count[j]);
+    b.chi2 += (m / se) * (m / se);
+    ++b.dof;
+  }
+  if (b.dof > 0) b.p_value = ChiSquaredSurvival(b.chi2, b.dof);
+  return b;
+}
+
+}  // namespace
+
+std::vector<ChannelDiagnostics> DiagnoseResiduals(const FitJob& job) {
+  std::vector<ChannelDiagnostics> out;
+  for (const FitExperiment& e : job.experiments) {
+    const ExperimentFit fit = EvaluateExperiment(job.model.structure, job.model.params, e);
+    SimulationOptions options = e.options;
+    options.channels = {Channel::kV, Channel::kX, Channel::kA, Channel::kTheta};
+    const SimulationGrid grid = MakeGrid(options, e.drive);
+    const Trace<double> trace = Simulate(job.model.structure, job.model.params,
+                                         e.initial_state, e.drive, options, grid);
+    if (!trace.finite) {
+      throw std::runtime_error("experiment '" + e.name +
+                               "': simulation failed at the fitted parameters");
+    }
+    std::vector<double> angle = trace[Channel::kTheta];
+    for (double& a : angle) a -= kTwoPi * std::floor(a / kTwoPi);
+    for (const ChannelFit& c : fit.channels) {
+      if (!c.fitted) continue;
+      ChannelDiagnostics d;
+      d.experiment = e.name;
+      d.channel = c.channel;
+      d.unit = c.unit;
+      d.ljung_box_p = c.ljung_box_p;
+      d.xcorr_peak = c.input_xcorr_peak;
+      d.xcorr_lag = c.input_xcorr_lag;
+      std::vector<double> r(c.measured.size());
+      for (size_t k = 0; k < r.size(); ++k) r[k] = c.simulated[k] - c.measured[k];
+      d.bins.push_back(Bin("v", "m/s", trace[Channel::kV], r));
+      d.bins.push_back(Bin("x", "m", trace[Channel::kX], r));
+      d.bins.push_back(Bin("a", "m/s^2", trace[Channel::kA], r));
+      d.bins.push_back(Bin("theta mod rev", "rad", angle, r));
+      out.push_back(d);
+    }
+  }
+  return out;
+}
+
+std::string FormatDiagnostics(const std::vector<ChannelDiagnostics>& diags) {
+  std::ostringstream out;
+  out << "Residual diagnostics (binned mean residual: chi2 p-value, largest |mean|)\n";
+  out << "  experiment  channel  LB p       xcorr u (lag)   ";
+  if (!diags.empty()) {
+    for (const BinnedResidual& b : diags[0].bins) out << std::setw(24) << ("vs " + b.variable);
+  }
+  out << "\n";
+  for (const ChannelDiagnostics& d : diags) {
+    out << "  " << std::left << std::setw(12) << d.experiment << std::setw(9)
+        << d.channel << std::right << std::setw(9) << std::setprecision(3)
+        << d.ljung_box_p << std::setw(10) << d.xcorr_peak << " (" << std::setw(3)
+        << d.xcorr_lag << ")   ";
+    for (const BinnedResidual& b : d.bins) {
+      double peak = 0.0;
+      for (double m : b.mean) peak = std::max(peak, std::abs(m));
+      std::ostringstream cell;
+      cell << std::setprecision(2) << b.p_value << ", " << std::setprecision(3) << peak;
+      out << std::setw(24) << cell.str();
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+void WriteDiagnostics(const std::string& dir,
+                      const std::vector<ChannelDiagnostics>& diags,
+                      std::vector<std::string>* warnings) {
+  for (const ChannelDiagnostics& d : diags) {
+    const std::string stem = dir + "/diag_" + d.experiment + "_" + d.channel;
+    std::ostringstream csv;
+    csv << "variable,center,mean,std_error,count\n" << std::setprecision(12);
+    for (const BinnedResidual& b : d.bins) {
+      for (size_t j = 0; j < b.center.size(); ++j) {
+        csv << '"' << b.variable << "\"," << b.center[j] << "," << b.mean[j] << ","
+            << b.std_error[j] << "," << b.count[j] << "\n";
+      }
+    }
+    WriteFileAtomic(stem + ".csv", csv.str());
+    std::string warning;
+    const auto script = [&](const std::string& png) {
+      std::ostringstream s;
+      s << "set terminal pngcairo size 1200,800 noenhanced; set output '" << png
+        << "'; set datafile separator ','; set multiplot layout 2,2 title 'mean "
+        << d.channel << " residual (" << d.unit << "), " << d.experiment << "';";
+      for (const BinnedResidual& b : d.bins) {
+        s << "set title 'vs " << b.variable << "'; set xlabel '" << b.variable
+          << " (" << b.unit << ")'; set ylabel 'residual (" << d.unit << ")';"
+          << "plot '" << stem << ".csv' using (strcol(1) eq '" << b.variable
+          << "' ? $2 : 1/0):3:4 with yerrorbars notitle, 0 with lines lc rgb "
+             "'gray' notitle;";
+      }
+      s << "unset multiplot";
+      return s.str();
+    };
+    if (!RenderGnuplotPng(stem + ".png", script, d.experiment + " " + d.channel, &warning)) {
+      if (warnings) warnings->push_back(warning);
+    }
+  }
+}
+
+}  // namespace axis
