@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "fit/discovery.h"
 #include "fit/fit.h"
 #include "fit/job.h"
 
@@ -27,6 +28,31 @@ void BM_PaperJob(benchmark::State& state) {
   state.counters["final_cost"] = result.final_cost;
 }
 BENCHMARK(BM_PaperJob)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
+
+
+namespace {
+
+// The discovery loop on the paper job (issue 4): the fit from the factor-2
+// start, the residual ranked against every candidate, at most three refits.
+void BM_PaperJobWithDiscovery(benchmark::State& state) {
+  axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +
+                                      "/configs/jobs/x_axis_paper.yaml");
+  job.solver.progress = false;
+  job.validate.clear();
+  axis::DiscoveryReport report;
+  for (auto _ : state) {
+    axis::FitJob j = job;
+    axis::FitResult result = axis::FitParameters(j);
+    report = axis::Discover(axis::DiscoverySettings{true, 3, 1e-3, {}}, &j,
+                            &result, nullptr);
+    benchmark::DoNotOptimize(report);
+  }
+  state.counters["candidates"] = report.ranking.scores.size();
+  state.counters["effects_added"] = report.selected.size();
+}
+BENCHMARK(BM_PaperJobWithDiscovery)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 }  // namespace
 
