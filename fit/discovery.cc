@@ -236,7 +236,9 @@ std::vector<ChannelChange> Changes(const FitResult& before, const FitResult& aft
       if (a.name != b.name) continue;
       for (const ChannelFit& cb : b.channels) {
         for (const ChannelFit& ca : a.channels) {
-          if (ca.channel != cb.channel || cb.channel == "u") continue;
+          if (ca.channel != cb.channel) continue;
+          // An open-loop input is replayed exactly: nothing to compare.
+          if (cb.rms == 0.0 && ca.rms == 0.0) continue;
           out.push_back({b.name, cb.channel, cb.rms, ca.rms, cb.fit_percent,
                          ca.fit_percent});
         }
@@ -251,8 +253,12 @@ std::vector<ChannelChange> Changes(const FitResult& before, const FitResult& aft
 std::vector<Candidate> ListCandidates(const FitJob& job,
                                       const std::vector<std::string>& only) {
   std::vector<Candidate> all;
+  const bool has_motor = job.model.structure.amplifier != Amplifier::kForceSource;
   for (const DynamicEffect& e : DynamicEffects()) {
     if (job.model.structure.effects.*(e.flag)) continue;
+    // Motor-side effects need a motor: force_source has none (MODEL.md §4).
+    const std::string name = e.name;
+    if (!has_motor && (name == "motor_coulomb" || name == "cogging")) continue;
     all.push_back({e.name, e.name, Channel::kT, ColumnsOf(e.name, "")});
   }
   std::vector<Channel> fitted;
@@ -369,10 +375,20 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                            ", p = " + std::to_string(best.p_value) + ")";
       break;
     }
+    // Candidates the data cannot tell from the best one. A twin with more
+    // parameters is a richer alternative (Stribeck contains a Coulomb-like
+    // shape): parsimony keeps the best one. A twin of the same size is a
+    // rival explanation: the loop stops and says so.
+    const auto dof_of = [&](const std::string& name) {
+      for (const Score& sc : ranking.scores) {
+        if (sc.name == name) return sc.dof;
+      }
+      return 0;
+    };
     std::string twin;
     for (const auto& [a, b] : ranking.indistinguishable) {
-      if (a == best.name) twin = b;
-      if (b == best.name) twin = a;
+      const std::string other = a == best.name ? b : (b == best.name ? a : "");
+      if (!other.empty() && dof_of(other) <= best.dof) twin = other;
     }
     if (!twin.empty()) {
       report.stop_reason = best.name + " and " + twin +
