@@ -13,30 +13,12 @@
 #include "fit/experiment_cost.h"
 #include "fit/fit.h"
 #include "fit/statistics.h"
+#include "sim/config.h"
 
 namespace axis {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-struct DynamicEffect {
-  const char* name;
-  bool EffectSwitches::*flag;
-};
-
-const std::vector<DynamicEffect>& DynamicEffects() {
-  static const std::vector<DynamicEffect> effects = {
-      {"coulomb", &EffectSwitches::coulomb},
-      {"stribeck", &EffectSwitches::stribeck},
-      {"viscous_asymmetry", &EffectSwitches::viscous_asymmetry},
-      {"load_offset", &EffectSwitches::load_offset},
-      {"spring", &EffectSwitches::spring},
-      {"payload", &EffectSwitches::payload},
-      {"motor_coulomb", &EffectSwitches::motor_coulomb},
-      {"cogging", &EffectSwitches::cogging},
-  };
-  return effects;
-}
 
 // The Stribeck velocities tried (m/s): its shape has no effect at
 // F_st = F_c, so the test spans this small grid of shapes.
@@ -65,7 +47,7 @@ std::vector<CandidateColumn> ColumnsOf(const std::string& effect,
 
 // The structure with candidate `c` switched on.
 AxisStructure WithEffect(AxisStructure s, const Candidate& c) {
-  for (const DynamicEffect& e : DynamicEffects()) {
+  for (const EffectInfo& e : DynamicEffectTable()) {
     if (c.effect == e.name) s.effects.*(e.flag) = true;
   }
   const int ch = static_cast<int>(c.channel);
@@ -254,7 +236,7 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
                                       const std::vector<std::string>& only) {
   std::vector<Candidate> all;
   const bool has_motor = job.model.structure.amplifier != Amplifier::kForceSource;
-  for (const DynamicEffect& e : DynamicEffects()) {
+  for (const EffectInfo& e : DynamicEffectTable()) {
     if (job.model.structure.effects.*(e.flag)) continue;
     // Motor-side effects need a motor: force_source has none (MODEL.md §4).
     const std::string name = e.name;
@@ -284,11 +266,11 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
   std::vector<Candidate> out;
   for (const std::string& name : only) {
     bool known = false;
-    for (const DynamicEffect& e : DynamicEffects()) known = known || name == e.name;
+    for (const EffectInfo& e : DynamicEffectTable()) known = known || name == e.name;
     for (const Candidate& c : all) known = known || c.name == name || c.effect == name;
     if (!known && name != "sensor_delay" && name != "sensor_bias") {
       std::string list;
-      for (const DynamicEffect& e : DynamicEffects()) list += std::string(e.name) + ", ";
+      for (const EffectInfo& e : DynamicEffectTable()) list += std::string(e.name) + ", ";
       throw std::invalid_argument(
           "discover candidates: expected an effect of MODEL.md section 7 (" +
           list + "sensor_delay[.channel], sensor_bias[.channel]), got '" + name + "'");

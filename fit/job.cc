@@ -400,9 +400,8 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
           ThrowConfigError(path, list, "discover.candidates",
                            "a list of effect names", Describe(list));
         }
-        static const std::vector<std::string> kEffects = {
-            "coulomb", "stribeck", "viscous_asymmetry", "load_offset", "spring",
-            "payload", "motor_coulomb", "cogging", "sensor_delay", "sensor_bias"};
+        std::vector<std::string> kEffects = {"sensor_delay", "sensor_bias"};
+        for (const EffectInfo& e : DynamicEffectTable()) kEffects.push_back(e.name);
         for (const YAML::Node& c : list) {
           const std::string name = c.IsScalar() ? c.Scalar() : "";
           const std::string effect = name.substr(0, name.find('.'));

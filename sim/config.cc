@@ -102,26 +102,6 @@ void ParseParameters(YamlMap& map, AxisConfig* config) {
   map.Finish();
 }
 
-struct EffectSpec {
-  const char* name;
-  std::vector<const char*> params;
-  bool EffectSwitches::*flag;
-};
-
-const std::vector<EffectSpec>& DynamicEffects() {
-  static const std::vector<EffectSpec> effects = {
-      {"coulomb", {"F_c"}, &EffectSwitches::coulomb},
-      {"stribeck", {"F_st", "v_st"}, &EffectSwitches::stribeck},
-      {"viscous_asymmetry", {"Delta_B"}, &EffectSwitches::viscous_asymmetry},
-      {"load_offset", {"F_0"}, &EffectSwitches::load_offset},
-      {"spring", {"k_x", "x_0"}, &EffectSwitches::spring},
-      {"payload", {"Delta_M"}, &EffectSwitches::payload},
-      {"motor_coulomb", {"T_c"}, &EffectSwitches::motor_coulomb},
-      {"cogging", {"A_cog", "phi_cog"}, &EffectSwitches::cogging},
-  };
-  return effects;
-}
-
 void ParseSensorEffect(YamlMap& map, bool delay, AxisConfig* config) {
   for (const auto& entry : map.node()) {
     const std::string channel_name = entry.first.Scalar();
@@ -145,6 +125,20 @@ void ParseSensorEffect(YamlMap& map, bool delay, AxisConfig* config) {
 
 }  // namespace
 
+const std::vector<EffectInfo>& DynamicEffectTable() {
+  static const std::vector<EffectInfo> effects = {
+      {"coulomb", {"F_c"}, &EffectSwitches::coulomb},
+      {"stribeck", {"F_st", "v_st"}, &EffectSwitches::stribeck},
+      {"viscous_asymmetry", {"Delta_B"}, &EffectSwitches::viscous_asymmetry},
+      {"load_offset", {"F_0"}, &EffectSwitches::load_offset},
+      {"spring", {"k_x", "x_0"}, &EffectSwitches::spring},
+      {"payload", {"Delta_M"}, &EffectSwitches::payload},
+      {"motor_coulomb", {"T_c"}, &EffectSwitches::motor_coulomb},
+      {"cogging", {"A_cog", "phi_cog"}, &EffectSwitches::cogging},
+  };
+  return effects;
+}
+
 void ParseEffects(YamlMap& effects, AxisConfig* config) {
   for (const auto& entry : effects.node()) {
     const std::string name = entry.first.Scalar();
@@ -154,13 +148,13 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
       ParseSensorEffect(body, name == "sensor_delay", config);
       continue;
     }
-    const EffectSpec* spec = nullptr;
-    for (const EffectSpec& e : DynamicEffects()) {
+    const EffectInfo* spec = nullptr;
+    for (const EffectInfo& e : DynamicEffectTable()) {
       if (name == e.name) spec = &e;
     }
     if (spec == nullptr) {
       std::string known;
-      for (const EffectSpec& e : DynamicEffects()) known += std::string(e.name) + ", ";
+      for (const EffectInfo& e : DynamicEffectTable()) known += std::string(e.name) + ", ";
       known += "sensor_delay, sensor_bias";
       ThrowConfigError(effects.file(), entry.first, effects.KeyPath(name),
                        "an effect of MODEL.md section 7 (" + known + ")",
@@ -191,7 +185,7 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
       << (config.structure.coupling == Coupling::kRigid ? "rigid" : "gear");
   // Parameters of MODEL.md §2 and §4 (effect parameters go with their effect).
   std::set<std::string> effect_params = {"v_eps", "omega_eps"};
-  for (const EffectSpec& e : DynamicEffects()) {
+  for (const EffectInfo& e : DynamicEffectTable()) {
     for (const char* p : e.params) effect_params.insert(p);
   }
   out << YAML::Key << "parameters" << YAML::Value << YAML::BeginMap;
@@ -207,10 +201,10 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
   bool any_sensor = false;
   for (int c = 0; c < kNumChannels; ++c) any_sensor = any_sensor || sensors.delay[c] || sensors.bias[c];
   bool any = any_sensor;
-  for (const EffectSpec& e : DynamicEffects()) any = any || sw.*(e.flag);
+  for (const EffectInfo& e : DynamicEffectTable()) any = any || sw.*(e.flag);
   if (any) {
     out << YAML::Key << "effects" << YAML::Value << YAML::BeginMap;
-    for (const EffectSpec& e : DynamicEffects()) {
+    for (const EffectInfo& e : DynamicEffectTable()) {
       if (!(sw.*(e.flag))) continue;
       out << YAML::Key << e.name << YAML::Value << YAML::BeginMap;
       for (const char* p : e.params) {

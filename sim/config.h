@@ -36,6 +36,15 @@ struct AxisConfig {
 // amplifier: force_source without coupling: rigid.
 AxisConfig LoadAxisConfig(const std::string& path);
 
+// The dynamic effects of MODEL.md §7: config name, parameter names (in
+// VisitParams naming) and the switch in EffectSwitches. The one list of them.
+struct EffectInfo {
+  const char* name;
+  std::vector<const char*> params;
+  bool EffectSwitches::*flag;
+};
+const std::vector<EffectInfo>& DynamicEffectTable();
+
 // Parses the `effects:` mapping of a model config or experiment into
 // `config` (switches on the named effects and sets their parameters).
 // Effect names are those of MODEL.md §7; sensor_delay and sensor_bias take a
