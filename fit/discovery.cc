@@ -282,7 +282,8 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
   return out;
 }
 
-Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates) {
+Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates,
+                       double alpha) {
   Eigen::VectorXd r;
   Eigen::MatrixXd jf;
   StackedJacobian(job, &r, &jf);
@@ -315,7 +316,7 @@ Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidat
     ranking.scores.push_back(s);
     bases.push_back(Basis(jc));
   }
-  const double threshold = 1e-3 / std::max<size_t>(1, candidates.size());
+  const double threshold = alpha / std::max<size_t>(1, candidates.size());
   for (size_t a = 0; a < candidates.size(); ++a) {
     for (size_t b = a + 1; b < candidates.size(); ++b) {
       if (bases[a].cols() == 0 || bases[b].cols() == 0) continue;
@@ -343,7 +344,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       report.stop_reason = "no candidate left";
       break;
     }
-    const Ranking ranking = RankCandidates(*job, candidates);
+    const Ranking ranking = RankCandidates(*job, candidates, settings.alpha);
     if (step == 0) report.ranking = ranking;
     const double threshold = settings.alpha / candidates.size();
     const Score& best = ranking.scores.front();

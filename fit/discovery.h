@@ -66,9 +66,12 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
                                       const std::vector<std::string>& only = {});
 
 // Ranks `candidates` by their score-test p-value at the job's current
-// parameter values (job.model.params must hold the fitted values). Throws
-// std::runtime_error if a simulation at the current point fails.
-Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates);
+// parameter values (job.model.params must hold the fitted values). Pairs are
+// checked for indistinguishability when one of them is significant at
+// `alpha` / number of candidates. Throws std::runtime_error if a simulation
+// at the current point fails.
+Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates,
+                       double alpha = 1e-3);
 
 // Before/after figures of one channel across a discovery step.
 struct ChannelChange {
