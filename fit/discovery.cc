@@ -141,9 +141,7 @@ FreeParameter Linear(const std::string& name, double value) {
   f.lower = value - width;
   f.upper = value + width;
   f.log = false;
-  for (const ParamInfo& info : ListParams()) {
-    if (info.name == name) f.unit = info.unit;
-  }
+  f.unit = ParamUnit(name);
   return f;
 }
 

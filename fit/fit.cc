@@ -1,8 +1,6 @@
 #include "fit/fit.h"
 
 #include <algorithm>
-#include <fstream>
-#include <iterator>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -484,21 +482,17 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
       << result.simulations << " simulations, " << result.jacobian_evaluations
       << " Jacobian evaluations\n";
   std::vector<std::string> warnings;
-  WriteFitOutputs(job.out_dir, result, job.title, &warnings);
+  ReportSections extra;
+  if (discover) {
+    extra.markdown = "\n## Residual diagnostics (model as declared)\n\n```\n" +
+                     FormatDiagnostics(diagnostics) +
+                     "```\n\n## Model discovery\n\n```\n" +
+                     FormatDiscovery(discovery) + "```\n";
+    extra.json["discovery"] = DiscoveryToJson(discovery);
+  }
+  WriteFitOutputs(job.out_dir, result, job.title, &warnings, extra);
   if (discover) {
     WriteDiagnostics(job.out_dir, diagnostics, &warnings);
-    for (const std::string& w : warnings) err << "fit-params: warning: " << w << "\n";
-    std::ifstream md_in(job.out_dir + "/params.md");
-    std::string md((std::istreambuf_iterator<char>(md_in)), {});
-    WriteFileAtomic(job.out_dir + "/params.md",
-                    md + "\n## Residual diagnostics (model as declared)\n\n```\n" +
-                        FormatDiagnostics(diagnostics) +
-                        "```\n\n## Model discovery\n\n```\n" +
-                        FormatDiscovery(discovery) + "```\n");
-    std::ifstream json_in(job.out_dir + "/report.json");
-    nlohmann::json report = nlohmann::json::parse(json_in);
-    report["discovery"] = DiscoveryToJson(discovery);
-    WriteFileAtomic(job.out_dir + "/report.json", report.dump(2) + "\n");
     AxisConfig discovered = job.model;
     discovered.name = job.model.name + "_discovered";
     discovered.source = "fit-params --discover on " + job.title;

@@ -66,13 +66,7 @@ InputSignal ParseDriveSignal(YamlMap& map, const CsvTable& data,
                              double duration) {
   if (map.Has("type")) return ParseInputSignal(map, base_dir, duration);
   const std::string column = map.String("column");
-  if (!data.HasColumn(column)) {
-    std::string names;
-    for (const auto& n : data.names) names += (names.empty() ? "" : ", ") + n;
-    ThrowConfigError(map.file(), map.Optional("column"), map.KeyPath("column"),
-                     "a column of " + data.path + " (" + names + ")",
-                     "'" + column + "'");
-  }
+  RequireColumn(map, map.Optional("column"), map.KeyPath("column"), data, column);
   const double scale = map.Number("scale", 1.0);
   const double offset = map.Number("offset", 0.0);
   const bool hold =
@@ -168,13 +162,7 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
       offset = spec.Number("offset", 0.0);
       spec.Finish();
     }
-    if (!data.HasColumn(column)) {
-      std::string names;
-      for (const auto& n : data.names) names += (names.empty() ? "" : ", ") + n;
-      ThrowConfigError(map.file(), value, channels.KeyPath(name),
-                       "a column of " + e.data_path + " (" + names + ")",
-                       "'" + column + "'");
-    }
+    RequireColumn(channels, value, channels.KeyPath(name), data, column);
     const std::vector<double>& raw = data.Column(column);
     std::vector<double> values;
     for (size_t k = first; k < first + count; ++k) {
@@ -297,13 +285,6 @@ void CheckFreeParameter(const FreeParameter& f, const std::string& where) {
   }
 }
 
-std::string UnitOf(const std::string& name) {
-  for (const ParamInfo& info : ListParams()) {
-    if (info.name == name) return info.unit;
-  }
-  return "";
-}
-
 }  // namespace
 
 const std::vector<double>& FitExperiment::Measured(Channel c) const {
@@ -351,7 +332,7 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
       YamlMap spec(free.Optional(name), path, "free." + name + ".");
       FreeParameter f;
       f.name = name;
-      f.unit = UnitOf(name);
+      f.unit = ParamUnit(name);
       f.initial = spec.Number("initial", *field);
       f.lower = spec.Number("lower");
       f.upper = spec.Number("upper");

@@ -471,7 +471,7 @@ void WriteParamsCsv(const std::string& path, const FitResult& result) {
 }
 
 void WriteParamsMarkdown(const std::string& path, const FitResult& result,
-                         const std::string& title) {
+                         const std::string& title, const ReportSections& extra) {
   std::string out = "# " + OneLine(title.empty() ? "Fit report" : title) + "\n\n";
 
   out += "## Parameters\n\n";
@@ -554,10 +554,12 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
          (result.termination.empty() ? std::string("-")
                                      : OneLine(result.termination)) +
          "\n";
+  out += extra.markdown;
   WriteFileAtomic(path, out);
 }
 
-void WriteReportJson(const std::string& path, const FitResult& result) {
+void WriteReportJson(const std::string& path, const FitResult& result,
+                     const ReportSections& extra) {
   Json j = Json::object();
   Json parameters = Json::array();
   for (size_t k : ParameterOrder(result)) {
@@ -635,6 +637,7 @@ void WriteReportJson(const std::string& path, const FitResult& result) {
   }
   j["correlation"] = {{"names", names}, {"matrix", matrix}};
   j["undetermined"] = result.undetermined;
+  for (const auto& [key, value] : extra.json.items()) j[key] = value;
 
   WriteFileAtomic(path, j.dump(2, ' ', false, Json::error_handler_t::replace) +
                             "\n");
@@ -744,7 +747,8 @@ bool WriteExperimentPlot(const std::string& png_path,
 
 void WriteFitOutputs(const std::string& dir, const FitResult& result,
                      const std::string& title,
-                     std::vector<std::string>* warnings) {
+                     std::vector<std::string>* warnings,
+                     const ReportSections& extra) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) {
@@ -754,8 +758,8 @@ void WriteFitOutputs(const std::string& dir, const FitResult& result,
   }
   const fs::path base(dir);
   WriteParamsCsv((base / "params.csv").string(), result);
-  WriteParamsMarkdown((base / "params.md").string(), result, title);
-  WriteReportJson((base / "report.json").string(), result);
+  WriteParamsMarkdown((base / "params.md").string(), result, title, extra);
+  WriteReportJson((base / "report.json").string(), result, extra);
   const std::vector<std::string> stems = ExperimentFileStems(result);
   for (size_t i = 0; i < result.experiments.size(); ++i) {
     const std::string csv = (base / (stems[i] + ".csv")).string();

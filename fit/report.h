@@ -13,9 +13,18 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "fit/fit_result.h"
 
 namespace axis {
+
+// Sections a caller adds to the report (the discovery loop): Markdown
+// appended to params.md, and keys merged into report.json's top level.
+struct ReportSections {
+  std::string markdown;
+  nlohmann::json json = nlohmann::json::object();
+};
 
 // A fixed-width text table of the parameters for the terminal, one row per
 // parameter, free ones first (then fixed, each in result order): name, unit,
@@ -59,7 +68,8 @@ void WriteParamsCsv(const std::string& path, const FitResult& result);
 // evaluations, Ceres' termination message). Throws std::runtime_error naming
 // `path` if it cannot be written.
 void WriteParamsMarkdown(const std::string& path, const FitResult& result,
-                         const std::string& title);
+                         const std::string& title,
+                         const ReportSections& extra = {});
 
 // Writes the whole result as JSON (2-space indented):
 //   {"parameters": [{"name", "unit", "value", "std_error", "ci95_low",
@@ -81,7 +91,8 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
 // fixed parameter's std_error and ci95 are null; every NaN or infinite number
 // is null. Strings that are not valid UTF-8 have the bad bytes replaced by
 // U+FFFD. Throws std::runtime_error naming `path` if it cannot be written.
-void WriteReportJson(const std::string& path, const FitResult& result);
+void WriteReportJson(const std::string& path, const FitResult& result,
+                     const ReportSections& extra = {});
 
 // Writes the traces of one experiment as CSV: the column "t" (s), then for
 // each channel c, in order, "<c>_measured", "<c>_simulated" and
@@ -115,14 +126,6 @@ bool WriteExperimentPlot(const std::string& png_path,
                          const std::string& csv_path, const ExperimentFit& fit,
                          std::string* warning);
 
-// Writes every output of a fit into `dir` (created with its parents if
-// missing): params.csv, params.md (titled `title`), report.json, and for each
-// experiment <stem>.csv and <stem>.png (stems from ExperimentFileStems, e.g.
-// fit_step.csv). Plot problems (WriteExperimentPlot returning false) do not
-// stop the run: their messages are appended to *warnings (if not null).
-// Throws std::runtime_error naming the directory or file that cannot be
-// created or written (files written before it stay complete), and
-// std::invalid_argument as WriteExperimentCsv.
 // Runs gnuplot on script(temporary_png_path) and renames the image to
 // png_path. Returns false with *warning set ("gnuplot not found: no plot
 // written for <what>", or gnuplot's failure) instead of throwing; throws
@@ -131,9 +134,18 @@ bool RenderGnuplotPng(const std::string& png_path,
                       const std::function<std::string(const std::string&)>& script,
                       const std::string& what, std::string* warning);
 
+// Writes every output of a fit into `dir` (created with its parents if
+// missing): params.csv, params.md (titled `title`), report.json, and for each
+// experiment <stem>.csv and <stem>.png (stems from ExperimentFileStems, e.g.
+// fit_step.csv). Plot problems (WriteExperimentPlot returning false) do not
+// stop the run: their messages are appended to *warnings (if not null).
+// Throws std::runtime_error naming the directory or file that cannot be
+// created or written (files written before it stay complete), and
+// std::invalid_argument as WriteExperimentCsv.
 void WriteFitOutputs(const std::string& dir, const FitResult& result,
                      const std::string& title,
-                     std::vector<std::string>* warnings);
+                     std::vector<std::string>* warnings,
+                     const ReportSections& extra = {});
 
 }  // namespace axis
 

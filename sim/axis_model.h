@@ -10,16 +10,8 @@
 #include <Eigen/Core>
 
 #include "sim/axis_params.h"
+#include "sim/scalar.h"  // AXIS_FLATTEN
 
-// GCC and Clang: inline every call inside the function. Jet arithmetic is
-// Eigen expression code over 5-element vectors that GCC otherwise leaves out
-// of line in large translation units (bench/: the difference between 650 and
-// ~350 ns per Jet RK4 step).
-#if defined(__GNUC__)
-#define AXIS_FLATTEN __attribute__((flatten))
-#else
-#define AXIS_FLATTEN
-#endif
 
 namespace axis {
 

@@ -11,6 +11,13 @@ std::vector<ParamInfo> ListParams() {
   return out;
 }
 
+std::string ParamUnit(const std::string& name) {
+  for (const ParamInfo& info : ListParams()) {
+    if (info.name == name) return info.unit;
+  }
+  return "";
+}
+
 double* FindParam(AxisParams<double>* params, const std::string& name) {
   double* found = nullptr;
   VisitParams([&](const char* n, const char*, double& field) {

@@ -184,6 +184,9 @@ struct ParamInfo {
 };
 std::vector<ParamInfo> ListParams();
 
+// Unit of parameter `name` ("" if there is none of that name).
+std::string ParamUnit(const std::string& name);
+
 // Pointer to the field called `name`, or nullptr if no parameter has it.
 double* FindParam(AxisParams<double>* params, const std::string& name);
 

@@ -328,6 +328,15 @@ void ApplySetArgument(AxisConfig* config, const std::string& assignment) {
   ValidateAxisConfig(*config, where);
 }
 
+void RequireColumn(const YamlMap& map, const YAML::Node& node,
+                   const std::string& key, const CsvTable& table,
+                   const std::string& column) {
+  if (table.HasColumn(column)) return;
+  ThrowConfigError(map.file(), node, key,
+                   "a column of " + table.path + " (" + table.NameList() + ")",
+                   "'" + column + "'");
+}
+
 InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir) {
   InputSignal s;
   s.kind = InputSignal::Kind::kTable;
@@ -338,18 +347,8 @@ InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir) {
   s.offset = map.Number("offset", 0.0);
   s.hold = map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
   const CsvTable table = ReadCsv(file);
-  for (const std::string& name : {time_col, value_col}) {
-    if (!table.HasColumn(name)) {
-      std::string columns;
-      for (const std::string& n : table.names) {
-        columns += (columns.empty() ? "" : ", ") + n;
-      }
-      ThrowConfigError(map.file(), map.node(),
-                       map.KeyPath(name == time_col ? "time" : "column"),
-                       "a column of " + file + " (" + columns + ")",
-                       "'" + name + "'");
-    }
-  }
+  RequireColumn(map, map.node(), map.KeyPath("time"), table, time_col);
+  RequireColumn(map, map.node(), map.KeyPath("column"), table, value_col);
   CheckStrictlyIncreasing(table, time_col);
   s.times = table.Column(time_col);
   s.values = table.Column(value_col);

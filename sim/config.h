@@ -14,6 +14,7 @@
 #include "sim/axis_model.h"
 #include "sim/axis_params.h"
 #include "sim/controller.h"
+#include "sim/csv.h"
 #include "sim/input_signal.h"
 #include "sim/simulate.h"
 #include "sim/yaml_util.h"
@@ -76,6 +77,13 @@ void ApplySetArgument(AxisConfig* config, const std::string& assignment);
 // Data files are resolved against `base_dir`.
 InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
                              double duration);
+
+// Throws the config error "<file>:<line>: key '<key>': expected a column of
+// <data file> (<its columns>), got '<column>'" unless `table` has `column`;
+// `node` locates the line.
+void RequireColumn(const YamlMap& map, const YAML::Node& node,
+                   const std::string& key, const CsvTable& table,
+                   const std::string& column);
 
 // A column of a data file (keys file, time, column, scale, offset,
 // interpolation) as a table signal; does not call Finish(). Throws

@@ -290,17 +290,18 @@ size_t CsvTable::num_rows() const {
   return columns.empty() ? 0 : columns.front().size();
 }
 
+std::string CsvTable::NameList() const {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list.empty() ? "(no columns)" : list;
+}
+
 size_t CsvTable::ColumnIndex(const std::string& name) const {
   for (size_t j = 0; j < names.size(); ++j) {
     if (names[j] == name) return j;
   }
-  std::string expected;
-  for (const std::string& n : names) {
-    expected += (expected.empty() ? "" : ", ") + n;
-  }
-  if (expected.empty()) expected = "(no columns)";
   throw std::invalid_argument(path + ": no column '" + name +
-                              "'; expected one of: " + expected);
+                              "'; expected one of: " + NameList());
 }
 
 const std::vector<double>& CsvTable::Column(const std::string& name) const {

@@ -37,6 +37,8 @@ struct CsvTable {
 
   // Whether a column is called `name`. Never throws.
   bool HasColumn(const std::string& name) const;
+  // "t_s, qm_m, ..." (or "(no columns)"), for messages.
+  std::string NameList() const;
 };
 
 // Reads a CSV with a header row followed by numeric rows: fields separated by

@@ -3,7 +3,6 @@
 #ifndef SIM_RK4_H_
 #define SIM_RK4_H_
 
-#include "sim/axis_model.h"  // AXIS_FLATTEN
 #include "sim/scalar.h"
 
 namespace axis {
