@@ -45,7 +45,7 @@ void BM_PaperJobWithDiscovery(benchmark::State& state) {
   for (auto _ : state) {
     axis::FitJob j = job;
     axis::FitResult result = axis::FitParameters(j);
-    report = axis::Discover(axis::DiscoverySettings{true, 3, 1e-3, {}}, &j,
+    report = axis::Discover(axis::DiscoverySettings{}, &j,
                             &result, nullptr);
     benchmark::DoNotOptimize(report);
   }

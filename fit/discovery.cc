@@ -239,6 +239,12 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
     // Motor-side effects need a motor: force_source has none (MODEL.md §4).
     const std::string name = e.name;
     if (!has_motor && (name == "motor_coulomb" || name == "cogging")) continue;
+    // Stribeck refines Coulomb friction ((F_st − F_c)·exp(−(v/v_st)²), MODEL.md
+    // §7): a candidate only once Coulomb is in the model (the marginality
+    // principle). Without it, its three shape columns also span a Coulomb
+    // step and it outranks Coulomb on the extra shapes (EMPS: log10 p
+    // −44280 vs −43230) while its refit, without the Coulomb term, fails.
+    if (name == "stribeck" && !job.model.structure.effects.coulomb) continue;
     all.push_back({e.name, e.name, Channel::kT, ColumnsOf(e.name, "")});
   }
   std::vector<Channel> fitted;
@@ -315,18 +321,36 @@ Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidat
     bases.push_back(Basis(jc));
   }
   const double threshold = alpha / std::max<size_t>(1, candidates.size());
+  const auto projected_chi2 = [&](const Eigen::MatrixXd& basis) {
+    return (basis.transpose() * r).squaredNorm() / s2;
+  };
   for (size_t a = 0; a < candidates.size(); ++a) {
     for (size_t b = a + 1; b < candidates.size(); ++b) {
       if (bases[a].cols() == 0 || bases[b].cols() == 0) continue;
       if (ranking.scores[a].p_value >= threshold && ranking.scores[b].p_value >= threshold) continue;
       const Eigen::MatrixXd cross = bases[a].transpose() * bases[b];
       const double cosine = Eigen::JacobiSVD<Eigen::MatrixXd>(cross).singularValues()[0];
-      if (cosine > 0.95) ranking.indistinguishable.emplace_back(candidates[a].name, candidates[b].name);
+      if (!(cosine > 0.95)) continue;
+      Eigen::MatrixXd both(m, bases[a].cols() + bases[b].cols());
+      both << bases[a], bases[b];
+      const double joint = projected_chi2(Basis(both));
+      ParallelPair pair;
+      pair.a = candidates[a].name;
+      pair.b = candidates[b].name;
+      pair.cosine = cosine;
+      pair.chi2_a_given_b = std::max(0.0, joint - projected_chi2(bases[b]));
+      pair.chi2_b_given_a = std::max(0.0, joint - projected_chi2(bases[a]));
+      pair.separated =
+          ChiSquaredSurvival(pair.chi2_a_given_b, ranking.scores[a].dof) < threshold ||
+          ChiSquaredSurvival(pair.chi2_b_given_a, ranking.scores[b].dof) < threshold;
+      ranking.parallel.push_back(pair);
+      if (!pair.separated) ranking.indistinguishable.emplace_back(pair.a, pair.b);
     }
   }
+  for (Score& x : ranking.scores) x.log_p_value = LogChiSquaredSurvival(x.chi2, x.dof);
   std::stable_sort(ranking.scores.begin(), ranking.scores.end(),
                    [](const Score& x, const Score& y) {
-                     if (x.p_value != y.p_value) return x.p_value < y.p_value;
+                     if (x.log_p_value != y.log_p_value) return x.log_p_value < y.log_p_value;
                      return x.chi2 / x.dof > y.chi2 / y.dof;
                    });
   return ranking;
@@ -356,57 +380,81 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                            ", p = " + std::to_string(best.p_value) + ")";
       break;
     }
-    // Candidates the data cannot tell from the best one. A twin with more
-    // parameters is a richer alternative (Stribeck contains a Coulomb-like
-    // shape): parsimony keeps the best one. A twin of the same size is a
-    // rival explanation: the loop stops and says so.
     const auto dof_of = [&](const std::string& name) {
       for (const Score& sc : ranking.scores) {
         if (sc.name == name) return sc.dof;
       }
       return 0;
     };
-    std::string twin;
-    for (const auto& [a, b] : ranking.indistinguishable) {
-      const std::string other = a == best.name ? b : (b == best.name ? a : "");
-      if (!other.empty() && dof_of(other) <= best.dof) twin = other;
-    }
-    if (!twin.empty()) {
-      report.stop_reason = best.name + " and " + twin +
-                           " cannot be told apart on this data (projected "
-                           "columns nearly parallel): add an experiment that "
-                           "separates them, e.g. motion in both directions";
-      break;
-    }
-    const Candidate& chosen = *std::find_if(
-        candidates.begin(), candidates.end(),
-        [&](const Candidate& c) { return c.name == best.name; });
-    FitJob next = *job;
-    AddEffect(chosen, best, &next);
-    next.solver.starts = 0;
-    FitResult refit = FitParameters(next, nullptr);
-    DiscoveryStep record;
-    record.effect = chosen.name;
-    record.chi2 = best.chi2;
-    record.dof = best.dof;
-    record.p_value = best.p_value;
-    record.bic_before = result->bic;
-    record.bic_after = refit.bic;
-    record.kept = refit.bic < result->bic;
-    for (const ParameterEstimate& e : refit.parameters) {
-      for (size_t k = job->free.size(); k < next.free.size(); ++k) {
-        if (e.free && e.name == next.free[k].name) record.parameters.push_back(e);
+    // The score test is a linearisation at the current fit; the refit and
+    // BIC decide. A significant candidate whose refit does not improve BIC
+    // (the refit found a worse local minimum, or the candidate only mimics
+    // another effect locally) makes way for the next one, up to
+    // settings.tries refits per step.
+    bool added = false;
+    int tries = 0;
+    std::string rejected;
+    for (const Score& score : ranking.scores) {
+      if (added || tries >= settings.tries || !(score.p_value < threshold)) break;
+      // Candidates the data cannot tell from this one. A twin with more
+      // parameters is a richer alternative (Stribeck contains a
+      // Coulomb-like shape): parsimony keeps this one. A twin of the same
+      // size is a rival explanation: the loop stops and says so.
+      std::string twin;
+      for (const auto& [a, b] : ranking.indistinguishable) {
+        const std::string other = a == score.name ? b : (b == score.name ? a : "");
+        if (!other.empty() && dof_of(other) <= score.dof) twin = other;
       }
+      if (!twin.empty()) {
+        report.stop_reason = score.name + " and " + twin +
+                             " cannot be told apart on this data (projected "
+                             "columns nearly parallel): add an experiment that "
+                             "separates them, e.g. motion in both directions";
+        break;
+      }
+      const Candidate& chosen = *std::find_if(
+          candidates.begin(), candidates.end(),
+          [&](const Candidate& c) { return c.name == score.name; });
+      FitJob next = *job;
+      AddEffect(chosen, score, &next);
+      next.solver.starts = 0;
+      ++tries;
+      FitResult refit = FitParameters(next, nullptr);
+      DiscoveryStep record;
+      record.effect = chosen.name;
+      record.chi2 = score.chi2;
+      record.dof = score.dof;
+      record.p_value = score.p_value;
+      record.bic_before = result->bic;
+      record.bic_after = refit.bic;
+      record.kept = refit.bic < result->bic;
+      for (const ParameterEstimate& e : refit.parameters) {
+        for (size_t k = job->free.size(); k < next.free.size(); ++k) {
+          if (e.free && e.name == next.free[k].name) record.parameters.push_back(e);
+        }
+      }
+      record.channels = Changes(*result, refit);
+      report.steps.push_back(record);
+      if (progress) {
+        *progress << "  refit with " << chosen.name << ": BIC " << record.bic_before
+                  << " -> " << record.bic_after
+                  << (record.kept ? " (kept)" : " (rejected)") << "\n";
+      }
+      if (!record.kept) {
+        rejected += (rejected.empty() ? "" : ", ") + chosen.name;
+        continue;
+      }
+      report.selected.push_back(chosen.name);
+      *job = next;
+      *result = refit;
+      added = true;
     }
-    record.channels = Changes(*result, refit);
-    report.steps.push_back(record);
-    if (!record.kept) {
-      report.stop_reason = chosen.name + " did not improve BIC";
+    if (!added) {
+      if (report.stop_reason.empty()) {
+        report.stop_reason = "no significant candidate improved BIC (tried " + rejected + ")";
+      }
       break;
     }
-    report.selected.push_back(chosen.name);
-    *job = next;
-    *result = refit;
   }
   if (report.stop_reason.empty()) report.stop_reason = "maximum number of effects reached";
   ApplyEstimates(*result, job);
@@ -417,14 +465,20 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
   std::ostringstream out;
   out << "Model discovery (score test, Bonferroni, BIC)\n";
   out << "Ranking at the first step:\n";
-  out << "  candidate                 chi2      dof   p-value\n";
+  out << "  candidate                 chi2      dof   p-value     log10 p\n";
   for (const Score& s : report.ranking.scores) {
     out << "  " << std::left << std::setw(22) << s.name << std::right
         << std::setw(12) << std::setprecision(4) << s.chi2 << std::setw(6)
-        << s.dof << std::setw(12) << s.p_value << "\n";
+        << s.dof << std::setw(12) << s.p_value << std::setw(12)
+        << s.log_p_value / std::log(10.0) << "\n";
   }
-  for (const auto& [a, b] : report.ranking.indistinguishable) {
-    out << "  indistinguishable on this data: " << a << " ~ " << b << "\n";
+  for (const ParallelPair& q : report.ranking.parallel) {
+    out << "  nearly parallel: " << q.a << " ~ " << q.b << " (cos " << q.cosine
+        << "; chi2 " << q.a << "|" << q.b << " " << q.chi2_a_given_b << ", "
+        << q.b << "|" << q.a << " " << q.chi2_b_given_a << "): "
+        << (q.separated ? "the residual separates them"
+                        : "indistinguishable on this data")
+        << "\n";
   }
   for (size_t k = 0; k < report.steps.size(); ++k) {
     const DiscoveryStep& s = report.steps[k];
@@ -491,11 +545,19 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
   out["ranking"] = nlohmann::json::array();
   for (const Score& s : report.ranking.scores) {
     out["ranking"].push_back({{"effect", s.name}, {"chi2", number(s.chi2)},
-                              {"dof", s.dof}, {"p_value", number(s.p_value)}});
+                              {"dof", s.dof}, {"p_value", number(s.p_value)},
+                              {"log10_p_value", number(s.log_p_value / std::log(10.0))}});
   }
   out["indistinguishable"] = nlohmann::json::array();
   for (const auto& [a, b] : report.ranking.indistinguishable) {
     out["indistinguishable"].push_back({a, b});
+  }
+  out["nearly_parallel"] = nlohmann::json::array();
+  for (const ParallelPair& q : report.ranking.parallel) {
+    out["nearly_parallel"].push_back({{"a", q.a}, {"b", q.b}, {"cosine", number(q.cosine)},
+                                      {"chi2_a_given_b", number(q.chi2_a_given_b)},
+                                      {"chi2_b_given_a", number(q.chi2_b_given_a)},
+                                      {"separated", q.separated}});
   }
   out["stop_reason"] = report.stop_reason;
   return out;

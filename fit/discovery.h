@@ -46,19 +46,34 @@ struct Score {
   double chi2 = 0.0;   // rᵀJ⊥(J⊥ᵀJ⊥)⁻¹J⊥ᵀr / s², s² the residual variance
   int dof = 0;         // number of columns
   double p_value = 1.0;
+  double log_p_value = 0.0;  // natural log; finite where p_value is 0
   std::vector<double> step;  // Gauss–Newton step of the columns' parameters
+};
+
+// Two candidates whose projected columns are nearly parallel (largest
+// canonical cosine > 0.95). The residual may still prefer one: the
+// conditional score statistic of a given b, chi2(a, b together) − chi2(b),
+// tests what a explains beyond b (and vice versa); both below the critical
+// value means this data cannot tell them apart.
+struct ParallelPair {
+  std::string a, b;
+  double cosine = 0.0;
+  double chi2_a_given_b = 0.0;  // dof of a
+  double chi2_b_given_a = 0.0;  // dof of b
+  bool separated = false;       // one of the two conditionals is significant
 };
 
 struct Ranking {
   std::vector<Score> scores;  // most significant first
-  // Pairs whose projected columns are nearly parallel (largest canonical
-  // cosine > 0.95): this data cannot tell them apart.
+  std::vector<ParallelPair> parallel;
+  // The nearly parallel pairs that the residual does not separate.
   std::vector<std::pair<std::string, std::string>> indistinguishable;
 };
 
 // The candidates for `job`: every dynamic effect of MODEL.md §7 its model
-// does not enable, and sensor_delay / sensor_bias for every fitted channel
-// that does not have them. `only`, if non-empty, restricts the list to those
+// does not enable (Stribeck only once Coulomb friction is enabled; no
+// motor-side effect for force_source), and sensor_delay / sensor_bias for
+// every fitted channel that does not have them. `only`, if non-empty, restricts the list to those
 // names (effect names, or "sensor_delay.a" style); throws
 // std::invalid_argument "expected an effect of MODEL.md section 7 (…), got
 // 'x'" for an unknown name.
@@ -66,10 +81,12 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
                                       const std::vector<std::string>& only = {});
 
 // Ranks `candidates` by their score-test p-value at the job's current
-// parameter values (job.model.params must hold the fitted values). Pairs are
-// checked for indistinguishability when one of them is significant at
-// `alpha` / number of candidates. Throws std::runtime_error if a simulation
-// at the current point fails.
+// parameter values (job.model.params must hold the fitted values); where
+// p-values underflow (chi2 beyond ~1400) by the logarithm of the p-value
+// (LogChiSquaredSurvival), so that such candidates are still ordered.
+// Pairs are checked for indistinguishability when one of them is
+// significant at `alpha` / number of candidates. Throws std::runtime_error
+// if a simulation at the current point fails.
 Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates,
                        double alpha = 1e-3);
 
@@ -109,7 +126,9 @@ std::string FormatDiscovery(const DiscoveryReport& report);
 // report.json's "discovery" block: {"selected", "steps": [{"effect",
 // "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
 // "bic_before", "bic_after", "kept", "channels": [...]}], "ranking":
-// [{"effect", "chi2", "dof", "p_value"}], "indistinguishable", "stop_reason"}.
+// [{"effect", "chi2", "dof", "p_value"}], "indistinguishable": [[a, b]],
+// "nearly_parallel": [{"a", "b", "cosine", "chi2_a_given_b",
+// "chi2_b_given_a", "separated"}], "stop_reason"}.
 nlohmann::json DiscoveryToJson(const DiscoveryReport& report);
 
 }  // namespace axis

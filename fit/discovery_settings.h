@@ -12,6 +12,8 @@ struct DiscoverySettings {
   bool enabled = false;        // `discover:` present, or --discover
   int max_effects = 3;         // at most this many effects added
   double alpha = 1e-3;         // family-wise level, Bonferroni over candidates
+  int tries = 3;               // refits per step: significant candidates in
+                               // rank order until one improves BIC
   std::vector<std::string> candidates;  // restrict the list (empty: all)
 };
 

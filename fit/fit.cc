@@ -14,6 +14,7 @@
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/experiment_cost.h"
+#include "fit/published.h"
 #include "fit/report.h"
 #include "fit/statistics.h"
 #include "sim/csv.h"
@@ -133,6 +134,22 @@ std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free) {
     }
   }
   return out;
+}
+
+// One progress line for a continuation stage that failed, with the free
+// parameters where it failed.
+void ReportStageFailure(const FitJob& job, const ParameterMap& map,
+                        const std::vector<double>& theta, size_t start,
+                        double horizon, const std::string& message,
+                        const std::string& action, std::ostream* progress) {
+  if (!job.solver.progress || progress == nullptr) return;
+  *progress << "start " << std::setw(2) << start << "  horizon " << std::fixed
+            << std::setprecision(3) << horizon << std::defaultfloat
+            << " s  failed (" << message << ") at";
+  for (int k = 0; k < map.num_free(); ++k) {
+    *progress << " " << job.free[k].name << " = " << map.FromInternal(k, theta[k]);
+  }
+  *progress << "; " << action << "\n";
 }
 
 }  // namespace
@@ -279,19 +296,37 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   for (size_t s = 0; s < starts.size(); ++s) {
     std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
     ceres::Solver::Summary summary;
-    for (Stage& stage : stages) {
+    // A stage whose warm start fails to evaluate (the previous, shorter
+    // horizon left a parameter it barely sees at a value where the longer
+    // simulation is hypersensitive, e.g. T_p at its lower bound) is retried
+    // once from the point the previous stage started from.
+    std::vector<double> previous_start = p.theta;
+    for (size_t i = 0; i < stages.size(); ++i) {
+      Stage& stage = stages[i];
+      const std::vector<double> stage_start = p.theta;
       ProgressPrinter printer(job.solver.progress ? progress : nullptr,
                               static_cast<int>(s), stage.horizon);
       ceres::Solver::Options o = options;
       o.callbacks.push_back(&printer);
-      if (&stage != &stages.back()) {
+      if (i + 1 < stages.size()) {
         // Intermediate horizons only deliver a warm start for the next.
         o.function_tolerance = std::max(o.function_tolerance, 1e-4);
         o.parameter_tolerance = std::max(o.parameter_tolerance, 1e-4);
         o.max_num_iterations = std::min(o.max_num_iterations, 30);
       }
       ceres::Solve(o, stage.problem.get(), &summary);
-      if (!summary.IsSolutionUsable()) break;
+      if (!summary.IsSolutionUsable() && i > 0 && previous_start != stage_start) {
+        ReportStageFailure(job, *p.map, p.theta, s, stage.horizon, summary.message,
+                           "retrying from the previous stage's start", progress);
+        std::copy(previous_start.begin(), previous_start.end(), p.theta.begin());
+        ceres::Solve(o, stage.problem.get(), &summary);
+      }
+      if (!summary.IsSolutionUsable()) {
+        ReportStageFailure(job, *p.map, p.theta, s, stage.horizon, summary.message,
+                           "start abandoned", progress);
+        break;
+      }
+      previous_start = stage_start;
     }
     if (s == 0) {
       // The cost of the job's initial point on all the data.
@@ -483,8 +518,15 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
       << " Jacobian evaluations\n";
   std::vector<std::string> warnings;
   ReportSections extra;
+  if (job.published.present) {
+    const PublishedComparison comparison = ComparePublished(job, result);
+    const std::string table = FormatPublished(comparison);
+    out << "\n" << table;
+    extra.markdown += "\n## Published reference\n\n```\n" + table + "```\n";
+    extra.json["published"] = PublishedToJson(comparison);
+  }
   if (discover) {
-    extra.markdown = "\n## Residual diagnostics (model as declared)\n\n```\n" +
+    extra.markdown += "\n## Residual diagnostics (model as declared)\n\n```\n" +
                      FormatDiagnostics(diagnostics) +
                      "```\n\n## Model discovery\n\n```\n" +
                      FormatDiscovery(discovery) + "```\n";

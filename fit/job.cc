@@ -43,16 +43,17 @@ std::pair<size_t, size_t> WindowRows(const std::vector<double>& time,
 
 // A table signal from `column` of the data, restricted to the window and
 // shifted so that the window starts at t = 0.
-InputSignal ColumnSignal(const CsvTable& data, const std::string& time_column,
-                         const std::string& column, double scale, double offset,
-                         bool hold, size_t first, size_t count) {
+// Its times are those of the simulation, k·period: the recorded clock's
+// jitter (EMPS: 3e-8 s) must not move a held sample to the next grid point.
+InputSignal ColumnSignal(const CsvTable& data, const std::string& column,
+                         double scale, double offset, bool hold, size_t first,
+                         size_t count, double period) {
   InputSignal s;
   s.kind = InputSignal::Kind::kTable;
   s.hold = hold;
-  const std::vector<double>& time = data.Column(time_column);
   const std::vector<double>& values = data.Column(column);
   for (size_t k = first; k < first + count; ++k) {
-    s.times.push_back(time[k] - time[first]);
+    s.times.push_back(static_cast<double>(k - first) * period);
     s.values.push_back(scale * values[k] + offset);
   }
   return s;
@@ -61,7 +62,7 @@ InputSignal ColumnSignal(const CsvTable& data, const std::string& time_column,
 // A drive signal of an experiment: either a profile (`type:` key, see
 // ParseInputSignal) or a column of the experiment's data file.
 InputSignal ParseDriveSignal(YamlMap& map, const CsvTable& data,
-                             const std::string& time_column, size_t first,
+                             double period, size_t first,
                              size_t count, const std::string& base_dir,
                              double duration) {
   if (map.Has("type")) return ParseInputSignal(map, base_dir, duration);
@@ -72,8 +73,80 @@ InputSignal ParseDriveSignal(YamlMap& map, const CsvTable& data,
   const bool hold =
       map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
   map.Finish();
-  return ColumnSignal(data, time_column, column, scale, offset, hold, first,
-                      count);
+  return ColumnSignal(data, column, scale, offset, hold, first, count, period);
+}
+
+// A measured channel's column: `channel: column` or `channel: {column,
+// scale, offset}` (values = scale·column + offset).
+struct ChannelSpec {
+  std::string column;
+  double scale = 1.0, offset = 0.0;
+};
+
+ChannelSpec ParseChannelSpec(YamlMap& channels, const std::string& name,
+                             const CsvTable& data) {
+  ChannelSpec spec;
+  const YAML::Node value = channels.Optional(name);
+  if (value.IsScalar()) {
+    spec.column = value.Scalar();
+  } else {
+    YamlMap m(value, channels.file(), channels.KeyPath(name) + ".");
+    spec.column = m.String("column");
+    spec.scale = m.Number("scale", 1.0);
+    spec.offset = m.Number("offset", 0.0);
+    m.Finish();
+  }
+  RequireColumn(channels, value, channels.KeyPath(name), data, spec.column);
+  return spec;
+}
+
+// The `published:` key (fit/published.h).
+void ParsePublished(const YAML::Node& node, const std::string& path,
+                    const AxisConfig& model,
+                    const std::vector<FitExperiment>& experiments,
+                    const std::vector<FitExperiment>& validate,
+                    PublishedReference* out) {
+  YamlMap map(node, path, "published.");
+  out->present = true;
+  out->source = map.String("source");
+  out->model = model;
+  ParseModelOverrides(map, &out->model);
+  if (const YAML::Node set = node["set"]) {
+    for (const auto& entry : set) out->parameters.push_back(entry.first.Scalar());
+  }
+  if (const YAML::Node effects = node["effects"]) {
+    for (const auto& effect : effects) {
+      if (!effect.second.IsMap()) continue;
+      for (const auto& param : effect.second) {
+        out->parameters.push_back(param.first.Scalar());
+      }
+    }
+  }
+  if (const YAML::Node quoted = map.Optional("relative_error_percent")) {
+    YamlMap experiments_map(quoted, path, "published.relative_error_percent.");
+    for (const auto& entry : quoted) {
+      const std::string name = entry.first.Scalar();
+      bool known = false;
+      for (const auto* list : {&experiments, &validate}) {
+        for (const FitExperiment& e : *list) known = known || e.name == name;
+      }
+      if (!known) {
+        ThrowConfigError(path, entry.first, experiments_map.KeyPath(name),
+                         "the name of an experiment of this job", "'" + name + "'");
+      }
+      YamlMap channels(experiments_map.Optional(name), path,
+                       experiments_map.KeyPath(name) + ".");
+      for (const auto& ch : entry.second) {
+        const std::string channel = ch.first.Scalar();
+        ChannelOrThrow(channel, channels, ch.first, channels.KeyPath(channel));
+        out->quoted.push_back(
+            {name, channel, channels.Number(channel, Range::kNonNegative)});
+      }
+      channels.Finish();
+    }
+    experiments_map.Finish();
+  }
+  map.Finish();
 }
 
 FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
@@ -114,7 +187,57 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
                        "start < end", Num(start) + " and " + Num(end));
     }
   }
-  const auto [first, count] = WindowRows(time, start, end);
+  auto [first, count] = WindowRows(time, start, end);
+  // initial_state: rest (default), estimate (y0, y1 fitted), or
+  // {from_samples: N}: position and velocity from the least-squares line
+  // through the first N samples of the measured x channel, extrapolated to
+  // the next sample, where the experiment then starts (the EMPS benchmark's
+  // protocol: "the first 20 samples may be used to initialise the state").
+  std::string init = "rest";
+  long init_samples = 0;
+  if (const YAML::Node node = map.Optional("initial_state"); node && node.IsMap()) {
+    YamlMap spec(node, map.file(), map.KeyPath("initial_state."));
+    init_samples = spec.Integer("from_samples", 0, 2, 1000000);
+    if (!spec.Has("from_samples")) {
+      ThrowConfigError(map.file(), node, map.KeyPath("initial_state.from_samples"),
+                       "a number of samples >= 2", "none");
+    }
+    spec.Finish();
+    init = "from_samples";
+    YAML::Node channels_node = map.Required("channels");
+    YamlMap channels(channels_node, map.file(), map.KeyPath("channels."));
+    if (!channels.Has("x")) {
+      ThrowConfigError(map.file(), node, map.KeyPath("initial_state"),
+                       "a measured position channel 'x' under 'channels'",
+                       "none");
+    }
+    if (count < static_cast<size_t>(init_samples) + 3) {
+      ThrowConfigError(map.file(), node, map.KeyPath("initial_state.from_samples"),
+                       "fewer samples than the window's " + std::to_string(count) +
+                           " minus 3",
+                       std::to_string(init_samples));
+    }
+    const ChannelSpec x = ParseChannelSpec(channels, "x", data);
+    const std::vector<double>& raw = data.Column(x.column);
+    double st = 0, sx = 0, stt = 0, stx = 0;
+    const double t0 = time[first + init_samples];
+    for (long k = 0; k < init_samples; ++k) {
+      const double tk = time[first + k] - t0;
+      const double xk = x.scale * raw[first + k] + x.offset;
+      st += tk, sx += xk, stt += tk * tk, stx += tk * xk;
+    }
+    const double n = static_cast<double>(init_samples);
+    const double slope = (n * stx - st * sx) / (n * stt - st * st);
+    const double intercept = (sx - slope * st) / n;  // at t0
+    e.initial_state[0] = intercept;
+    e.initial_state[1] = slope;
+    if (model.structure.coupling == Coupling::kGear) {
+      e.initial_state[2] = intercept / model.params.r_g;
+      e.initial_state[3] = slope / model.params.r_g;
+    }
+    first += init_samples;
+    count -= init_samples;
+  }
   if (count < 3) {
     ThrowConfigError(map.file(), map.node(), map.KeyPath("window"),
                      "at least 3 samples of " + e.data_path + " in the window",
@@ -150,23 +273,11 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     const std::string name = entry.first.Scalar();
     const Channel c = ChannelOrThrow(name, channels, entry.first,
                                      channels.KeyPath(name));
-    std::string column;
-    double scale = 1.0, offset = 0.0;
-    const YAML::Node value = channels.Optional(name);
-    if (value.IsScalar()) {
-      column = value.Scalar();
-    } else {
-      YamlMap spec(value, map.file(), channels.KeyPath(name) + ".");
-      column = spec.String("column");
-      scale = spec.Number("scale", 1.0);
-      offset = spec.Number("offset", 0.0);
-      spec.Finish();
-    }
-    RequireColumn(channels, value, channels.KeyPath(name), data, column);
-    const std::vector<double>& raw = data.Column(column);
+    const ChannelSpec spec = ParseChannelSpec(channels, name, data);
+    const std::vector<double>& raw = data.Column(spec.column);
     std::vector<double> values;
     for (size_t k = first; k < first + count; ++k) {
-      values.push_back(scale * raw[k] + offset);
+      values.push_back(spec.scale * raw[k] + spec.offset);
     }
     e.measured_channels.push_back(c);
     e.measured.push_back(std::move(values));
@@ -193,8 +304,9 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     }
   }
 
-  const std::string init =
-      map.Choice("initial_state", {"rest", "estimate"}, "rest");
+  if (init != "from_samples") {
+    init = map.Choice("initial_state", {"rest", "estimate"}, "rest");
+  }
   e.estimate_initial_state = init == "estimate";
 
   // What drives the axis: an input (open loop) or a reference (closed loop).
@@ -208,7 +320,7 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
   }
   if (has_input) {
     YamlMap input(map.Required("input"), map.file(), map.KeyPath("input."));
-    e.drive.input = ParseDriveSignal(input, data, time_column, first, count,
+    e.drive.input = ParseDriveSignal(input, data, e.options.output_period, first, count,
                                      base_dir, e.options.duration);
   } else {
     e.drive.closed_loop = true;
@@ -226,11 +338,11 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     } else {
       e.drive.reference.kind = Reference::Kind::kTable;
       e.drive.reference.table = ParseDriveSignal(
-          ref, data, time_column, first, count, base_dir, e.options.duration);
+          ref, data, e.options.output_period, first, count, base_dir, e.options.duration);
     }
     if (const YAML::Node node = map.Optional("injection")) {
       YamlMap inj(node, map.file(), map.KeyPath("injection."));
-      e.drive.injection = ParseDriveSignal(inj, data, time_column, first, count,
+      e.drive.injection = ParseDriveSignal(inj, data, e.options.output_period, first, count,
                                            base_dir, e.options.duration);
       e.drive.has_injection = true;
     }
@@ -376,6 +488,8 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
           map.Integer("max_effects", job.discover.max_effects, 1, 20));
       job.discover.alpha = map.Number("alpha", job.discover.alpha,
                                       Range::kFinitePositive);
+      job.discover.tries = static_cast<int>(
+          map.Integer("tries", job.discover.tries, 1, 20));
       if (const YAML::Node list = map.Optional("candidates")) {
         if (!list.IsSequence()) {
           ThrowConfigError(path, list, "discover.candidates",
@@ -414,6 +528,10 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
                                         step, dir, true);
   job.validate = ParseExperimentList(root, "validate", "validate", job.model,
                                      step, dir, false);
+  if (const YAML::Node node = root.Optional("published")) {
+    ParsePublished(node, path, job.model, job.experiments, job.validate,
+                   &job.published);
+  }
   root.Finish();
   return job;
 }

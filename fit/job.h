@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fit/discovery_settings.h"
+#include "fit/published.h"
 #include "sim/config.h"
 #include "sim/simulate.h"
 
@@ -78,6 +79,7 @@ struct FitJob {
   std::vector<FreeParameter> free;
   SolverSettings solver;
   DiscoverySettings discover;  // `discover:` key (enabled if present)
+  PublishedReference published;  // `published:` key (fit/published.h)
   std::string out_dir;  // from output.dir (relative to the job file) or --out
 };
 

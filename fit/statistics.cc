@@ -197,4 +197,18 @@ double ChiSquaredSurvival(double x, int dof) {
   return boost::math::cdf(boost::math::complement(distribution, x));
 }
 
+double LogChiSquaredSurvival(double x, int dof) {
+  const double p = ChiSquaredSurvival(x, dof);
+  if (!(p < 1e-280) || std::isinf(x)) return std::log(p);
+  const double s = 0.5 * dof;
+  const double y = 0.5 * x;
+  double term = 1.0, sum = 1.0;
+  for (int k = 1; k <= 30; ++k) {
+    term *= (s - k) / y;
+    sum += term;
+    if (std::abs(term) < 1e-16 * std::abs(sum)) break;
+  }
+  return (s - 1.0) * std::log(y) - y - std::lgamma(s) + std::log(sum);
+}
+
 }  // namespace axis

@@ -84,6 +84,13 @@ double StudentTQuantile975(int dof);
 // 0 for x = +inf, NaN for NaN x. Throws std::invalid_argument if dof < 1.
 double ChiSquaredSurvival(double x, int dof);
 
+// log P(χ²_dof > x), finite where the p-value itself underflows (x beyond
+// ~1400): there from the asymptotic series of the upper incomplete gamma
+// function, Γ(s, y) ~ y^(s−1)·e^(−y)·Σ_k (s−1)(s−2)…(s−k)/y^k with s = dof/2,
+// y = x/2 (Abramowitz & Stegun 6.5.32). Orders candidates by significance
+// when many p-values are 0. Throws std::invalid_argument if dof < 1.
+double LogChiSquaredSurvival(double x, int dof);
+
 }  // namespace axis
 
 #endif  // FIT_STATISTICS_H_

@@ -10,9 +10,18 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586476925;
 
+// Zero-order hold: a sample applies from its time stamp on; a time within
+// 1e-9 mean sample periods before it counts as reached, so that a simulation
+// clock that lands an ulp short of a sample time (k·h summed or multiplied
+// differently) still takes the new sample.
+double HoldSlack(const std::vector<double>& times) {
+  return 1e-9 * (times.back() - times.front()) / static_cast<double>(times.size() - 1);
+}
+
 double EvaluateTable(const std::vector<double>& times,
                      const std::vector<double>& values, bool hold, double t) {
   if (times.empty()) return 0.0;
+  if (hold && times.size() > 1) t += HoldSlack(times);
   if (t <= times.front()) return values.front();
   if (t >= times.back()) return values.back();
   const auto upper = std::upper_bound(times.begin(), times.end(), t);
@@ -50,9 +59,10 @@ double InputSignal::Evaluate(double t) const {
 }
 
 double InputSignal::Evaluate(double t, size_t* cursor) const {
-  if (kind != Kind::kTable || times.size() < 2 || t <= times.front() ||
-      t >= times.back()) {
-    return Evaluate(t);
+  if (kind != Kind::kTable || times.size() < 2) return Evaluate(t);
+  if (hold) t += HoldSlack(times);
+  if (t <= times.front() || t >= times.back()) {
+    return offset + EvaluateTable(times, values, false, t);
   }
   size_t k = *cursor < times.size() - 1 ? *cursor : 0;
   if (times[k] > t) k = 0;

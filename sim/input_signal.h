@@ -24,7 +24,9 @@ struct InputSignal {
   double phase = 0.0;      // sine, rad
   double f0 = 0.0, f1 = 0.0, sweep_time = 0.0;  // linear chirp f0 → f1 Hz over sweep_time s
   // kTable: sample times (strictly increasing) and values; linear
-  // interpolation, or zero-order hold if `hold`; constant outside the range.
+  // interpolation, or zero-order hold if `hold` (a sample applies from its
+  // time on; within 1e-9 mean periods before it counts as reached, against
+  // clock rounding); constant outside the range.
   // PRBS and data-file columns are tables.
   std::vector<double> times, values;
   bool hold = false;
