@@ -196,6 +196,23 @@ void AddEffect(const Candidate& c, const Score& s, FitJob* job) {
   }
 }
 
+// Switches candidate `c` off in `job` and fixes its parameters `params`.
+void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
+                  FitJob* job) {
+  AxisStructure& s = job->model.structure;
+  for (const EffectInfo& e : DynamicEffectTable()) {
+    if (c.effect == e.name) s.effects.*(e.flag) = false;
+  }
+  const int ch = static_cast<int>(c.channel);
+  if (c.effect == "sensor_delay") s.sensors.delay[ch] = false;
+  if (c.effect == "sensor_bias") s.sensors.bias[ch] = false;
+  std::vector<FreeParameter> kept;
+  for (const FreeParameter& f : job->free) {
+    if (std::find(params.begin(), params.end(), f.name) == params.end()) kept.push_back(f);
+  }
+  job->free = kept;
+}
+
 // Writes the estimates of `result` into the job as model values and initial
 // values (the warm start of the next fit).
 void ApplyEstimates(const FitResult& result, FitJob* job) {
@@ -359,6 +376,7 @@ Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidat
 DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                          FitResult* result, std::ostream* progress) {
   DiscoveryReport report;
+  std::vector<std::pair<Candidate, std::vector<std::string>>> added_effects;
   for (int step = 0; step < settings.max_effects; ++step) {
     ApplyEstimates(*result, job);
     const std::vector<Candidate> candidates = ListCandidates(*job, settings.candidates);
@@ -445,6 +463,9 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
         continue;
       }
       report.selected.push_back(chosen.name);
+      std::vector<std::string> names;
+      for (size_t k = job->free.size(); k < next.free.size(); ++k) names.push_back(next.free[k].name);
+      added_effects.emplace_back(chosen, names);
       *job = next;
       *result = refit;
       added = true;
@@ -457,6 +478,35 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     }
   }
   if (report.stop_reason.empty()) report.stop_reason = "maximum number of effects reached";
+  // Backward pass: without each added effect but the last, warm-started.
+  for (size_t k = 0; k + 1 < added_effects.size(); ++k) {
+    const auto& [candidate, params] = added_effects[k];
+    if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
+    ApplyEstimates(*result, job);
+    FitJob without = *job;
+    RemoveEffect(candidate, params, &without);
+    without.solver.starts = 0;
+    FitResult refit = FitParameters(without, nullptr);
+    DiscoveryStep record;
+    record.effect = candidate.name;
+    record.removal = true;
+    record.bic_before = result->bic;
+    record.bic_after = refit.bic;
+    record.kept = refit.bic < result->bic;
+    record.channels = Changes(*result, refit);
+    report.steps.push_back(record);
+    if (progress) {
+      *progress << "  refit without " << candidate.name << ": BIC " << record.bic_before
+                << " -> " << record.bic_after
+                << (record.kept ? " (removed)" : " (stays)") << "\n";
+    }
+    if (!record.kept) continue;
+    report.removed.push_back(candidate.name);
+    report.selected.erase(
+        std::find(report.selected.begin(), report.selected.end(), candidate.name));
+    *job = without;
+    *result = refit;
+  }
   ApplyEstimates(*result, job);
   return report;
 }
@@ -482,16 +532,25 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
   }
   for (size_t k = 0; k < report.steps.size(); ++k) {
     const DiscoveryStep& s = report.steps[k];
-    out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
-        << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
-        << ")  BIC " << s.bic_before << " -> " << s.bic_after << "\n";
+    if (s.removal) {
+      out << "\nStep " << k + 1 << ": without " << s.effect
+          << (s.kept ? " (removed)" : " (stays)") << "  BIC " << s.bic_before
+          << " -> " << s.bic_after << "\n";
+    } else {
+      out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
+          << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
+          << ")  BIC " << s.bic_before << " -> " << s.bic_after << "\n";
+    }
     for (const ParameterEstimate& p : s.parameters) {
       out << "  " << p.name << " = " << p.value << " +- " << p.std_error << " "
           << p.unit << "  95% [" << p.ci95_low << ", " << p.ci95_high << "]\n";
     }
-    out << "  experiment  channel     RMS before   RMS after   fit% before  fit% after\n";
+    size_t width = 11;
+    for (const ChannelChange& c : s.channels) width = std::max(width, c.experiment.size() + 1);
+    out << "  " << std::left << std::setw(static_cast<int>(width)) << "experiment"
+        << "channel     RMS before   RMS after   fit% before  fit% after\n";
     for (const ChannelChange& c : s.channels) {
-      out << "  " << std::left << std::setw(12) << c.experiment << std::setw(8)
+      out << "  " << std::left << std::setw(static_cast<int>(width)) << c.experiment << std::setw(8)
           << c.channel << std::right << std::setw(13) << c.rms_before
           << std::setw(12) << c.rms_after << std::setw(13) << c.fit_percent_before
           << std::setw(12) << c.fit_percent_after << "\n";
@@ -500,6 +559,10 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
   out << "\nSelected: ";
   for (const std::string& s : report.selected) out << s << " ";
   if (report.selected.empty()) out << "none";
+  if (!report.removed.empty()) {
+    out << "\nRemoved by the backward pass: ";
+    for (const std::string& r : report.removed) out << r << " ";
+  }
   out << "\nStopped: " << report.stop_reason << "\n";
   return out.str();
 }
@@ -514,6 +577,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
   };
   nlohmann::json out;
   out["selected"] = report.selected;
+  out["removed"] = report.removed;
   out["steps"] = nlohmann::json::array();
   for (const DiscoveryStep& s : report.steps) {
     nlohmann::json step;
@@ -531,6 +595,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     step["bic_before"] = number(s.bic_before);
     step["bic_after"] = number(s.bic_after);
     step["kept"] = s.kept;
+    step["removal"] = s.removal;
     step["channels"] = nlohmann::json::array();
     for (const ChannelChange& c : s.channels) {
       step["channels"].push_back({{"experiment", c.experiment},

@@ -104,19 +104,24 @@ struct DiscoveryStep {
   int dof = 0;
   double p_value = 1.0;
   double bic_before = 0.0, bic_after = 0.0;
-  bool kept = false;  // BIC improved
+  bool kept = false;  // BIC improved (a removal: BIC improved without it)
+  bool removal = false;  // a backward step: the refit without `effect`
   std::vector<ChannelChange> channels;
 };
 
 struct DiscoveryReport {
-  std::vector<std::string> selected;  // effects added, in order
+  std::vector<std::string> selected;  // effects in the final model, in the order added
+  std::vector<std::string> removed;   // added, then dropped by the backward pass
   std::vector<DiscoveryStep> steps;
   Ranking ranking;                    // at the first step
   std::string stop_reason;
 };
 
 // Runs the loop from the fit `result` of `job`; on return `job` and `result`
-// hold the augmented model and its fit. Progress lines go to `progress`.
+// hold the augmented model and its fit. After the forward steps, one
+// backward pass refits without each added effect but the last (an effect
+// added while a later one was missing may have stood in for it) and drops
+// it if BIC improves; Coulomb stays while Stribeck is in. Progress lines go to `progress`.
 DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                          FitResult* result, std::ostream* progress);
 
@@ -125,7 +130,8 @@ std::string FormatDiscovery(const DiscoveryReport& report);
 
 // report.json's "discovery" block: {"selected", "steps": [{"effect",
 // "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
-// "bic_before", "bic_after", "kept", "channels": [...]}], "ranking":
+// "bic_before", "bic_after", "kept", "removal", "channels": [...]}],
+// "removed": [names], "ranking":
 // [{"effect", "chi2", "dof", "p_value"}], "indistinguishable": [[a, b]],
 // "nearly_parallel": [{"a", "b", "cosine", "chi2_a_given_b",
 // "chi2_b_given_a", "separated"}], "stop_reason"}.

@@ -213,8 +213,8 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     }
     if (count < static_cast<size_t>(init_samples) + 3) {
       ThrowConfigError(map.file(), node, map.KeyPath("initial_state.from_samples"),
-                       "fewer samples than the window's " + std::to_string(count) +
-                           " minus 3",
+                       "at most the window's " + std::to_string(count) +
+                           " samples minus 3",
                        std::to_string(init_samples));
     }
     const ChannelSpec x = ParseChannelSpec(channels, "x", data);
@@ -308,6 +308,12 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     init = map.Choice("initial_state", {"rest", "estimate"}, "rest");
   }
   e.estimate_initial_state = init == "estimate";
+  if (e.estimate_initial_state && role != "fit") {
+    ThrowConfigError(map.file(), map.Optional("initial_state"), map.KeyPath("initial_state"),
+                     "rest or {from_samples: N} in a validation experiment (only "
+                     "fitted experiments estimate their state)",
+                     "estimate");
+  }
 
   // What drives the axis: an input (open loop) or a reference (closed loop).
   const bool has_input = map.Has("input");
@@ -347,7 +353,11 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
       e.drive.has_injection = true;
     }
   }
-  map.Optional("controller");
+  if (has_input && map.Has("controller")) {
+    ThrowConfigError(map.file(), map.Optional("controller"), map.KeyPath("controller"),
+                     "a controller only with 'reference' (closed loop)",
+                     "a controller in an open-loop experiment ('input')");
+  }
   map.Finish();
   // Record every measured channel and the input.
   e.options.channels = e.measured_channels;

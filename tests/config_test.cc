@@ -10,16 +10,14 @@
 
 #include "sim/config.h"
 
+#include "tests/test_files.h"
+
 namespace axis {
 namespace {
 
 const std::string kRoot = PROJECT_SOURCE_DIR;
 
-std::string WriteTemp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path) << text;
-  return path;
-}
+using testing_files::WriteTemp;
 
 // The message of the std::invalid_argument thrown by `load`, or "" if none.
 template <typename F>

@@ -15,16 +15,14 @@
 #include "fit/fit.h"
 #include "fit/job.h"
 
+#include "tests/test_files.h"
+
 namespace axis {
 namespace {
 
 const std::string kRoot = PROJECT_SOURCE_DIR;
 
-std::string Write(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path) << text;
-  return path;
-}
+constexpr auto Write = testing_files::WriteTemp;
 
 FitResult Fit(const std::string& path) {
   FitJob job = LoadFitJob(path);

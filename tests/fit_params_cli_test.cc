@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_files.h"
+
 namespace {
 
 const std::string kRoot = PROJECT_SOURCE_DIR;
@@ -29,11 +31,7 @@ Result RunCli(const std::string& args) {
           std::string((std::istreambuf_iterator<char>(in)), {})};
 }
 
-std::string Write(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path) << text;
-  return path;
-}
+constexpr auto Write = axis::testing_files::WriteTemp;
 
 // A one-experiment job on `csv`, with `free` as the free block.
 std::string Job(const std::string& name, const std::string& csv,

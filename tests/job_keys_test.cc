@@ -1,0 +1,125 @@
+// Job keys added for the EMPS benchmark (issue 5): the initial state from
+// the first samples (the benchmark's protocol), the published reference
+// beside the fit, and the errors for keys that would otherwise be ignored.
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "fit/fit.h"
+#include "fit/job.h"
+#include "fit/published.h"
+
+#include "tests/test_files.h"
+
+namespace axis {
+namespace {
+
+const std::string kRoot = PROJECT_SOURCE_DIR;
+
+constexpr auto Write = testing_files::WriteTemp;
+
+// x = 0.2 + 0.5·t (m), a ramp: the line through the first 20 samples,
+// extrapolated to sample 20, is the exact state there.
+std::string RampCsv() {
+  std::string csv = "t,u,x\n";
+  for (int k = 0; k < 100; ++k) {
+    const double t = 0.001 * k;
+    csv += std::to_string(t) + ",1," + std::to_string(0.2 + 0.5 * t) + "\n";
+  }
+  return Write("ramp.csv", csv);
+}
+
+std::string Job(const std::string& experiment_extra, const std::string& top_extra = "") {
+  return "model: " + kRoot + "/configs/axes/emps.yaml\n"
+         "free:\n"
+         "  M: {initial: 95, lower: 10, upper: 500}\n"
+         "experiments:\n"
+         "  - name: ramp\n"
+         "    data: " + RampCsv() + "\n"
+         "    channels: {u: u, x: x}\n"
+         "    input: {column: u}\n"
+         "    fit: {x: 1.0e-6}\n" + experiment_extra + top_extra;
+}
+
+double Estimate(const FitResult& r) {
+  for (const ParameterEstimate& p : r.parameters) {
+    if (p.name == "M") return p.value;
+  }
+  return std::nan("");
+}
+
+std::string LoadError(const std::string& path) {
+  try {
+    LoadFitJob(path);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(JobKeysTest, InitialStateFromTheFirstSamples) {
+  const FitJob job = LoadFitJob(
+      Write("from_samples.yaml", Job("    initial_state: {from_samples: 20}\n")));
+  const FitExperiment& e = job.experiments[0];
+  // std::to_string keeps 6 decimals: x is exact to 5e-7 m.
+  EXPECT_NEAR(e.initial_state[0], 0.2 + 0.5 * 0.020, 1e-6);
+  EXPECT_NEAR(e.initial_state[1], 0.5, 1e-3);
+  EXPECT_EQ(e.t.size(), 80u);  // the experiment starts at sample 20
+  EXPECT_NEAR(e.t_offset, 0.020, 1e-12);
+  EXPECT_NEAR(e.measured[1][0], 0.21, 1e-6);
+}
+
+TEST(JobKeysTest, TooManyInitialSamplesIsAnError) {
+  const std::string path =
+      Write("from_samples_bad.yaml", Job("    initial_state: {from_samples: 98}\n"));
+  const std::string msg = LoadError(path);
+  EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("initial_state.from_samples"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("got 98"), std::string::npos) << msg;
+}
+
+TEST(JobKeysTest, ControllerInAnOpenLoopExperimentIsAnError) {
+  const std::string msg = LoadError(
+      Write("open_loop_controller.yaml", Job("    controller: {delay_samples: 1}\n")));
+  EXPECT_NE(msg.find("experiments[0].controller"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("closed loop"), std::string::npos) << msg;
+}
+
+TEST(JobKeysTest, PublishedReferenceNamesAKnownExperiment) {
+  const std::string msg = LoadError(Write(
+      "published_bad.yaml",
+      Job("", "published:\n  source: x\n  set: {M: 90}\n"
+              "  relative_error_percent: {nowhere: {u: 1}}\n")));
+  EXPECT_NE(msg.find("published.relative_error_percent.nowhere"), std::string::npos) << msg;
+}
+
+// The published model is simulated on the job's experiments: with the
+// published values equal to the fitted ones, both errors agree exactly.
+TEST(JobKeysTest, PublishedModelIsSimulatedHere) {
+  FitJob job = LoadFitJob(Write(
+      "published.yaml",
+      Job("", "published:\n  source: test\n  set: {M: 95}\n"
+              "  relative_error_percent: {ramp: {x: 1.5}}\n")));
+  job.solver.progress = false;
+  job.free[0].initial = 95;
+  job.solver.max_iterations = 1;
+  FitResult result = FitParameters(job);
+  job.published.model.params.M = Estimate(result);
+  const PublishedComparison c = ComparePublished(job, result);
+  ASSERT_EQ(c.parameters.size(), 1u);
+  EXPECT_EQ(c.parameters[0].name, "M");
+  EXPECT_TRUE(c.parameters[0].free);
+  bool found = false;
+  for (const ChannelComparison& r : c.channels) {
+    if (r.channel != "x") continue;
+    found = true;
+    EXPECT_DOUBLE_EQ(r.published_percent, r.fitted_percent);
+    EXPECT_DOUBLE_EQ(r.quoted_percent, 1.5);
+  }
+  EXPECT_TRUE(found);
+}
+
+}  // namespace
+}  // namespace axis
