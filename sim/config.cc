@@ -183,8 +183,9 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
       << amplifiers[static_cast<int>(config.structure.amplifier)];
   out << YAML::Key << "coupling" << YAML::Value
       << (config.structure.coupling == Coupling::kRigid ? "rigid" : "gear");
-  // Parameters of MODEL.md §2 and §4 (effect parameters go with their effect).
-  std::set<std::string> effect_params = {"v_eps", "omega_eps"};
+  // Parameters of MODEL.md §2 and §4, and the sgn_ε widths v_eps and
+  // omega_eps of §7 (effect parameters go with their effect).
+  std::set<std::string> effect_params;
   for (const EffectInfo& e : DynamicEffectTable()) {
     for (const char* p : e.params) effect_params.insert(p);
   }

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -218,6 +219,25 @@ TEST(ConfigTest, ForceSourceNeedsRigidCoupling) {
   const std::string path = WriteTemp("emps_gear.yaml", text);
   const std::string msg = ErrorOf([&] { LoadAxisConfig(path); });
   EXPECT_NE(msg.find("expected rigid"), std::string::npos) << msg;
+}
+
+// model_discovered.yaml is written by AxisConfigToYaml: every parameter,
+// including the sgn_ε widths and effect parameters, reads back unchanged.
+TEST(ConfigTest, AxisConfigYamlRoundTrip) {
+  AxisConfig config = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
+  config.params.v_eps = 2.5e-3;
+  config.params.omega_eps = 0.4;
+  config.structure.effects.coulomb = true;
+  config.params.F_c = 12.5;
+  const AxisConfig back =
+      LoadAxisConfig(WriteTemp("round_trip.yaml", AxisConfigToYaml(config)));
+  EXPECT_TRUE(back.structure.effects.coulomb);
+  AxisParams<double> a = config.params, b = back.params;
+  std::vector<double> values_a, values_b;
+  VisitParams([&](const char*, const char*, double& v) { values_a.push_back(v); }, a);
+  VisitParams([&](const char*, const char*, double& v) { values_b.push_back(v); }, b);
+  ASSERT_EQ(values_a.size(), values_b.size());
+  for (size_t k = 0; k < values_a.size(); ++k) EXPECT_EQ(values_a[k], values_b[k]) << k;
 }
 
 }  // namespace
