@@ -189,6 +189,9 @@ void AddEffect(const Candidate& c, const Score& s, FitJob* job) {
     *FindParam(&p, name) = value;
     added.push_back(Linear(name, value));
     if (name == "Delta_M") added.back().lower = std::min(0.0, value - 1.0);
+    // Viscous friction moving in −x is B_a + ΔB ≥ 0: no negative damping
+    // (B_a as fitted so far; it moves a little in the refit).
+    if (name == "Delta_B") added.back().lower = std::max(added.back().lower, -p.B_a);
   }
   for (FreeParameter& f : added) {
     f.initial = std::clamp(f.initial, f.lower, f.upper);
