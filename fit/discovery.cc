@@ -12,6 +12,7 @@
 
 #include "fit/experiment_cost.h"
 #include "fit/fit.h"
+#include "fit/report.h"
 #include "fit/statistics.h"
 #include "sim/config.h"
 
@@ -45,14 +46,14 @@ std::vector<CandidateColumn> ColumnsOf(const std::string& effect,
   return {};
 }
 
-// The structure with candidate `c` switched on.
-AxisStructure WithEffect(AxisStructure s, const Candidate& c) {
+// The structure with candidate `c` switched on (or off).
+AxisStructure WithEffect(AxisStructure s, const Candidate& c, bool on = true) {
   for (const EffectInfo& e : DynamicEffectTable()) {
-    if (c.effect == e.name) s.effects.*(e.flag) = true;
+    if (c.effect == e.name) s.effects.*(e.flag) = on;
   }
   const int ch = static_cast<int>(c.channel);
-  if (c.effect == "sensor_delay") s.sensors.delay[ch] = true;
-  if (c.effect == "sensor_bias") s.sensors.bias[ch] = true;
+  if (c.effect == "sensor_delay") s.sensors.delay[ch] = on;
+  if (c.effect == "sensor_bias") s.sensors.bias[ch] = on;
   return s;
 }
 
@@ -202,13 +203,7 @@ void AddEffect(const Candidate& c, const Score& s, FitJob* job) {
 // Switches candidate `c` off in `job` and fixes its parameters `params`.
 void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
                   FitJob* job) {
-  AxisStructure& s = job->model.structure;
-  for (const EffectInfo& e : DynamicEffectTable()) {
-    if (c.effect == e.name) s.effects.*(e.flag) = false;
-  }
-  const int ch = static_cast<int>(c.channel);
-  if (c.effect == "sensor_delay") s.sensors.delay[ch] = false;
-  if (c.effect == "sensor_bias") s.sensors.bias[ch] = false;
+  job->model.structure = WithEffect(job->model.structure, c, false);
   std::vector<FreeParameter> kept;
   for (const FreeParameter& f : job->free) {
     if (std::find(params.begin(), params.end(), f.name) == params.end()) kept.push_back(f);
@@ -439,6 +434,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       FitJob next = *job;
       AddEffect(chosen, score, &next);
       next.solver.starts = 0;
+      std::vector<std::string> names;  // the effect's parameters, now free
+      for (size_t k = job->free.size(); k < next.free.size(); ++k) names.push_back(next.free[k].name);
       ++tries;
       FitResult refit = FitParameters(next, nullptr);
       DiscoveryStep record;
@@ -450,8 +447,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       record.bic_after = refit.bic;
       record.kept = refit.bic < result->bic;
       for (const ParameterEstimate& e : refit.parameters) {
-        for (size_t k = job->free.size(); k < next.free.size(); ++k) {
-          if (e.free && e.name == next.free[k].name) record.parameters.push_back(e);
+        if (e.free && std::find(names.begin(), names.end(), e.name) != names.end()) {
+          record.parameters.push_back(e);
         }
       }
       record.channels = Changes(*result, refit);
@@ -466,8 +463,6 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
         continue;
       }
       report.selected.push_back(chosen.name);
-      std::vector<std::string> names;
-      for (size_t k = job->free.size(); k < next.free.size(); ++k) names.push_back(next.free[k].name);
       added_effects.emplace_back(chosen, names);
       *job = next;
       *result = refit;
@@ -575,9 +570,6 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
 namespace axis {
 
 nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
-  const auto number = [](double x) -> nlohmann::json {
-    return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-  };
   nlohmann::json out;
   out["selected"] = report.selected;
   out["removed"] = report.removed;
@@ -587,34 +579,34 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     step["effect"] = s.effect;
     step["parameters"] = nlohmann::json::object();
     for (const ParameterEstimate& p : s.parameters) {
-      step["parameters"][p.name] = {{"value", number(p.value)},
-                                    {"std_error", number(p.std_error)},
-                                    {"ci95_low", number(p.ci95_low)},
-                                    {"ci95_high", number(p.ci95_high)}};
+      step["parameters"][p.name] = {{"value", JsonNumber(p.value)},
+                                    {"std_error", JsonNumber(p.std_error)},
+                                    {"ci95_low", JsonNumber(p.ci95_low)},
+                                    {"ci95_high", JsonNumber(p.ci95_high)}};
     }
-    step["chi2"] = number(s.chi2);
+    step["chi2"] = JsonNumber(s.chi2);
     step["dof"] = s.dof;
-    step["p_value"] = number(s.p_value);
-    step["bic_before"] = number(s.bic_before);
-    step["bic_after"] = number(s.bic_after);
+    step["p_value"] = JsonNumber(s.p_value);
+    step["bic_before"] = JsonNumber(s.bic_before);
+    step["bic_after"] = JsonNumber(s.bic_after);
     step["kept"] = s.kept;
     step["removal"] = s.removal;
     step["channels"] = nlohmann::json::array();
     for (const ChannelChange& c : s.channels) {
       step["channels"].push_back({{"experiment", c.experiment},
                                   {"channel", c.channel},
-                                  {"rms_before", number(c.rms_before)},
-                                  {"rms_after", number(c.rms_after)},
-                                  {"fit_percent_before", number(c.fit_percent_before)},
-                                  {"fit_percent_after", number(c.fit_percent_after)}});
+                                  {"rms_before", JsonNumber(c.rms_before)},
+                                  {"rms_after", JsonNumber(c.rms_after)},
+                                  {"fit_percent_before", JsonNumber(c.fit_percent_before)},
+                                  {"fit_percent_after", JsonNumber(c.fit_percent_after)}});
     }
     out["steps"].push_back(step);
   }
   out["ranking"] = nlohmann::json::array();
   for (const Score& s : report.ranking.scores) {
-    out["ranking"].push_back({{"effect", s.name}, {"chi2", number(s.chi2)},
-                              {"dof", s.dof}, {"p_value", number(s.p_value)},
-                              {"log10_p_value", number(s.log_p_value / std::log(10.0))}});
+    out["ranking"].push_back({{"effect", s.name}, {"chi2", JsonNumber(s.chi2)},
+                              {"dof", s.dof}, {"p_value", JsonNumber(s.p_value)},
+                              {"log10_p_value", JsonNumber(s.log_p_value / std::log(10.0))}});
   }
   out["indistinguishable"] = nlohmann::json::array();
   for (const auto& [a, b] : report.ranking.indistinguishable) {
@@ -622,9 +614,9 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
   }
   out["nearly_parallel"] = nlohmann::json::array();
   for (const ParallelPair& q : report.ranking.parallel) {
-    out["nearly_parallel"].push_back({{"a", q.a}, {"b", q.b}, {"cosine", number(q.cosine)},
-                                      {"chi2_a_given_b", number(q.chi2_a_given_b)},
-                                      {"chi2_b_given_a", number(q.chi2_b_given_a)},
+    out["nearly_parallel"].push_back({{"a", q.a}, {"b", q.b}, {"cosine", JsonNumber(q.cosine)},
+                                      {"chi2_a_given_b", JsonNumber(q.chi2_a_given_b)},
+                                      {"chi2_b_given_a", JsonNumber(q.chi2_b_given_a)},
                                       {"separated", q.separated}});
   }
   out["stop_reason"] = report.stop_reason;

@@ -7,15 +7,12 @@
 
 #include "fit/fit.h"
 #include "fit/job.h"
+#include "fit/report.h"
 
 namespace axis {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-nlohmann::json Number(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
 
 }  // namespace
 
@@ -107,20 +104,20 @@ nlohmann::json PublishedToJson(const PublishedComparison& c) {
   out["source"] = c.source;
   out["parameters"] = nlohmann::json::object();
   for (const ParameterComparison& p : c.parameters) {
-    out["parameters"][p.name] = {{"published", Number(p.published)},
-                                 {"fitted", Number(p.fitted)},
-                                 {"std_error", Number(p.std_error)},
+    out["parameters"][p.name] = {{"published", JsonNumber(p.published)},
+                                 {"fitted", JsonNumber(p.fitted)},
+                                 {"std_error", JsonNumber(p.std_error)},
                                  {"free", p.free}};
   }
   out["channels"] = nlohmann::json::array();
   for (const ChannelComparison& r : c.channels) {
     out["channels"].push_back({{"experiment", r.experiment},
                                {"channel", r.channel},
-                               {"relative_error_percent", Number(r.fitted_percent)},
-                               {"published_simulated_percent", Number(r.published_percent)},
-                               {"published_quoted_percent", Number(r.quoted_percent)},
-                               {"rms", Number(r.fitted_rms)},
-                               {"published_simulated_rms", Number(r.published_rms)}});
+                               {"relative_error_percent", JsonNumber(r.fitted_percent)},
+                               {"published_simulated_percent", JsonNumber(r.published_percent)},
+                               {"published_quoted_percent", JsonNumber(r.quoted_percent)},
+                               {"rms", JsonNumber(r.fitted_rms)},
+                               {"published_simulated_rms", JsonNumber(r.published_rms)}});
   }
   return out;
 }

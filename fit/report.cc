@@ -55,11 +55,6 @@ std::string Exact(double value) {
   return buf;
 }
 
-// A JSON number, or null if not finite.
-Json JsonNumber(double value) {
-  if (!std::isfinite(value)) return Json(nullptr);
-  return Json(value);
-}
 
 // ---------------------------------------------------------------- tables
 
@@ -567,11 +562,11 @@ void WriteReportJson(const std::string& path, const FitResult& result,
     Json e = Json::object();
     e["name"] = p.name;
     e["unit"] = p.unit;
-    e["value"] = JsonNumber(p.value);
-    e["std_error"] = p.free ? JsonNumber(p.std_error) : Json(nullptr);
-    e["ci95_low"] = p.free ? JsonNumber(p.ci95_low) : Json(nullptr);
-    e["ci95_high"] = p.free ? JsonNumber(p.ci95_high) : Json(nullptr);
-    e["initial"] = JsonNumber(p.initial);
+    e["value"] = JsonNumber<Json>(p.value);
+    e["std_error"] = p.free ? JsonNumber<Json>(p.std_error) : Json(nullptr);
+    e["ci95_low"] = p.free ? JsonNumber<Json>(p.ci95_low) : Json(nullptr);
+    e["ci95_high"] = p.free ? JsonNumber<Json>(p.ci95_high) : Json(nullptr);
+    e["initial"] = JsonNumber<Json>(p.initial);
     e["free"] = p.free;
     e["determined"] = p.determined;
     parameters.push_back(e);
@@ -591,16 +586,16 @@ void WriteReportJson(const std::string& path, const FitResult& result,
       Json ch = Json::object();
       ch["channel"] = c.channel;
       ch["unit"] = c.unit;
-      ch["rms"] = JsonNumber(c.rms);
-      ch["fit_percent"] = JsonNumber(c.fit_percent);
-      ch["max_error"] = JsonNumber(c.max_error);
-      ch["relative_error_percent"] = JsonNumber(c.relative_error_percent);
-      ch["ljung_box_q"] = JsonNumber(c.ljung_box_q);
+      ch["rms"] = JsonNumber<Json>(c.rms);
+      ch["fit_percent"] = JsonNumber<Json>(c.fit_percent);
+      ch["max_error"] = JsonNumber<Json>(c.max_error);
+      ch["relative_error_percent"] = JsonNumber<Json>(c.relative_error_percent);
+      ch["ljung_box_q"] = JsonNumber<Json>(c.ljung_box_q);
       ch["ljung_box_lags"] = c.ljung_box_lags;
-      ch["ljung_box_p"] = JsonNumber(c.ljung_box_p);
-      ch["input_xcorr_peak"] = JsonNumber(c.input_xcorr_peak);
+      ch["ljung_box_p"] = JsonNumber<Json>(c.ljung_box_p);
+      ch["input_xcorr_peak"] = JsonNumber<Json>(c.input_xcorr_peak);
       ch["input_xcorr_lag"] = c.input_xcorr_lag;
-      ch["sigma"] = JsonNumber(c.sigma);
+      ch["sigma"] = JsonNumber<Json>(c.sigma);
       ch["fitted"] = c.fitted;
       channels.push_back(ch);
     }
@@ -609,16 +604,16 @@ void WriteReportJson(const std::string& path, const FitResult& result,
   }
   j["experiments"] = experiments;
 
-  j["cost"] = {{"initial", JsonNumber(result.initial_cost)},
-               {"final", JsonNumber(result.final_cost)}};
+  j["cost"] = {{"initial", JsonNumber<Json>(result.initial_cost)},
+               {"final", JsonNumber<Json>(result.final_cost)}};
   j["converged"] = result.converged;
   Json starts = Json::array();
-  for (double c : result.start_costs) starts.push_back(JsonNumber(c));
+  for (double c : result.start_costs) starts.push_back(JsonNumber<Json>(c));
   j["starts"] = starts;
-  j["aic"] = JsonNumber(result.aic);
-  j["bic"] = JsonNumber(result.bic);
+  j["aic"] = JsonNumber<Json>(result.aic);
+  j["bic"] = JsonNumber<Json>(result.bic);
   j["num_residuals"] = result.num_residuals;
-  j["residual_variance"] = JsonNumber(result.residual_variance);
+  j["residual_variance"] = JsonNumber<Json>(result.residual_variance);
   j["iterations"] = result.iterations;
   j["simulations"] = result.simulations;
   j["jacobian_evaluations"] = result.jacobian_evaluations;
@@ -632,7 +627,7 @@ void WriteReportJson(const std::string& path, const FitResult& result,
   Json matrix = Json::array();
   for (Eigen::Index i = 0; i < r.rows(); ++i) {
     Json row = Json::array();
-    for (Eigen::Index k = 0; k < r.cols(); ++k) row.push_back(JsonNumber(r(i, k)));
+    for (Eigen::Index k = 0; k < r.cols(); ++k) row.push_back(JsonNumber<Json>(r(i, k)));
     matrix.push_back(row);
   }
   j["correlation"] = {{"names", names}, {"matrix", matrix}};

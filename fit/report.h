@@ -9,6 +9,7 @@
 #ifndef FIT_REPORT_H_
 #define FIT_REPORT_H_
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -21,6 +22,13 @@ namespace axis {
 
 // Sections a caller adds to the report (the discovery loop): Markdown
 // appended to params.md, and keys merged into report.json's top level.
+// A JSON number, or null if not finite (JSON has no NaN or infinity).
+// JsonT: nlohmann::json or nlohmann::ordered_json.
+template <typename JsonT = nlohmann::json>
+JsonT JsonNumber(double value) {
+  return std::isfinite(value) ? JsonT(value) : JsonT(nullptr);
+}
+
 struct ReportSections {
   std::string markdown;
   nlohmann::json json = nlohmann::json::object();

@@ -16,19 +16,10 @@ namespace {
 const std::string kRoot = PROJECT_SOURCE_DIR;
 const std::string kBin = std::string(BINARY_DIR) + "/fit-params";
 
-struct Result {
-  int exit_code;
-  std::string err;
-};
+using Result = axis::testing_files::CommandResult;
 
 Result RunCli(const std::string& args) {
-  const std::string err_path = ::testing::TempDir() +
-      ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_fit_cli_stderr.txt";
-  const int status =
-      std::system((kBin + " " + args + " >/dev/null 2>" + err_path).c_str());
-  std::ifstream in(err_path);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1,
-          std::string((std::istreambuf_iterator<char>(in)), {})};
+  return axis::testing_files::RunCommand(kBin, args, true);
 }
 
 constexpr auto Write = axis::testing_files::WriteTemp;

@@ -12,23 +12,17 @@
 
 #include "sim/csv.h"
 
+#include "tests/test_files.h"
+
 namespace {
 
 const std::string kRoot = PROJECT_SOURCE_DIR;
 const std::string kBin = std::string(BINARY_DIR) + "/simulate-axis";
 
-struct Result {
-  int exit_code;
-  std::string err;
-};
+using Result = axis::testing_files::CommandResult;
 
 Result RunCli(const std::string& args) {
-  const std::string err_path = ::testing::TempDir() +
-      ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_sim_cli_stderr.txt";
-  const int status = std::system((kBin + " " + args + " 2>" + err_path).c_str());
-  std::ifstream in(err_path);
-  std::string err((std::istreambuf_iterator<char>(in)), {});
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, err};
+  return axis::testing_files::RunCommand(kBin, args, false);
 }
 
 bool Exists(const std::string& path) { return std::ifstream(path).good(); }

@@ -1,9 +1,13 @@
 // Helpers shared by the test suites: files written into GoogleTest's
-// temporary directory.
+// temporary directory, and command-line runs of the apps.
 #ifndef TESTS_TEST_FILES_H_
 #define TESTS_TEST_FILES_H_
 
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -16,6 +20,28 @@ inline std::string WriteTemp(const std::string& name, const std::string& text) {
   const std::string path = ::testing::TempDir() + name;
   std::ofstream(path) << text;
   return path;
+}
+
+// Exit code (-1 if it did not exit) and standard error of a command.
+struct CommandResult {
+  int exit_code;
+  std::string err;
+};
+
+// Runs `binary args` through the shell, standard error captured into a file
+// named after the current test, standard output discarded if
+// `discard_stdout`.
+inline CommandResult RunCommand(const std::string& binary, const std::string& args,
+                                bool discard_stdout) {
+  const std::string err_path =
+      ::testing::TempDir() +
+      ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_stderr.txt";
+  const std::string command = binary + " " + args +
+                              (discard_stdout ? " >/dev/null" : "") + " 2>" + err_path;
+  const int status = std::system(command.c_str());
+  std::ifstream in(err_path);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+          std::string((std::istreambuf_iterator<char>(in)), {})};
 }
 
 }  // namespace testing_files
