@@ -74,6 +74,14 @@ struct FitResult {
   int simulations = 0;            // residual-only evaluations
   int jacobian_evaluations = 0;   // evaluations with derivatives
   std::string termination;        // Ceres' message
+  // Optimum check after the solver stopped (FitParameters): the cost probed
+  // at the estimate ± {0.01, 0.3, 1, 3, 10} standard deviations along every
+  // parameter, every principal axis of the covariance and the last stage's
+  // step; a lower cost restarts the solver from there.
+  bool optimum_verified = false;
+  std::string optimum_check;     // "optimum verified: …" or why not
+  int probe_rounds = 0;          // probe rounds run
+  double probe_decrease = 0.0;   // cost decrease found by probing + restarts
 };
 
 }  // namespace axis

@@ -487,6 +487,8 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
         "initial_trust_region_radius", s.initial_trust_region_radius,
         Range::kFinitePositive);
     s.threads = static_cast<int>(map.Integer("threads", s.threads, 1, 256));
+    s.probe_rounds =
+        static_cast<int>(map.Integer("probe_rounds", s.probe_rounds, 0, 1000));
     s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
     map.Finish();
   }

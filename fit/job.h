@@ -67,6 +67,10 @@ struct SolverSettings {
   double first_horizon = 0.05;
   int threads = 2;              // Ceres evaluation threads
   std::uint64_t seed = 1;       // for the random starts
+  // Optimum check (fit/fit.h, FitParameters): rounds of probing the cost
+  // around the estimate, each followed by a Levenberg–Marquardt run from the
+  // lowest point found; 0 skips the check.
+  int probe_rounds = 8;
   bool progress = true;         // print one line per iteration
 };
 

@@ -548,6 +548,8 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
   out += "- termination: " +
          (result.termination.empty() ? std::string("-")
                                      : OneLine(result.termination)) +
+         "\n";  out += "- " + (result.optimum_check.empty() ? std::string("optimum not checked")
+                                               : result.optimum_check) +
          "\n";
   out += extra.markdown;
   WriteFileAtomic(path, out);
@@ -618,6 +620,10 @@ void WriteReportJson(const std::string& path, const FitResult& result,
   j["simulations"] = result.simulations;
   j["jacobian_evaluations"] = result.jacobian_evaluations;
   j["termination"] = result.termination;
+  j["optimum"] = {{"verified", result.optimum_verified},
+                  {"check", result.optimum_check},
+                  {"probe_rounds", result.probe_rounds},
+                  {"probe_decrease", JsonNumber<Json>(result.probe_decrease)}};
 
   const Eigen::MatrixXd& r = result.correlation;
   Json names = Json::array();

@@ -38,6 +38,26 @@ struct AxisAux {
   T force;  // drive force on the load (N): f_g (gear), K_τ·i/r_g (rigid), g_F·U
 };
 
+// Which branch of the gear force (MODEL.md eq. 5) applies: X < −H, |X| ≤ H
+// (inside the backlash, f_g = 0) or X > H. kFromState picks it from the
+// state, as eq. 5 is written; the other values hold one branch fixed, so that
+// the right-hand side is smooth in the state (sim/switched_rk4.h integrates
+// across the contacts with the branch held between them).
+enum class GearContact : int {
+  kNegative = -1,
+  kFree = 0,
+  kPositive = 1,
+  kFromState = 2,
+};
+
+// The branch of eq. 5 for a pinion–rack difference X = r_g·θ − x (m) and
+// backlash half-width H (m, ≥ 0). Never throws.
+inline GearContact GearContactOf(double gap, double H) {
+  if (gap > H) return GearContact::kPositive;
+  if (gap < -H) return GearContact::kNegative;
+  return GearContact::kFree;
+}
+
 namespace internal {
 
 template <typename T>
@@ -116,13 +136,16 @@ inline bool AnyLoadEffect(const EffectSwitches& e) {
 //   y: state y0..y6 (MODEL.md §1). u: set-velocity voltage U (V), or the
 //      force-source input (V, force g_F·U).
 //   dy: derivative of y (must not alias y). aux: optional algebraic outputs.
+//   contact: the branch of eq. 5 (gear coupling only); by default the one
+//      the state is in.
 // Never throws; non-finite inputs give non-finite outputs.
 template <typename T>
 AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
                                  const AxisParams<T>& p,
                                  const AxisCoefficients<T>& c,
                                  const AxisState<T>& y,
-                    const T& u, AxisState<T>* dy, AxisAux<T>* aux = nullptr) {
+                    const T& u, AxisState<T>* dy, AxisAux<T>* aux = nullptr,
+                    GearContact contact = GearContact::kFromState) {
   using std::exp;
   using std::sin;
   using std::tanh;
@@ -189,9 +212,14 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
   T a, fg, force;
   if (!rigid) {
     const T gap = p.r_g * theta - x;  // X, eq. 4
-    if (gap > p.H) {
+    if (contact == GearContact::kFromState) {
+      contact = gap > p.H    ? GearContact::kPositive
+                : gap < -p.H ? GearContact::kNegative
+                             : GearContact::kFree;
+    }
+    if (contact == GearContact::kPositive) {
       fg = p.k_g * (gap - p.H) + p.b_g * (p.r_g * omega - v);
-    } else if (gap < -p.H) {
+    } else if (contact == GearContact::kNegative) {
       fg = p.k_g * (gap + p.H) + p.b_g * (p.r_g * omega - v);
     } else {
       fg = T(0.0);

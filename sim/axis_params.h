@@ -50,12 +50,24 @@ struct SensorSwitches {
   std::array<bool, kNumChannels> bias{};   // sensor_bias on this channel
 };
 
+// How a recorded sample of the accelerometer channel `a` relates to the arm
+// acceleration y1' (MODEL.md §6). y1' jumps by b_g·(r_g·ω − v)/M at every
+// backlash contact (eq. 5), so its value at a sample instant is a
+// discontinuous function of the parameters (the cost jumps whenever a contact
+// time crosses a sample time); the mean over the output period is continuous.
+enum class AccelerometerSampling {
+  kPeriodMean,  // (v(t_k) − v(t_k − T_o))/T_o: mean of y1' over the period
+                // T_o ending at the sample (integrate-and-dump anti-aliasing)
+  kInstant,     // y1'(t_k)
+};
+
 // The discrete (non-differentiable) part of a model: which equations apply.
 struct AxisStructure {
   Amplifier amplifier = Amplifier::kAnalogVelocityLoop;
   Coupling coupling = Coupling::kGear;
   EffectSwitches effects;
   SensorSwitches sensors;
+  AccelerometerSampling accelerometer = AccelerometerSampling::kPeriodMean;
   int N_cog = 6;  // cogging periods per motor revolution (fixed, §7)
 };
 

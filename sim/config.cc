@@ -14,6 +14,7 @@ using Range = YamlMap::Range;
 const std::vector<std::string> kAmplifiers = {
     "analog_velocity_loop", "current_source", "force_source"};
 const std::vector<std::string> kCouplings = {"gear", "rigid"};
+const std::vector<std::string> kAccelerometer = {"period_mean", "instant"};
 
 Amplifier ParseAmplifier(const std::string& s) {
   if (s == "current_source") return Amplifier::kCurrentSource;
@@ -23,6 +24,11 @@ Amplifier ParseAmplifier(const std::string& s) {
 
 Coupling ParseCoupling(const std::string& s) {
   return s == "rigid" ? Coupling::kRigid : Coupling::kGear;
+}
+
+AccelerometerSampling ParseAccelerometer(const std::string& s) {
+  return s == "instant" ? AccelerometerSampling::kInstant
+                        : AccelerometerSampling::kPeriodMean;
 }
 
 // Parameters a configuration needs (MODEL.md §2–4): the ones the equations
@@ -183,6 +189,10 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
       << amplifiers[static_cast<int>(config.structure.amplifier)];
   out << YAML::Key << "coupling" << YAML::Value
       << (config.structure.coupling == Coupling::kRigid ? "rigid" : "gear");
+  out << YAML::Key << "accelerometer" << YAML::Value
+      << (config.structure.accelerometer == AccelerometerSampling::kInstant
+              ? "instant"
+              : "period_mean");
   // Parameters of MODEL.md §2 and §4, and the sgn_ε widths v_eps and
   // omega_eps of §7 (effect parameters go with their effect).
   std::set<std::string> effect_params;
@@ -278,6 +288,8 @@ AxisConfig LoadAxisConfig(const std::string& path) {
   root.String("description", "");
   config.structure.amplifier = ParseAmplifier(root.Choice("amplifier", kAmplifiers));
   config.structure.coupling = ParseCoupling(root.Choice("coupling", kCouplings));
+  config.structure.accelerometer =
+      ParseAccelerometer(root.Choice("accelerometer", kAccelerometer, "period_mean"));
   YamlMap params(root.Required("parameters"), path, "parameters.");
   ParseParameters(params, &config);
   if (const YAML::Node effects = root.Optional("effects")) {
@@ -485,6 +497,10 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
     }
     if (map.Has("coupling")) {
       model->structure.coupling = ParseCoupling(map.Choice("coupling", kCouplings));
+    }
+    if (map.Has("accelerometer")) {
+      model->structure.accelerometer =
+          ParseAccelerometer(map.Choice("accelerometer", kAccelerometer));
     }
     map.Finish();
   }

@@ -65,7 +65,7 @@ double InputSignal::Evaluate(double t, size_t* cursor) const {
     return offset + EvaluateTable(times, values, false, t);
   }
   size_t k = *cursor < times.size() - 1 ? *cursor : 0;
-  if (times[k] > t) k = 0;
+  while (k > 0 && times[k] > t) --k;  // event sub-steps look back
   while (times[k + 1] <= t) ++k;
   *cursor = k;
   if (hold) return offset + values[k];

@@ -54,6 +54,16 @@ void MultiplyAdd(const ceres::Jet<T, N>& y, double alpha,
   out->v.noalias() = y.v + alpha * x.v;
 }
 
+// Adds alpha times the derivative part of g to the derivative part of *x,
+// leaving its value alone (the saltation jump of sensitivities at an event,
+// sim/switched_rk4.h). A no-op for double, which has no derivative part.
+inline void AddScaledDerivative(double, double, double*) {}
+template <typename T, int N>
+void AddScaledDerivative(double alpha, const ceres::Jet<T, N>& g,
+                         ceres::Jet<T, N>* x) {
+  x->v.noalias() += alpha * g.v;
+}
+
 // Rounds x down to a multiple of `quantum` (> 0) in value while keeping the
 // derivative of x: the encoder quantisation of MODEL.md §5. Passing the
 // derivative straight through makes closed-loop sensitivities those of the

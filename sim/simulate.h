@@ -18,6 +18,7 @@
 #include "sim/input_signal.h"
 #include "sim/rk4.h"
 #include "sim/scalar.h"
+#include "sim/switched_rk4.h"
 
 namespace axis {
 
@@ -108,6 +109,67 @@ bool StateIsFinite(const AxisState<T>& y) {
   return true;
 }
 
+// The values of a parameter set (drops the derivative parts of Jets).
+template <typename T>
+AxisParams<double> ParamValues(const AxisParams<T>& p) {
+  AxisParams<double> out;
+  VisitParams([](const char*, const char*, const T& from, double& to) {
+    to = ScalarValue(from);
+  }, p, out);
+  return out;
+}
+
+// The gear-coupled axis as a switched system for Rk4SwitchedStep: the modes
+// are the branches of MODEL.md eq. 5 (GearContact −1, 0, +1, ordered by X),
+// the guards X − H and X + H (negated when crossing downwards). `input_at`
+// maps t (s) to U as a T.
+template <typename T, typename Input>
+struct SwitchedAxis {
+  const AxisStructure& structure;
+  const AxisParams<T>& params;
+  const AxisCoefficients<T>& coeffs;
+  const AxisParams<double>& values;
+  const AxisCoefficients<double>& value_coeffs;
+  const Input& input_at;
+
+  template <typename S>
+  void Derivative(double t, const AxisState<S>& y, int mode,
+                  AxisState<S>* dy) const {
+    if constexpr (std::is_same<S, T>::value) {
+      AxisDerivative(structure, params, coeffs, y, input_at(t), dy, static_cast<AxisAux<T>*>(nullptr),
+                     static_cast<GearContact>(mode));
+    } else {
+      AxisDerivative(structure, values, value_coeffs, y,
+                     ScalarValue(input_at(t)), dy,
+                     static_cast<AxisAux<double>*>(nullptr),
+                     static_cast<GearContact>(mode));
+    }
+  }
+  int Mode(const AxisState<double>& y) const {
+    return static_cast<int>(
+        GearContactOf(values.r_g * y[2] - y[0], values.H));
+  }
+  int Toward(int from, int to) const { return to > from ? from + 1 : from - 1; }
+  template <typename S>
+  S Guard(const AxisState<S>& y, int from, int to) const {
+    const AxisParams<S>* p;
+    if constexpr (std::is_same<S, T>::value) {
+      p = &params;
+    } else {
+      p = &values;
+    }
+    const S gap = p->r_g * y[2] - y[0];
+    // Between kFree and kPositive the boundary is X = H, else X = −H.
+    const S g = (from == 1 || to == 1) ? S(gap - p->H) : S(gap + p->H);
+    return to > from ? g : S(-g);
+  }
+  double GuardRate(const AxisState<double>&, const AxisState<double>& dy,
+                   int from, int to) const {
+    const double rate = values.r_g * dy[2] - dy[0];
+    return to > from ? rate : -rate;
+  }
+};
+
 }  // namespace internal
 
 // Simulates one experiment from initial state y_init on the grid of
@@ -142,6 +204,11 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
     }
   }
 
+  constexpr int kA = static_cast<int>(Channel::kA);
+  const bool a_mean =
+      structure.accelerometer == AccelerometerSampling::kPeriodMean;
+  T a_initial(0.0);  // y1'(0)
+
   AxisState<T> y = y_init;
   T u_held(0.0);
   ReferenceSample ref;
@@ -167,6 +234,21 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
     AxisDerivative(structure, params, coeffs, state, input_at(t), dy);
   };
   const long progress_every = std::max(1L, grid.num_steps / 100);
+  // Gear coupling with backlash: the contacts of eq. 5 are events, located
+  // inside the step, with the sensitivities carried across them
+  // (sim/switched_rk4.h). Without backlash (H = 0) the gear force is
+  // continuous in the state and a plain RK4 step is exact to its order.
+  const AxisParams<double> values = internal::ParamValues(params);
+  const bool switched =
+      structure.coupling == Coupling::kGear && values.H > 0.0;
+  const AxisCoefficients<double> value_coeffs =
+      switched ? MakeAxisCoefficients(structure, values)
+               : AxisCoefficients<double>{};
+  const internal::SwitchedAxis<T, decltype(input_at)> system{
+      structure, params, coeffs, values, value_coeffs, input_at};
+  AxisState<double> y_values;
+  for (int k = 0; k < kNumStates; ++k) y_values[k] = ScalarValue(y[k]);
+  int contact = system.Mode(y_values);
 
   for (long n = 0; n <= grid.num_steps; ++n) {
     const double t = n * h;
@@ -188,16 +270,25 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
       AxisDerivative(structure, params, coeffs, y, u, &dy, &aux);
       for (int c = 0; c < kNumChannels; ++c) {
         if (!wanted[c] || !(record || delayed[c])) continue;
-        const T value = internal::ChannelValue(static_cast<Channel>(c),
-                                               structure, params, y, aux, u,
-                                               ref, t);
+        // A period-mean accelerometer records v here and differences it
+        // below.
+        const T value =
+            c == kA && a_mean
+                ? y[1]
+                : internal::ChannelValue(static_cast<Channel>(c), structure,
+                                         params, y, aux, u, ref, t);
+        if (c == kA && n == 0) a_initial = aux.a;
         if (delayed[c]) fine[c].push_back(value);
         if (record) trace.values[c].push_back(value);
       }
       if (record) trace.t.push_back(t);
     }
     if (n == grid.num_steps) break;
-    Rk4Step(rhs, t, h, &y);
+    if (switched) {
+      contact = Rk4SwitchedStep(system, t, h, contact, &y);
+    } else {
+      Rk4Step(rhs, t, h, &y);
+    }
     if (progress && n % progress_every == 0) {
       progress(static_cast<double>(n) / grid.num_steps);
     }
@@ -214,25 +305,40 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
     return trace;
   }
 
-  // Sensor effects (MODEL.md §7).
+  // Sampling of `a` (AccelerometerSampling) and the sensor effects of
+  // MODEL.md §7. V(t) is the recorded quantity at time t: linear between RK4
+  // steps for a delayed channel, the value at t = 0 before the start (for v,
+  // continued back as v(0) + y1'(0)·t so that the mean at t = 0 is y1'(0)).
+  const double period = grid.steps_per_output * h;
   for (int c = 0; c < kNumChannels; ++c) {
     if (!wanted[c]) continue;
     std::vector<T>& out = trace.values[c];
-    if (delayed[c]) {
-      const std::vector<T>& hist = fine[c];
+    const bool differenced = c == kA && a_mean;
+    const std::vector<T>& hist = delayed[c] ? fine[c] : out;
+    const double hist_step = delayed[c] ? h : period;
+    const auto value_at = [&](const T& time) -> T {
+      const T pos = time / T(hist_step);
+      const double pv = ScalarValue(pos);
       const long last = static_cast<long>(hist.size()) - 1;
-      for (size_t j = 0; j < out.size(); ++j) {
-        const T pos = (T(trace.t[j]) - params.tau_d[c]) / T(h);
-        const double pv = ScalarValue(pos);
-        if (pv <= 0.0 || last < 1) {
-          out[j] = hist[0];
-          continue;
-        }
-        long n0 = static_cast<long>(std::floor(pv));
-        if (n0 >= last) n0 = last - 1;
-        const T frac = pos - T(double(n0));
-        out[j] = hist[n0] + frac * (hist[n0 + 1] - hist[n0]);
+      if (pv <= 0.0 || last < 1) {
+        return differenced ? T(hist[0] + a_initial * time) : hist[0];
       }
+      long n0 = static_cast<long>(std::floor(pv));
+      if (n0 >= last) n0 = last - 1;
+      const T frac = pos - T(double(n0));
+      return hist[n0] + frac * (hist[n0 + 1] - hist[n0]);
+    };
+    if (delayed[c] || differenced) {
+      std::vector<T> sampled(out.size());
+      for (size_t j = 0; j < out.size(); ++j) {
+        T time(trace.t[j]);
+        if (delayed[c]) time -= params.tau_d[c];
+        sampled[j] = differenced
+                         ? T((value_at(time) - value_at(time - T(period))) /
+                             period)
+                         : value_at(time);
+      }
+      out = std::move(sampled);
     }
     if (structure.sensors.bias[c]) {
       for (T& value : out) value += params.b[c];

@@ -150,10 +150,8 @@ TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
 // The Jet Jacobian of one experiment's cost against central differences in
 // θ (log parameters), at a point off the optimum, over the first 0.3 s of
 // the 10 V step: the gear stays in contact (f_g > 0) and the preamp output
-// is clamped, so the trajectory is smooth in the parameters. Later the gear
-// crosses its backlash and f_g jumps at each contact (eq. 5); differences
-// then include event-time effects that a Jet, like any pathwise derivative,
-// does not have.
+// is clamped, so the trajectory is smooth in the parameters. Records with
+// many backlash contacts are checked in tests/switched_rk4_test.cc.
 TEST(FitTest, CostJacobianMatchesCentralDifferences) {
   const FitJob job = LoadFitJob(PaperJob("_clean", Scaled(1.2, 0.9), 0, 1, 0.3));
   const ParameterMap map(job.model.params, job.free);
