@@ -434,6 +434,9 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       FitJob next = *job;
       AddEffect(chosen, score, &next);
       next.solver.starts = 0;
+      // Refits only compare BIC; the optimum check (a few hundred probe
+      // simulations per round) is left to fits outside the loop for now.
+      next.solver.probe_rounds = 0;
       std::vector<std::string> names;  // the effect's parameters, now free
       for (size_t k = job->free.size(); k < next.free.size(); ++k) names.push_back(next.free[k].name);
       ++tries;
@@ -484,6 +487,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     FitJob without = *job;
     RemoveEffect(candidate, params, &without);
     without.solver.starts = 0;
+    without.solver.probe_rounds = 0;
     FitResult refit = FitParameters(without, nullptr);
     DiscoveryStep record;
     record.effect = candidate.name;
