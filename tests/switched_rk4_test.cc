@@ -12,6 +12,7 @@
 #include "fit/job.h"
 #include "sim/experiment.h"
 #include "sim/switched_rk4.h"
+#include "tests/cost_checks.h"
 #include "tests/test_files.h"
 
 namespace axis {
@@ -130,32 +131,13 @@ TEST(SwitchedRk4Test, CostJacobianOverAPrbsRecordMatchesCentralDifferences) {
       job.model.structure, map, job.experiments[0], 5, -1, &counter));
   std::vector<double> theta;
   for (int k = 0; k < 5; ++k) theta.push_back(map.ToInternal(k, job.free[k].initial));
-  const int m = cost->num_residuals();
-  std::vector<double> r(m), jac(m * 5), rp(m), rm(m);
-  const double* params[] = {theta.data()};
-  double* jacobians[] = {jac.data()};
-  ASSERT_TRUE(cost->Evaluate(params, r.data(), jacobians));
+  const std::vector<testing_files::ColumnCheck> checks =
+      testing_files::CheckJacobian(*cost, theta, 1e-7);
   for (int k = 0; k < 5; ++k) {
-    const double h = 1e-7;
-    std::vector<double> tp = theta, tm = theta;
-    tp[k] += h;
-    tm[k] -= h;
-    const double* pp[] = {tp.data()};
-    const double* pm[] = {tm.data()};
-    ASSERT_TRUE(cost->Evaluate(pp, rp.data(), nullptr));
-    ASSERT_TRUE(cost->Evaluate(pm, rm.data(), nullptr));
-    double num = 0.0, den = 0.0, cost_p = 0.0, cost_m = 0.0, gradient = 0.0;
-    for (int i = 0; i < m; ++i) {
-      const double fd = (rp[i] - rm[i]) / (2 * h);
-      num += (jac[i * 5 + k] - fd) * (jac[i * 5 + k] - fd);
-      den += fd * fd;
-      cost_p += 0.5 * rp[i] * rp[i];
-      cost_m += 0.5 * rm[i] * rm[i];
-      gradient += r[i] * jac[i * 5 + k];
-    }
-    const double fd_gradient = (cost_p - cost_m) / (2 * h);
-    EXPECT_LT(std::sqrt(num / den), 1e-4) << job.free[k].name;
-    EXPECT_NEAR(gradient, fd_gradient, 1e-4 * std::abs(fd_gradient)) << job.free[k].name;
+    const testing_files::ColumnCheck& c = checks[k];
+    EXPECT_LT(c.error_norm / c.difference_norm, 1e-4) << job.free[k].name;
+    EXPECT_NEAR(c.gradient, c.difference_gradient, 1e-4 * std::abs(c.difference_gradient))
+        << job.free[k].name;
   }
 }
 
