@@ -434,9 +434,11 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       FitJob next = *job;
       AddEffect(chosen, score, &next);
       next.solver.starts = 0;
-      // Refits only compare BIC; the optimum check (a few hundred probe
-      // simulations per round) is left to fits outside the loop for now.
+      // Refits only compare BIC; the optimum check and the likelihood-ratio
+      // scan (a few hundred simulations each) are left to fits outside the
+      // loop for now: the discovered model's intervals are Gauss–Newton.
       next.solver.probe_rounds = 0;
+      next.uncertainty.method = UncertaintySettings::Method::kGaussNewton;
       std::vector<std::string> names;  // the effect's parameters, now free
       for (size_t k = job->free.size(); k < next.free.size(); ++k) names.push_back(next.free[k].name);
       ++tries;
@@ -488,6 +490,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     RemoveEffect(candidate, params, &without);
     without.solver.starts = 0;
     without.solver.probe_rounds = 0;
+    without.uncertainty.method = UncertaintySettings::Method::kGaussNewton;
     FitResult refit = FitParameters(without, nullptr);
     DiscoveryStep record;
     record.effect = candidate.name;

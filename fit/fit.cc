@@ -18,6 +18,7 @@
 #include "fit/published.h"
 #include "fit/report.h"
 #include "fit/statistics.h"
+#include "fit/uncertainty.h"
 #include "sim/csv.h"
 
 namespace axis {
@@ -125,20 +126,6 @@ bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj) {
   return true;
 }
 
-// The cost of `problem` at `point`, written into its parameter block `theta`
-// (+∞ where the simulation fails).
-double CostAt(ceres::Problem* problem, const std::vector<double>& point,
-              std::vector<double>* theta) {
-  std::copy(point.begin(), point.end(), theta->begin());
-  double cost = 0.0;
-  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr,
-                         nullptr, nullptr) ||
-      !std::isfinite(cost)) {
-    return std::numeric_limits<double>::infinity();
-  }
-  return cost;
-}
-
 // One round of the optimum check: the cost at θ* + s·d for the probe
 // directions d (every coordinate and every principal axis of (JᵀJ)⁻¹, scaled
 // to one standard deviation — a change of ½ in cost on a quadratic — and the
@@ -194,6 +181,36 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
     }
   }
   std::copy(centre.begin(), centre.end(), theta->begin());
+}
+
+// Covariance (JᵀJ)⁻¹ of the single parameter block `theta` (size n) of
+// `problem` by ceres::Covariance (DENSE_SVD); the pseudo-inverse with the
+// null space dropped if JᵀJ is rank deficient; NaN where neither works.
+Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, double* theta, int n,
+                                  int threads) {
+  Eigen::MatrixXd out =
+      Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::quiet_NaN());
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.num_threads = threads;
+  co.null_space_rank = 0;
+  co.min_reciprocal_condition_number = 1e-14;
+  const std::vector<std::pair<const double*, const double*>> pairs = {{theta, theta}};
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(n, n);
+  ceres::Covariance covariance(co);
+  if (covariance.Compute(pairs, problem)) {
+    covariance.GetCovarianceBlock(theta, theta, c.data());
+    out = c;
+    return out;
+  }
+  // Rank deficient: the pseudo-inverse, with the null space dropped.
+  co.null_space_rank = -1;
+  ceres::Covariance pseudo(co);
+  if (pseudo.Compute(pairs, problem)) {
+    pseudo.GetCovarianceBlock(theta, theta, c.data());
+    out = c;
+  }
+  return out;
 }
 
 std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free) {
@@ -445,60 +462,105 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // the final stage from the lowest point found, until a round finds nothing
   // lower (by more than 1e-9 relative) or the rounds run out.
   int probes = 0;
-  if (std::isfinite(best_cost) && job.solver.probe_rounds > 0) {
-    ceres::Problem& last = *stages.back().problem;
-    ceres::Solver::Options o = options;
-    const double entry_cost = best_cost;
-    for (int round = 0;; ++round) {
-      std::vector<double> lowest;
-      double lowest_cost = best_cost;
-      ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.theta,
-                 &lowest, &lowest_cost, &probes);
-      result.probe_rounds = round + 1;
-      if (!(lowest_cost < best_cost - 1e-9 * std::abs(best_cost))) {
-        result.optimum_verified = true;
-        break;
-      }
-      if (round + 1 >= job.solver.probe_rounds) {
-        std::copy(lowest.begin(), lowest.end(), p.theta.begin());
-        best_cost = lowest_cost;
-        break;
-      }
-      const std::vector<double> from = best;
-      std::copy(lowest.begin(), lowest.end(), p.theta.begin());
-      ceres::Solver::Summary summary;
-      ceres::Solve(o, &last, &summary);
-      if (summary.IsSolutionUsable() && summary.final_cost <= lowest_cost) {
-        best_cost = summary.final_cost;
-        best_summary = summary;
-      } else {
-        std::copy(lowest.begin(), lowest.end(), p.theta.begin());
-        best_cost = lowest_cost;
-      }
-      if (job.solver.progress && progress != nullptr) {
-        *progress << "optimum check round " << round + 1 << ": probe found a "
-                  << "lower cost, solver restarted: cost " << best_cost << "\n";
-      }
-      best = p.theta;
-      for (int k = 0; k < theta_size; ++k) best_step[k] = best[k] - from[k];
-    }
-    result.probe_decrease = entry_cost - best_cost;
-    std::ostringstream note;
-    note << (result.optimum_verified ? "optimum verified: " : "optimum NOT verified: ")
-         << probes << " probes in " << result.probe_rounds << " round(s) at ±{0.01, 0.3, 1, 3, 10} "
-         << "standard deviations along every parameter, principal axis and the last step";
-    if (result.optimum_verified) {
-      note << " found no lower cost";
+  const double entry_cost = best_cost;
+  // Restarts the final stage from `point` (cost `point_cost`) and keeps the
+  // solver's end if it is no worse, else the point itself.
+  auto restart_from = [&](const std::vector<double>& point, double point_cost) {
+    const std::vector<double> from = best;
+    std::copy(point.begin(), point.end(), p.theta.begin());
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, stages.back().problem.get(), &summary);
+    if (summary.IsSolutionUsable() && summary.final_cost <= point_cost) {
+      best_cost = summary.final_cost;
+      best_summary = summary;
     } else {
-      note << " still found a lower cost after " << job.solver.probe_rounds << " round(s)";
+      std::copy(point.begin(), point.end(), p.theta.begin());
+      best_cost = point_cost;
     }
-    if (result.probe_decrease > 0.0) {
-      note << "; probing lowered the cost by " << result.probe_decrease;
+    best = p.theta;
+    for (int k = 0; k < theta_size; ++k) best_step[k] = best[k] - from[k];
+  };
+  // Runs the probe rounds from the current best point (see above); fills
+  // result.optimum_*.
+  auto check_optimum = [&]() {
+    if (std::isfinite(best_cost) && job.solver.probe_rounds > 0) {
+      ceres::Problem& last = *stages.back().problem;
+      for (int round = 0;; ++round) {
+        std::vector<double> lowest;
+        double lowest_cost = best_cost;
+        ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.theta,
+                   &lowest, &lowest_cost, &probes);
+        ++result.probe_rounds;
+        if (!(lowest_cost < best_cost - 1e-9 * std::abs(best_cost))) {
+          result.optimum_verified = true;
+          break;
+        }
+        if (round + 1 >= job.solver.probe_rounds) {
+          std::copy(lowest.begin(), lowest.end(), p.theta.begin());
+          best_cost = lowest_cost;
+          break;
+        }
+        restart_from(lowest, lowest_cost);
+        if (job.solver.progress && progress != nullptr) {
+          *progress << "optimum check round " << round + 1 << ": probe found a "
+                    << "lower cost, solver restarted: cost " << best_cost << "\n";
+        }
+      }
+      result.probe_decrease = entry_cost - best_cost;
+      std::ostringstream note;
+      note << (result.optimum_verified ? "optimum verified: " : "optimum NOT verified: ")
+           << probes << " probes in " << result.probe_rounds << " round(s) at ±{0.01, 0.3, 1, 3, 10} "
+           << "standard deviations along every parameter, principal axis and the last step";
+      if (result.optimum_verified) {
+        note << " found no lower cost";
+      } else {
+        note << " still found a lower cost after " << job.solver.probe_rounds << " round(s)";
+      }
+      if (result.probe_decrease > 0.0) {
+        note << "; probing lowered the cost by " << result.probe_decrease;
+      }
+      result.optimum_check = note.str();
+    } else {
+      result.optimum_check = std::isfinite(best_cost) ? "optimum not checked (solver.probe_rounds: 0)"
+                                                     : "optimum not checked (no start converged)";
     }
-    result.optimum_check = note.str();
-  } else {
-    result.optimum_check = std::isfinite(best_cost) ? "optimum not checked (solver.probe_rounds: 0)"
-                                                   : "optimum not checked (no start converged)";
+  };
+  check_optimum();
+  // Covariance of θ (Gauss–Newton, DENSE_SVD) and, for the likelihood-ratio
+  // method, the scan of the cost along the profile directions; a scan that
+  // meets a lower cost restarts the solver there and checks the optimum again.
+  const int dof = std::max(1, num_residuals - theta_size);
+  const double t975 = StudentTQuantile975(dof);
+  const bool ratio_method =
+      job.uncertainty.method == UncertaintySettings::Method::kLikelihoodRatio;
+  static const std::vector<double> kRatioSteps = {0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16};
+  constexpr int kRatioPasses = 3;
+  Eigen::MatrixXd cov_theta;
+  RatioScan scan;
+  int ratio_restarts = 0;
+  for (;;) {
+    result.residual_variance = 2.0 * best_cost / dof;
+    cov_theta = std::isfinite(best_cost)
+                    ? CovarianceOfTheta(&full_problem, theta, theta_size, job.solver.threads)
+                    : Eigen::MatrixXd::Constant(theta_size, theta_size,
+                                                std::numeric_limits<double>::quiet_NaN());
+    if (!ratio_method || !std::isfinite(best_cost)) break;
+    scan = LikelihoodRatioIntervals(&full_problem, p.lower, p.upper,
+                                    cov_theta * result.residual_variance, n_free, t975,
+                                    result.residual_variance, kRatioSteps, &p.theta);
+    if (scan.lowest_cost < best_cost - 1e-9 * std::abs(best_cost) &&
+        job.solver.probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses) {
+      ++ratio_restarts;
+      restart_from(scan.lowest_point, scan.lowest_cost);
+      if (job.solver.progress && progress != nullptr) {
+        *progress << "likelihood-ratio scan found a lower cost, solver restarted: cost "
+                  << best_cost << "\n";
+      }
+      result.optimum_verified = false;
+      check_optimum();
+      continue;
+    }
+    break;
   }
   result.final_cost = best_cost;
   result.converged = best_summary.termination_type == ceres::CONVERGENCE;
@@ -507,48 +569,23 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.simulations = p.counter.simulations;
   result.jacobian_evaluations = p.counter.jacobians;
 
-  // Covariance of θ (DENSE_SVD), scaled by the residual variance.
-  const int dof = std::max(1, num_residuals - theta_size);
-  result.residual_variance = 2.0 * best_cost / dof;
-  Eigen::MatrixXd cov_theta = Eigen::MatrixXd::Constant(
-      theta_size, theta_size, std::numeric_limits<double>::quiet_NaN());
-  {
-    ceres::Covariance::Options co;
-    co.algorithm_type = ceres::DENSE_SVD;
-    co.num_threads = job.solver.threads;
-    co.null_space_rank = 0;
-    co.min_reciprocal_condition_number = 1e-14;
-    ceres::Covariance covariance(co);
-    const std::vector<const double*> blocks = {theta};
-    std::vector<std::pair<const double*, const double*>> pairs = {{theta, theta}};
-    bool ok = std::isfinite(best_cost) && covariance.Compute(pairs, &full_problem);
-    if (!ok && std::isfinite(best_cost)) {
-      // Rank deficient: the pseudo-inverse, with the null space dropped.
-      co.null_space_rank = -1;
-      ceres::Covariance pseudo(co);
-      if (pseudo.Compute(pairs, &full_problem)) {
-        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(
-            theta_size, theta_size);
-        pseudo.GetCovarianceBlock(theta, theta, c.data());
-        cov_theta = c;
-      }
-    } else if (ok) {
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(
-          theta_size, theta_size);
-      covariance.GetCovarianceBlock(theta, theta, c.data());
-      cov_theta = c;
-    }
-  }
   // To physical units: value_k = g(θ_k), so Cov = D·Cov_θ·D·s².
-  Eigen::MatrixXd cov = cov_theta.topLeftCorner(n_free, n_free);
-  for (int i = 0; i < n_free; ++i) {
-    for (int j = 0; j < n_free; ++j) {
-      cov(i, j) *= p.map->Derivative(i, p.theta[i]) *
+  auto to_physical = [&](const Eigen::MatrixXd& c_theta) {
+    Eigen::MatrixXd c = c_theta.topLeftCorner(n_free, n_free);
+    for (int i = 0; i < n_free; ++i) {
+      for (int j = 0; j < n_free; ++j) {
+        c(i, j) *= p.map->Derivative(i, p.theta[i]) *
                    p.map->Derivative(j, p.theta[j]) * result.residual_variance;
+      }
     }
-  }
+    return c;
+  };
+  const Eigen::MatrixXd cov_gauss_newton = to_physical(cov_theta);
+  result.uncertainty_method = "gauss_newton";
+  result.uncertainty_note = "covariance (JᵀJ)⁻¹ at the estimate (Gauss–Newton), "
+                            "scaled by the residual variance";
+  Eigen::MatrixXd cov = to_physical(cov_theta);
   result.correlation = Eigen::MatrixXd::Identity(n_free, n_free);
-  const double t975 = StudentTQuantile975(dof);
   std::vector<bool> determined(n_free, true);
   if (std::isfinite(best_cost)) {
     const std::vector<bool> null = NullSpaceMembers(&full_problem, n_free);
@@ -565,6 +602,40 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       }
     }
   }
+  // Likelihood-ratio intervals (fit/uncertainty.h): the cost itself along
+  // the profile directions, which JᵀJ describes only near a smooth minimum.
+  const std::vector<RatioInterval>& ratio = scan.intervals;
+  if (ratio_method && std::isfinite(best_cost)) {
+    std::ostringstream note;
+    if (ratio.empty()) {
+      note << "likelihood_ratio failed (the covariance is not finite or the cost "
+           << "cannot be evaluated); " << result.uncertainty_note;
+    } else {
+      result.uncertainty_method = "likelihood_ratio";
+      note << "likelihood-ratio intervals: the cost probed along each parameter's "
+           << "profile direction at ±{0.5 … 16} Gauss–Newton standard deviations ("
+           << scan.evaluations << " evaluations); each end where the cost has risen by "
+           << "½t²s²; std error = half-width / t";
+      if (ratio_restarts > 0) {
+        note << "; the scan met a lower cost and restarted the solver " << ratio_restarts
+             << " time(s)";
+      }
+      std::vector<std::string> open;
+      for (int k = 0; k < n_free; ++k) {
+        if (!ratio[k].bounded_low) open.push_back(job.free[k].name + " (low)");
+        if (!ratio[k].bounded_high) open.push_back(job.free[k].name + " (high)");
+      }
+      for (size_t i = 0; i < open.size(); ++i) {
+        note << (i == 0 ? "; not bounded within 16 standard deviations: " : ", ")
+             << open[i];
+      }
+      if (scan.lowest_cost < best_cost - 1e-9 * std::abs(best_cost)) {
+        result.optimum_verified = false;
+        note << "; the last scan still met a cost lower by " << best_cost - scan.lowest_cost;
+      }
+    }
+    result.uncertainty_note = note.str();
+  }
   AxisParams<double> fitted = p.map->Apply(p.theta.data());
   for (int k = 0; k < n_free; ++k) {
     ParameterEstimate e;
@@ -574,8 +645,16 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     e.initial = job.free[k].initial;
     e.free = true;
     e.std_error = std::sqrt(cov(k, k));
+    e.std_error_gauss_newton = std::sqrt(cov_gauss_newton(k, k));
+    e.std_error_bootstrap = e.bootstrap_low = e.bootstrap_high =
+        std::numeric_limits<double>::quiet_NaN();
     e.ci95_low = e.value - t975 * e.std_error;
     e.ci95_high = e.value + t975 * e.std_error;
+    if (!ratio.empty()) {
+      e.ci95_low = p.map->FromInternal(k, ratio[k].low);
+      e.ci95_high = p.map->FromInternal(k, ratio[k].high);
+      e.std_error = (e.ci95_high - e.ci95_low) / (2.0 * t975);
+    }
     e.determined = determined[k] && std::isfinite(e.std_error);
     if (!e.determined) result.undetermined.push_back(e.name);
     result.free_names.push_back(e.name);
@@ -594,8 +673,9 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     e.value = *FindParam(&fitted, info.name);
     e.initial = e.value;
     e.free = false;
-    e.std_error = e.ci95_low = e.ci95_high =
-        std::numeric_limits<double>::quiet_NaN();
+    e.std_error = e.ci95_low = e.ci95_high = e.std_error_gauss_newton =
+        e.std_error_bootstrap = e.bootstrap_low = e.bootstrap_high =
+            std::numeric_limits<double>::quiet_NaN();
     result.parameters.push_back(e);
   }
 
@@ -662,11 +742,14 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
     discovery = Discover(settings, &job, &result, &out);
     out << "\n" << FormatDiscovery(discovery) << "\nAfter discovery:";
   }
+  ResidualBootstrap(job, &result, &out);
   out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
   out << "cost " << result.initial_cost << " -> " << result.final_cost
       << (result.converged ? " (converged)" : " (NOT converged)") << ", "
       << result.simulations << " simulations, " << result.jacobian_evaluations
       << " Jacobian evaluations\n";  out << result.optimum_check << "\n";
+  out << "uncertainty: " << result.uncertainty_note << "\n";
+  if (job.uncertainty.bootstrap > 0) out << FormatBootstrap(result);
   std::vector<std::string> warnings;
   ReportSections extra;
   if (job.published.present) {

@@ -19,9 +19,19 @@ struct ParameterEstimate {
   double initial = 0.0;
   bool free = false;
   // Free parameters only (NaN for fixed): standard error from the
-  // covariance scaled by the residual variance, and the 95 % interval
-  // value ± t_{0.975, m−n}·std_error (m residuals, n free parameters).
+  // covariance of FitResult::uncertainty_method scaled by the residual
+  // variance, and the 95 % interval value ± t_{0.975, m−n}·std_error
+  // (m residuals, n free parameters).
   double std_error = 0.0;
+  // The Gauss–Newton standard error ((JᵀJ)⁻¹ at the estimate), reported
+  // beside std_error whatever the method.
+  double std_error_gauss_newton = 0.0;
+  // Residual bootstrap (fit/uncertainty.h): standard deviation of the
+  // refits and their 2.5 / 97.5 % percentiles; NaN unless
+  // uncertainty.bootstrap > 0.
+  double std_error_bootstrap = 0.0;
+  double bootstrap_low = 0.0;
+  double bootstrap_high = 0.0;
   double ci95_low = 0.0;
   double ci95_high = 0.0;
   // False if the data cannot determine it: the Jacobian is rank deficient
@@ -82,6 +92,11 @@ struct FitResult {
   std::string optimum_check;     // "optimum verified: …" or why not
   int probe_rounds = 0;          // probe rounds run
   double probe_decrease = 0.0;   // cost decrease found by probing + restarts
+  // Uncertainty (fit/uncertainty.h): "cost_curvature" or "gauss_newton" (the
+  // method behind std_error), and what it did, in words.
+  std::string uncertainty_method;
+  std::string uncertainty_note;
+  int bootstrap_replicates = 0;  // refits that converged (0: no bootstrap)
 };
 
 }  // namespace axis

@@ -492,6 +492,18 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
     map.Finish();
   }
+  if (const YAML::Node node = root.Optional("uncertainty")) {
+    YamlMap map(node, path, "uncertainty.");
+    UncertaintySettings& u = job.uncertainty;
+    u.method = map.Choice("method", {"likelihood_ratio", "gauss_newton"},
+                          "likelihood_ratio") == "gauss_newton"
+                   ? UncertaintySettings::Method::kGaussNewton
+                   : UncertaintySettings::Method::kLikelihoodRatio;
+    u.bootstrap = static_cast<int>(map.Integer("bootstrap", u.bootstrap, 0, 10000));
+    u.block = static_cast<int>(map.Integer("block", u.block, 1, 1000000));
+    u.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
+    map.Finish();
+  }
   if (const YAML::Node node = root.Optional("discover")) {
     job.discover.enabled = true;
     if (!node.IsNull()) {

@@ -74,6 +74,23 @@ struct SolverSettings {
   bool progress = true;         // print one line per iteration
 };
 
+// How the estimate's uncertainty is computed (job key `uncertainty:`;
+// fit/uncertainty.h). The report names the method.
+struct UncertaintySettings {
+  enum class Method {
+    kGaussNewton,      // ±t·σ from (JᵀJ)⁻¹ at the estimate
+    kLikelihoodRatio,  // where the cost rises by ½t²s² along the profile
+                       // directions (fit/uncertainty.h)
+  };
+  Method method = Method::kLikelihoodRatio;
+  // Residual bootstrap cross-check (fit/uncertainty.h): refits of the
+  // fitted trace plus the residuals resampled in blocks of `block` samples
+  // (0 = off).
+  int bootstrap = 0;
+  int block = 50;        // samples per bootstrap block (1 = i.i.d. resampling)
+  std::uint64_t seed = 1;
+};
+
 struct FitJob {
   std::string path;
   std::string title;
@@ -82,6 +99,7 @@ struct FitJob {
   std::vector<FitExperiment> validate;     // role "validate"
   std::vector<FreeParameter> free;
   SolverSettings solver;
+  UncertaintySettings uncertainty;
   DiscoverySettings discover;  // `discover:` key (enabled if present)
   PublishedReference published;  // `published:` key (fit/published.h)
   std::string out_dir;  // from output.dir (relative to the job file) or --out

@@ -419,6 +419,20 @@ std::atomic<unsigned> plot_counter{0};
 
 }  // namespace
 
+std::string FormatBootstrap(const FitResult& result) {
+  if (result.bootstrap_replicates <= 0) return "";
+  std::string out = "residual bootstrap, " + std::to_string(result.bootstrap_replicates) +
+                    " refits from the estimate (std errors: reported (" +
+                    result.uncertainty_method + "), Gauss–Newton, bootstrap; bootstrap 95 %):\n";
+  for (const ParameterEstimate& p : result.parameters) {
+    if (!p.free) continue;
+    out += "  " + p.name + ": " + Num(p.std_error) + ", " + Num(p.std_error_gauss_newton) +
+           ", " + Num(p.std_error_bootstrap) + "; [" + Num(p.bootstrap_low) + ", " +
+           Num(p.bootstrap_high) + "] " + p.unit + "\n";
+  }
+  return out;
+}
+
 std::string FormatParameterTable(const FitResult& result) {
   return RenderText(ParameterTable(result));
 }
@@ -548,9 +562,15 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
   out += "- termination: " +
          (result.termination.empty() ? std::string("-")
                                      : OneLine(result.termination)) +
-         "\n";  out += "- " + (result.optimum_check.empty() ? std::string("optimum not checked")
-                                               : result.optimum_check) +
          "\n";
+  out += "- " + (result.optimum_check.empty() ? std::string("optimum not checked")
+                                             : result.optimum_check) +
+         "\n";
+  out += "- uncertainty (" +
+         (result.uncertainty_method.empty() ? std::string("-") : result.uncertainty_method) +
+         "): " + result.uncertainty_note + "\n";
+  const std::string bootstrap = FormatBootstrap(result);
+  if (!bootstrap.empty()) out += "- " + bootstrap;
   out += extra.markdown;
   WriteFileAtomic(path, out);
 }
@@ -568,6 +588,13 @@ void WriteReportJson(const std::string& path, const FitResult& result,
     e["std_error"] = p.free ? JsonNumber<Json>(p.std_error) : Json(nullptr);
     e["ci95_low"] = p.free ? JsonNumber<Json>(p.ci95_low) : Json(nullptr);
     e["ci95_high"] = p.free ? JsonNumber<Json>(p.ci95_high) : Json(nullptr);
+    e["std_error_gauss_newton"] =
+        p.free ? JsonNumber<Json>(p.std_error_gauss_newton) : Json(nullptr);
+    if (p.free && result.bootstrap_replicates > 0) {
+      e["bootstrap"] = {{"std_error", JsonNumber<Json>(p.std_error_bootstrap)},
+                        {"low", JsonNumber<Json>(p.bootstrap_low)},
+                        {"high", JsonNumber<Json>(p.bootstrap_high)}};
+    }
     e["initial"] = JsonNumber<Json>(p.initial);
     e["free"] = p.free;
     e["determined"] = p.determined;
@@ -620,6 +647,9 @@ void WriteReportJson(const std::string& path, const FitResult& result,
   j["simulations"] = result.simulations;
   j["jacobian_evaluations"] = result.jacobian_evaluations;
   j["termination"] = result.termination;
+  j["uncertainty"] = {{"method", result.uncertainty_method},
+                      {"note", result.uncertainty_note},
+                      {"bootstrap_replicates", result.bootstrap_replicates}};
   j["optimum"] = {{"verified", result.optimum_verified},
                   {"check", result.optimum_check},
                   {"probe_rounds", result.probe_rounds},

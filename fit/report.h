@@ -41,6 +41,12 @@ struct ReportSections {
 // with determined == false has "(not determined by the data)" after its
 // free/fixed. Numbers with 6 significant digits; NaN prints as "nan". Ends
 // with a newline. Never throws (except std::bad_alloc).
+// The residual bootstrap's cross-check (fit/uncertainty.h), one line per
+// free parameter: the reported std error (FitResult::uncertainty_method),
+// the Gauss–Newton one, the bootstrap's and its 95 % percentile interval;
+// empty if no bootstrap ran.
+std::string FormatBootstrap(const FitResult& result);
+
 std::string FormatParameterTable(const FitResult& result);
 
 // A fixed-width text table of the goodness of fit, one row per experiment and

@@ -1,0 +1,196 @@
+#include "fit/uncertainty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+
+#include "fit/fit.h"
+
+namespace axis {
+
+double CostAt(ceres::Problem* problem, const std::vector<double>& point,
+              std::vector<double>* theta) {
+  std::copy(point.begin(), point.end(), theta->begin());
+  double cost = 0.0;
+  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr,
+                         nullptr, nullptr) ||
+      !std::isfinite(cost)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return cost;
+}
+
+RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
+                                   const std::vector<double>& lower,
+                                   const std::vector<double>& upper,
+                                   const Eigen::MatrixXd& cov_theta, int n_free,
+                                   double t975, double residual_variance,
+                                   const std::vector<double>& steps,
+                                   std::vector<double>* theta) {
+  const int n = static_cast<int>(theta->size());
+  const std::vector<double> centre = *theta;
+  RatioScan scan;
+  scan.lowest_point = centre;
+  scan.lowest_cost = std::numeric_limits<double>::infinity();
+  if (cov_theta.rows() != n || cov_theta.cols() != n || !cov_theta.allFinite() ||
+      steps.empty()) {
+    return scan;
+  }
+  const double c0 = CostAt(problem, centre, theta);
+  ++scan.evaluations;
+  scan.lowest_cost = c0;
+  if (!std::isfinite(c0)) {
+    *theta = centre;
+    return scan;
+  }
+  std::vector<RatioInterval>& out = scan.intervals;
+  const double threshold = 0.5 * t975 * t975 * residual_variance;
+  for (int k = 0; k < n_free; ++k) {
+    RatioInterval interval;
+    const double sd = std::sqrt(cov_theta(k, k));
+    if (!(sd > 0.0)) {
+      interval.low = interval.high = centre[k];
+      out.push_back(interval);
+      continue;
+    }
+    const Eigen::VectorXd d = cov_theta.col(k) / sd;
+    for (double sign : {-1.0, 1.0}) {
+      // Rise of the cost above c0 at each step (+∞ where it fails).
+      double end = 0.0, previous_step = 0.0, previous_rise = 0.0;
+      bool bounded = false;
+      for (double s : steps) {
+        std::vector<double> point = centre;
+        for (int i = 0; i < n; ++i) {
+          point[i] = std::clamp(centre[i] + sign * s * d[i], lower[i], upper[i]);
+        }
+        const double c = CostAt(problem, point, theta);
+        ++scan.evaluations;
+        if (c < scan.lowest_cost) {
+          scan.lowest_cost = c;
+          scan.lowest_point = point;
+        }
+        const double rise = c - c0;
+        if (rise <= threshold) {
+          end = s;
+          bounded = false;
+        } else if (!bounded) {
+          // First step above the threshold after one below it (or after
+          // the centre): the end lies between them.
+          end = std::isfinite(rise)
+                    ? previous_step + (s - previous_step) *
+                                          (threshold - previous_rise) /
+                                          (rise - previous_rise)
+                    : previous_step;
+          bounded = true;
+        }
+        previous_step = s;
+        previous_rise = std::isfinite(rise) ? std::min(rise, threshold) : threshold;
+      }
+      // The furthest crossing counts: a step below the threshold beyond a
+      // bump reopens the side (bounded = false above) and moves the end.
+      const double value = centre[k] + sign * end * sd;
+      if (sign < 0) {
+        interval.low = std::max(value, lower[k]);
+        interval.bounded_low = bounded;
+      } else {
+        interval.high = std::min(value, upper[k]);
+        interval.bounded_high = bounded;
+      }
+    }
+    out.push_back(interval);
+  }
+  *theta = centre;
+  return scan;
+}
+
+void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress) {
+  const int replicates = job.uncertainty.bootstrap;
+  if (replicates <= 0) return;
+  if (fit->experiments.size() < job.experiments.size()) {
+    throw std::invalid_argument("ResidualBootstrap: expected a fit of the job's " +
+                                std::to_string(job.experiments.size()) +
+                                " experiment(s), got " +
+                                std::to_string(fit->experiments.size()));
+  }
+  const int n_free = static_cast<int>(job.free.size());
+  FitJob base = job;
+  for (int k = 0; k < n_free; ++k) {
+    base.free[k].initial = std::clamp(fit->parameters[k].value, base.free[k].lower,
+                                      base.free[k].upper);
+  }
+  base.solver.starts = 0;
+  base.solver.probe_rounds = 0;
+  base.solver.first_horizon = 0.0;
+  base.solver.progress = false;
+  base.uncertainty.method = UncertaintySettings::Method::kGaussNewton;
+  base.uncertainty.bootstrap = 0;
+  base.validate.clear();
+  std::mt19937_64 rng(job.uncertainty.seed);
+  std::vector<std::vector<double>> values(n_free);
+  int converged = 0;
+  for (int b = 0; b < replicates; ++b) {
+    FitJob replicate = base;
+    for (size_t j = 0; j < job.experiments.size(); ++j) {
+      FitExperiment& e = replicate.experiments[j];
+      const ExperimentFit& f = fit->experiments[j];
+      if (f.channels.size() != e.measured_channels.size()) {
+        throw std::invalid_argument("ResidualBootstrap: expected " +
+                                    std::to_string(e.measured_channels.size()) +
+                                    " channels in experiment '" + e.name + "', got " +
+                                    std::to_string(f.channels.size()));
+      }
+      for (size_t i = 0; i < e.measured_channels.size(); ++i) {
+        const ChannelFit& c = f.channels[i];
+        if (!c.fitted) continue;
+        const size_t n = c.measured.size();
+        const size_t block = std::min<size_t>(job.uncertainty.block, n);
+        std::uniform_int_distribution<size_t> start(0, n - block);
+        std::vector<double>& y = e.measured[i];
+        for (size_t k = 0; k < n;) {
+          const size_t s0 = start(rng);
+          for (size_t m = 0; m < block && k < n; ++m, ++k) {
+            y[k] = c.simulated[k] + (c.measured[s0 + m] - c.simulated[s0 + m]);
+          }
+        }
+      }
+    }
+    const FitResult r = FitParameters(replicate, nullptr);
+    const bool ok = std::isfinite(r.final_cost);
+    if (ok) {
+      ++converged;
+      for (int k = 0; k < n_free; ++k) values[k].push_back(r.parameters[k].value);
+    }
+    if (progress != nullptr && job.solver.progress) {
+      *progress << "bootstrap refit " << b + 1 << "/" << replicates << ": cost "
+                << r.final_cost << (ok ? "" : " (failed, dropped)") << "\n";
+    }
+  }
+  fit->bootstrap_replicates = converged;
+  for (int k = 0; k < n_free; ++k) {
+    std::vector<double>& v = values[k];
+    ParameterEstimate& p = fit->parameters[k];
+    if (v.size() < 2) continue;
+    double mean = 0.0;
+    for (double x : v) mean += x / static_cast<double>(v.size());
+    double var = 0.0;
+    for (double x : v) var += (x - mean) * (x - mean) / static_cast<double>(v.size() - 1);
+    p.std_error_bootstrap = std::sqrt(var);
+    std::sort(v.begin(), v.end());
+    // Percentiles by linear interpolation between order statistics.
+    auto percentile = [&](double q) {
+      const double pos = q * static_cast<double>(v.size() - 1);
+      const size_t i = static_cast<size_t>(pos);
+      const double f = pos - static_cast<double>(i);
+      return i + 1 < v.size() ? v[i] + f * (v[i + 1] - v[i]) : v[i];
+    };
+    p.bootstrap_low = percentile(0.025);
+    p.bootstrap_high = percentile(0.975);
+  }
+}
+
+}  // namespace axis

@@ -1,0 +1,99 @@
+// Uncertainty of a fit's estimate beyond the Gauss–Newton covariance
+// (issue 9): the curvature of the cost measured at the scale of the
+// confidence interval, and the residual bootstrap that cross-checks it.
+//
+// Why: the cost of the model as specified (MODEL.md §3) is piecewise smooth.
+// Near a grazing backlash contact (the gear only just reaches the edge of
+// the backlash) the event time is hypersensitive to the parameters — the
+// saltation term divides by the guard's rate, which goes to zero — so JᵀJ at
+// the estimate describes the cost only within a tiny neighbourhood and can
+// overstate the information by orders of magnitude. Measured on the PRBS
+// campaign (scripts/optimum-campaign): T_p estimates 3–8 Gauss–Newton
+// standard errors from the truth while their cost lay within 1 of the
+// truth's.
+#ifndef FIT_UNCERTAINTY_H_
+#define FIT_UNCERTAINTY_H_
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <ceres/problem.h>
+
+#include "fit/fit_result.h"
+#include "fit/job.h"
+
+namespace axis {
+
+// The cost ½Σr² of `problem` at `point` (internal coordinates, written into
+// its single parameter block `theta`, whose size equals point.size()), or +∞
+// where the simulation fails or the cost is not finite.
+double CostAt(ceres::Problem* problem, const std::vector<double>& point,
+              std::vector<double>* theta);
+
+// A likelihood-ratio interval of one parameter, in internal coordinates
+// (fit/experiment_cost.h ParameterMap: log(value) for positive parameters).
+struct RatioInterval {
+  double low = 0.0, high = 0.0;  // θ_k at the interval's ends
+  bool bounded_low = true;       // the cost rose past the threshold within
+  bool bounded_high = true;      // the largest step on that side
+};
+
+// What LikelihoodRatioIntervals found.
+struct RatioScan {
+  std::vector<RatioInterval> intervals;  // one per free parameter; empty on failure
+  int evaluations = 0;                   // cost evaluations
+  double lowest_cost = 0.0;              // lowest cost probed (the estimate's
+  std::vector<double> lowest_point;      // if nothing is lower) and where
+};
+
+// Likelihood-ratio 95 % intervals along the profile directions, measured on
+// the cost itself. For free parameter k the direction is d_k = C·e_k/√C_kk,
+// C the Gauss–Newton covariance of θ (`cov_theta`, n×n, n = theta->size(),
+// already scaled by the residual variance s²): moving θ_k by one standard
+// deviation while the others follow their regression on θ_k, the path along
+// which a quadratic cost's profile is traced. The cost is evaluated at
+// θ* ± s·d_k for s in `steps` (standard deviations, increasing), and each
+// end of the interval is the furthest s at which cost − cost(θ*) is still
+// ≤ ½·t²·s² (t = `t975`), interpolated linearly to the next step above the
+// threshold; if none is above, the end is the largest step and the side is
+// marked unbounded. On a quadratic cost the ends are θ*_k ± t·√C_kk, the
+// Gauss–Newton interval; where the cost is piecewise smooth with kinks
+// (MODEL.md §3, grazing backlash contacts) they follow the cost, which can
+// be several times flatter on one side than JᵀJ says. Points are clipped to
+// [lower, upper]. Returns one interval per parameter 0..n_free−1 (none if
+// cov_theta is not finite or the cost cannot be evaluated at θ*) and the
+// lowest cost met — a lower point than θ* means θ* is not the optimum, and
+// the caller should restart the solver there. Leaves *theta at its entry
+// value. Source: Bates & Watts, "Nonlinear Regression
+// Analysis and Its Applications" (1988), ch. 6 (likelihood and profile
+// intervals); Venzon & Moolgavkar (1988).
+RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
+                                   const std::vector<double>& lower,
+                                   const std::vector<double>& upper,
+                                   const Eigen::MatrixXd& cov_theta, int n_free,
+                                   double t975, double residual_variance,
+                                   const std::vector<double>& steps,
+                                   std::vector<double>* theta);
+
+// Residual bootstrap (Efron & Tibshirani, "An Introduction to the
+// Bootstrap", 1993, §9.5; moving blocks, Künsch 1989): `settings.bootstrap`
+// replicate data sets, each the fitted trace of `fit` plus its residuals
+// (measured − simulated, per fitted channel of every fitted experiment)
+// resampled in blocks of `settings.block` consecutive samples (random
+// starts, seeded by settings.seed; blocks keep the residuals' correlation
+// over shorter lags). Each replicate is refitted from the estimate (one
+// start, whole record at once, no optimum check, Gauss–Newton covariance).
+// Writes into fit->parameters (free ones) the replicates' standard deviation
+// (std_error_bootstrap) and their 2.5 / 97.5 % percentiles (bootstrap_low /
+// bootstrap_high), and the number of converged refits into
+// fit->bootstrap_replicates. `fit` must come from FitParameters(job);
+// throws std::invalid_argument if it does not match the job's experiments
+// and channels. Refits start where the estimate is, so on a cost with local
+// minima (fit/fit.h, optimum check) they measure the local spread.
+void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress);
+
+}  // namespace axis
+
+#endif  // FIT_UNCERTAINTY_H_

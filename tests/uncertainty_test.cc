@@ -1,0 +1,200 @@
+// Uncertainty beyond Gauss–Newton (fit/uncertainty.h): likelihood-ratio
+// intervals against closed forms on a quadratic and on a kinked cost, the
+// scan reporting a lower point, the residual bootstrap against the
+// Gauss–Newton errors on the paper job, and the job key's strict loader.
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include "fit/fit.h"
+#include "fit/job.h"
+#include "fit/statistics.h"
+#include "fit/uncertainty.h"
+
+namespace axis {
+namespace {
+
+const std::string kRoot = PROJECT_SOURCE_DIR;
+const std::vector<double> kSteps = {0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16};
+
+// r = A·θ − b, two parameters, three residuals: a quadratic cost.
+struct Linear {
+  template <typename T>
+  bool operator()(const T* theta, T* r) const {
+    r[0] = T(2.0) * theta[0] + T(1.0) * theta[1] - T(1.0);
+    r[1] = T(0.5) * theta[0] - T(3.0) * theta[1] + T(2.0);
+    r[2] = T(1.0) * theta[0] + T(1.0) * theta[1];
+    return true;
+  }
+};
+
+// One residual with a kink at x = 0: slope 1 above, 1/4 below; and from
+// x = 6 on it falls again, reaching 0 at x = 12 — a second valley; the
+// second residual tilts it so that x = 12 is lower than x = 0.
+struct Kinked {
+  template <typename T>
+  bool operator()(const T* x, T* r) const {
+    if (x[0] >= T(6.0)) {
+      r[0] = T(12.0) - x[0];
+    } else if (x[0] >= T(0.0)) {
+      r[0] = x[0];
+    } else {
+      r[0] = T(0.25) * x[0];
+    }
+    r[1] = T(0.01) * (T(1.0) - x[0] / T(12.0));
+    return true;
+  }
+};
+
+// On a quadratic cost the likelihood-ratio ends are θ* ± t·√C_kk, the
+// Gauss–Newton interval; the scan interpolates linearly between steps 1.5
+// and 2 of the parabola ½s², which puts the end at 1.954 instead of t
+// (≤ 0.01 standard deviations off).
+TEST(LikelihoodRatioTest, QuadraticCostGivesTheGaussNewtonInterval) {
+  std::vector<double> theta = {0.0, 0.0};
+  ceres::Problem problem;
+  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Linear, 3, 2>(new Linear),
+                           nullptr, theta.data());
+  ceres::Solver::Options options;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  Eigen::Matrix<double, 3, 2> a;
+  a << 2.0, 1.0, 0.5, -3.0, 1.0, 1.0;
+  const Eigen::MatrixXd cov = (a.transpose() * a).inverse();
+  const double t = StudentTQuantile975(1000);
+  const std::vector<double> lower = {-100, -100}, upper = {100, 100};
+  const std::vector<double> centre = theta;
+  const RatioScan scan = LikelihoodRatioIntervals(&problem, lower, upper, cov, 2, t,
+                                                  1.0, kSteps, &theta);
+  ASSERT_EQ(scan.intervals.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    const double sd = std::sqrt(cov(k, k));
+    EXPECT_NEAR(scan.intervals[k].low, centre[k] - t * sd, 0.01 * sd) << k;
+    EXPECT_NEAR(scan.intervals[k].high, centre[k] + t * sd, 0.01 * sd) << k;
+    EXPECT_TRUE(scan.intervals[k].bounded_low);
+    EXPECT_TRUE(scan.intervals[k].bounded_high);
+  }
+  EXPECT_EQ(theta, centre);  // left where it was
+  EXPECT_GE(scan.lowest_cost, summary.final_cost - 1e-12);
+}
+
+// At the kink x* = 0 the Jacobian is the upper slope (σ = 1), but the cost
+// below is 16 times flatter: the low end is where ½(x/4)² = ½t², x = −4t
+// (to the linear interpolation between steps 6 and 8: 0.03 standard
+// deviations), the high end t. The second valley at x = 12 is reported as
+// a lower point.
+TEST(LikelihoodRatioTest, KinkedCostFollowsTheFlatSideAndReportsTheLowerValley) {
+  std::vector<double> x = {0.0};
+  ceres::Problem problem;
+  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Kinked, 2, 1>(new Kinked),
+                           nullptr, x.data());
+  const double t = 1.96;
+  Eigen::MatrixXd cov(1, 1);
+  cov(0, 0) = 1.0;
+  const RatioScan scan = LikelihoodRatioIntervals(&problem, {-100}, {100}, cov, 1, t,
+                                                  1.0, kSteps, &x);
+  ASSERT_EQ(scan.intervals.size(), 1u);
+  EXPECT_NEAR(scan.intervals[0].low, -4.0 * t, 0.05);
+  // Above: the first crossing is at t, but beyond the bump the cost falls
+  // back below the threshold at x = 12 (and rises again by 16), so the
+  // furthest crossing is past 12.
+  EXPECT_GT(scan.intervals[0].high, 12.0);
+  EXPECT_LT(scan.intervals[0].high, 16.0);
+  EXPECT_NEAR(scan.lowest_point[0], 12.0, 1e-12);
+  EXPECT_LT(scan.lowest_cost, 0.5 * 0.01 * 0.01);
+}
+
+// A not-finite covariance gives no intervals (the fit then reports
+// Gauss–Newton).
+TEST(LikelihoodRatioTest, NotFiniteCovarianceGivesNothing) {
+  std::vector<double> x = {0.0};
+  ceres::Problem problem;
+  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Kinked, 2, 1>(new Kinked),
+                           nullptr, x.data());
+  Eigen::MatrixXd cov(1, 1);
+  cov(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(LikelihoodRatioIntervals(&problem, {-100}, {100}, cov, 1, 1.96, 1.0,
+                                       kSteps, &x)
+                  .intervals.empty());
+}
+
+std::string PaperJobYaml(const std::string& extra) {
+  std::ostringstream y;
+  y << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
+    << "free:\n"
+    << "  V_L: {initial: 3.0, lower: 0.5, upper: 20}\n"
+    << "  B_a: {initial: 175, lower: 10, upper: 2000}\n"
+    << "  b_g: {initial: 1700, lower: 100, upper: 20000}\n"
+    << "  k_g: {initial: 4.4e6, lower: 5.0e5, upper: 5.0e7}\n"
+    << "  T_p: {initial: 0.045, lower: 0.005, upper: 1.0}\n"
+    << "experiments:\n";
+  for (const char* name : {"x_step_10V", "x_step_4V"}) {
+    y << "  - name: " << name << "\n"
+      << "    data: " << kRoot << "/testdata/" << name << ".csv\n"
+      << "    channels: {u: u, a: a, tach: tach}\n"
+      << "    input: {column: u}\n"
+      << "    fit: {a: 0.02, tach: 0.005}\n"
+      << "    window: [0, 0.3]\n";
+  }
+  y << "solver: {threads: 2}\n" << extra;
+  return y.str();
+}
+
+FitJob Job(const std::string& extra) {
+  return ParseFitJob(YAML::Load(PaperJobYaml(extra)), "job.yaml", kRoot);
+}
+
+// Residual bootstrap on the paper's step records (noisy, white residuals,
+// first 0.3 s): 8 refits. The bootstrap standard deviation estimates the
+// same spread as Gauss–Newton on this smooth record; with 8 replicates its
+// ratio to the truth lies in [0.45, 1.5] with 98 % probability (√(χ²₇/7)),
+// so each parameter's bootstrap error must be within a factor [0.4, 2] of
+// the Gauss–Newton one, and the percentile interval must contain the
+// estimate.
+TEST(BootstrapTest, PaperStepRecordsAgreeWithGaussNewton) {
+  FitJob job = Job("uncertainty: {bootstrap: 8, block: 1, seed: 3}\n");
+  job.solver.progress = false;
+  FitResult result = FitParameters(job);
+  ASSERT_TRUE(std::isfinite(result.final_cost));
+  EXPECT_EQ(result.uncertainty_method, "likelihood_ratio");
+  ResidualBootstrap(job, &result, nullptr);
+  EXPECT_EQ(result.bootstrap_replicates, 8);
+  for (const ParameterEstimate& p : result.parameters) {
+    if (!p.free) continue;
+    SCOPED_TRACE(p.name);
+    const double ratio = p.std_error_bootstrap / p.std_error_gauss_newton;
+    EXPECT_GT(ratio, 0.4);
+    EXPECT_LT(ratio, 2.0);
+    EXPECT_LE(p.bootstrap_low, p.value + 3.0 * p.std_error_gauss_newton);
+    EXPECT_GE(p.bootstrap_high, p.value - 3.0 * p.std_error_gauss_newton);
+    // On this smooth record the likelihood-ratio interval is the
+    // Gauss–Newton one to the scan's interpolation (1 %) and the cost's
+    // third-order terms.
+    EXPECT_NEAR(p.std_error / p.std_error_gauss_newton, 1.0, 0.05);
+  }
+}
+
+TEST(UncertaintyKeyTest, StrictLoader) {
+  EXPECT_EQ(Job("").uncertainty.method, UncertaintySettings::Method::kLikelihoodRatio);
+  EXPECT_EQ(Job("uncertainty: {method: gauss_newton}\n").uncertainty.method,
+            UncertaintySettings::Method::kGaussNewton);
+  for (const std::string bad :
+       {"uncertainty: {method: profile}\n", "uncertainty: {bootstrap: -1}\n",
+        "uncertainty: {block: 0}\n", "uncertainty: {replicates: 3}\n"}) {
+    try {
+      Job(bad);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("uncertainty."), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace axis
