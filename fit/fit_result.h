@@ -92,6 +92,8 @@ struct FitResult {
   std::string optimum_check;     // "optimum verified: …" or why not
   int probe_rounds = 0;          // probe rounds run
   double probe_decrease = 0.0;   // cost decrease found by probing + restarts
+  int local_starts = 0;           // local restarts run (solver.local_starts)
+  double local_decrease = 0.0;    // cost decrease they found
   // Uncertainty (fit/uncertainty.h): "cost_curvature" or "gauss_newton" (the
   // method behind std_error), and what it did, in words.
   std::string uncertainty_method;

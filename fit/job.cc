@@ -489,6 +489,7 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     s.threads = static_cast<int>(map.Integer("threads", s.threads, 1, 256));
     s.probe_rounds =
         static_cast<int>(map.Integer("probe_rounds", s.probe_rounds, 0, 1000));
+    s.local_starts = map.Number("local_starts", s.local_starts, Range::kNonNegative);
     s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
     map.Finish();
   }

@@ -71,6 +71,11 @@ struct SolverSettings {
   // around the estimate, each followed by a Levenberg–Marquardt run from the
   // lowest point found; 0 skips the check.
   int probe_rounds = 8;
+  // Local restarts after the probe rounds (fit/fit.cc): Levenberg–Marquardt
+  // from the estimate ± this many standard deviations along every principal
+  // axis of the covariance (2n runs, n = size of θ), repeated (at most 3
+  // times) while one ends lower; 0 skips them. Need probe_rounds > 0.
+  double local_starts = 3.0;
   bool progress = true;         // print one line per iteration
 };
 

@@ -653,7 +653,9 @@ void WriteReportJson(const std::string& path, const FitResult& result,
   j["optimum"] = {{"verified", result.optimum_verified},
                   {"check", result.optimum_check},
                   {"probe_rounds", result.probe_rounds},
-                  {"probe_decrease", JsonNumber<Json>(result.probe_decrease)}};
+                  {"probe_decrease", JsonNumber<Json>(result.probe_decrease)},
+                  {"local_starts", result.local_starts},
+                  {"local_decrease", JsonNumber<Json>(result.local_decrease)}};
 
   const Eigen::MatrixXd& r = result.correlation;
   Json names = Json::array();
