@@ -463,6 +463,14 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // lower (by more than 1e-9 relative) or the rounds run out.
   int probes = 0;
   const double entry_cost = best_cost;
+  // With discovery on, the declared model is the one expected to miss an
+  // effect: its fit (and the loop's refits, which skip the check) gets one
+  // probe round, no local restarts and no likelihood-ratio scan, each of
+  // which costs a few hundred simulations, and reports Gauss–Newton
+  // intervals.
+  const bool discovering = job.discover.enabled;
+  const int probe_rounds =
+      discovering ? std::min(job.solver.probe_rounds, 1) : job.solver.probe_rounds;
   // Restarts the final stage from `point` (cost `point_cost`) and keeps the
   // solver's end if it is no worse, else the point itself.
   auto restart_from = [&](const std::vector<double>& point, double point_cost) {
@@ -483,7 +491,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // Runs the probe rounds from the current best point (see above); fills
   // result.optimum_*.
   auto check_optimum = [&]() {
-    if (std::isfinite(best_cost) && job.solver.probe_rounds > 0) {
+    if (std::isfinite(best_cost) && probe_rounds > 0) {
       ceres::Problem& last = *stages.back().problem;
       for (int round = 0;; ++round) {
         std::vector<double> lowest;
@@ -495,7 +503,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
           result.optimum_verified = true;
           break;
         }
-        if (round + 1 >= job.solver.probe_rounds) {
+        if (round + 1 >= probe_rounds) {
           std::copy(lowest.begin(), lowest.end(), p.theta.begin());
           best_cost = lowest_cost;
           break;
@@ -514,10 +522,10 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       if (result.optimum_verified) {
         note << " found no lower cost";
       } else {
-        note << " still found a lower cost after " << job.solver.probe_rounds << " round(s)";
+        note << " still found a lower cost after " << probe_rounds << " round(s)";
       }
       if (result.probe_decrease > 0.0) {
-        note << "; probing lowered the cost by " << result.probe_decrease;
+        note << "; the checks lowered the cost by " << result.probe_decrease << " in all";
       }
       result.optimum_check = note.str();
     } else {
@@ -532,7 +540,12 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   const int dof = std::max(1, num_residuals - theta_size);
   const double t975 = StudentTQuantile975(dof);
   const bool ratio_method =
-      job.uncertainty.method == UncertaintySettings::Method::kLikelihoodRatio;
+      job.uncertainty.method == UncertaintySettings::Method::kLikelihoodRatio &&
+      !discovering;
+  // The scan also belongs to the optimum check (a lower point restarts the
+  // solver), so it runs with the check whatever the interval method.
+  const bool run_scan = (ratio_method || probe_rounds > 0) && !discovering;
+  const double local_starts = discovering ? 0.0 : job.solver.local_starts;
   static const std::vector<double> kRatioSteps = {0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16};
   constexpr int kRatioPasses = 3;
   Eigen::MatrixXd cov_theta;
@@ -553,7 +566,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     // kinks that wall off the estimate, and finds minima that are lower but
     // not on a probe line (on PRBS records the estimate otherwise stays on
     // the side of the start it came from).
-    if (job.solver.local_starts > 0.0 && job.solver.probe_rounds > 0 &&
+    if (local_starts > 0.0 && probe_rounds > 0 &&
         local_passes < kLocalPasses && cov_theta.allFinite()) {
       ++local_passes;
       const std::vector<double> centre = best;
@@ -568,7 +581,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         if (!(l > 0.0)) continue;
         for (double sign : {-1.0, 1.0}) {
           for (int k = 0; k < theta_size; ++k) {
-            p.theta[k] = std::clamp(centre[k] + sign * job.solver.local_starts *
+            p.theta[k] = std::clamp(centre[k] + sign * local_starts *
                                                     std::sqrt(l) * eig.eigenvectors()(k, e),
                                     p.lower[k], p.upper[k]);
           }
@@ -593,12 +606,12 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         continue;
       }
     }
-    if (!ratio_method) break;
+    if (!run_scan) break;
     scan = LikelihoodRatioIntervals(&full_problem, p.lower, p.upper,
                                     cov_theta * result.residual_variance, n_free, t975,
                                     result.residual_variance, kRatioSteps, &p.theta);
     if (scan.lowest_cost < best_cost - 1e-9 * std::abs(best_cost) &&
-        job.solver.probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses) {
+        probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses) {
       ++ratio_restarts;
       restart_from(scan.lowest_point, scan.lowest_cost);
       if (job.solver.progress && progress != nullptr) {
@@ -664,7 +677,12 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   }
   // Likelihood-ratio intervals (fit/uncertainty.h): the cost itself along
   // the profile directions, which JᵀJ describes only near a smooth minimum.
-  const std::vector<RatioInterval>& ratio = scan.intervals;
+  const std::vector<RatioInterval> ratio =
+      ratio_method ? scan.intervals : std::vector<RatioInterval>();
+  if (!ratio_method && ratio_restarts > 0) {
+    result.optimum_check += "; the likelihood-ratio scan met a lower cost and restarted the "
+                            "solver " + std::to_string(ratio_restarts) + " time(s)";
+  }
   if (ratio_method && std::isfinite(best_cost)) {
     std::ostringstream note;
     if (ratio.empty()) {
@@ -783,8 +801,9 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
       << job.validate.size() << " validation experiment(s), "
       << job.free.size() << " free parameter(s), " << job.solver.starts + 1
       << " start(s)\n";
+  if (options.discover) job.discover.enabled = true;
   FitResult result = FitParameters(job, &out);
-  const bool discover = options.discover || job.discover.enabled;
+  const bool discover = job.discover.enabled;
   DiscoveryReport discovery;
   std::vector<ChannelDiagnostics> diagnostics;
   if (discover) {

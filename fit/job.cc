@@ -496,8 +496,8 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
   if (const YAML::Node node = root.Optional("uncertainty")) {
     YamlMap map(node, path, "uncertainty.");
     UncertaintySettings& u = job.uncertainty;
-    u.method = map.Choice("method", {"likelihood_ratio", "gauss_newton"},
-                          "likelihood_ratio") == "gauss_newton"
+    u.method = map.Choice("method", {"gauss_newton", "likelihood_ratio"},
+                          "gauss_newton") == "gauss_newton"
                    ? UncertaintySettings::Method::kGaussNewton
                    : UncertaintySettings::Method::kLikelihoodRatio;
     u.bootstrap = static_cast<int>(map.Integer("bootstrap", u.bootstrap, 0, 10000));

@@ -157,7 +157,8 @@ FitJob Job(const std::string& extra) {
 // the Gauss–Newton one, and the percentile interval must contain the
 // estimate.
 TEST(BootstrapTest, PaperStepRecordsAgreeWithGaussNewton) {
-  FitJob job = Job("uncertainty: {bootstrap: 8, block: 1, seed: 3}\n");
+  FitJob job =
+      Job("uncertainty: {method: likelihood_ratio, bootstrap: 8, block: 1, seed: 3}\n");
   job.solver.progress = false;
   FitResult result = FitParameters(job);
   ASSERT_TRUE(std::isfinite(result.final_cost));
@@ -180,9 +181,9 @@ TEST(BootstrapTest, PaperStepRecordsAgreeWithGaussNewton) {
 }
 
 TEST(UncertaintyKeyTest, StrictLoader) {
-  EXPECT_EQ(Job("").uncertainty.method, UncertaintySettings::Method::kLikelihoodRatio);
-  EXPECT_EQ(Job("uncertainty: {method: gauss_newton}\n").uncertainty.method,
-            UncertaintySettings::Method::kGaussNewton);
+  EXPECT_EQ(Job("").uncertainty.method, UncertaintySettings::Method::kGaussNewton);
+  EXPECT_EQ(Job("uncertainty: {method: likelihood_ratio}\n").uncertainty.method,
+            UncertaintySettings::Method::kLikelihoodRatio);
   for (const std::string bad :
        {"uncertainty: {method: profile}\n", "uncertainty: {bootstrap: -1}\n",
         "uncertainty: {block: 0}\n", "uncertainty: {replicates: 3}\n"}) {
