@@ -126,6 +126,32 @@ bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj) {
   return true;
 }
 
+// Stops a Levenberg–Marquardt run once a successful step lowers the cost by
+// less than `tolerance` (absolute): Ceres' function_tolerance is relative,
+// and near a zero-residual optimum (noise-free records) the relative
+// decrease stays large down to round-off.
+class AbsoluteDecreaseStop : public ceres::IterationCallback {
+ public:
+  explicit AbsoluteDecreaseStop(double tolerance) : tolerance_(tolerance) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (s.iteration > 0 && s.step_is_successful && s.cost_change < tolerance_) {
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  double tolerance_;
+};
+
+// A point counts as lower than the estimate if its cost (½Σr² of σ-weighted
+// residuals, i.e. half a χ²) is below by more than 1e-9 relative plus 1e-6
+// absolute: a χ² difference of 2e-6 means nothing statistically, and on
+// noise-free records (cost ~1e-8 at the optimum) smaller differences are
+// round-off that would otherwise restart the solver again and again.
+constexpr double kLowerRelative = 1e-9;
+constexpr double kLowerAbsolute = 1e-6;
+
 // One round of the optimum check: the cost at θ* + s·d for the probe
 // directions d (every coordinate and every principal axis of (JᵀJ)⁻¹, scaled
 // to one standard deviation — a change of ½ in cost on a quadratic — and the
@@ -499,7 +525,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.theta,
                    &lowest, &lowest_cost, &probes);
         ++result.probe_rounds;
-        if (!(lowest_cost < best_cost - 1e-9 * std::abs(best_cost))) {
+        if (!(lowest_cost < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute))) {
           result.optimum_verified = true;
           break;
         }
@@ -574,6 +600,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       double lowest = best_cost;
       ceres::Solver::Options o = options;
       o.max_num_iterations = std::min(o.max_num_iterations, 50);
+      AbsoluteDecreaseStop stop(kLowerAbsolute);
+      o.callbacks.push_back(&stop);
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov_theta *
                                                          result.residual_variance);
       for (int e = 0; e < theta_size; ++e) {
@@ -595,7 +623,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         }
       }
       std::copy(centre.begin(), centre.end(), p.theta.begin());
-      if (lowest < best_cost - 1e-9 * std::abs(best_cost)) {
+      if (lowest < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute)) {
         result.local_decrease += best_cost - lowest;
         restart_from(lowest_point, lowest);
         if (job.solver.progress && progress != nullptr) {
@@ -610,7 +638,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     scan = LikelihoodRatioIntervals(&full_problem, p.lower, p.upper,
                                     cov_theta * result.residual_variance, n_free, t975,
                                     result.residual_variance, kRatioSteps, &p.theta);
-    if (scan.lowest_cost < best_cost - 1e-9 * std::abs(best_cost) &&
+    if (scan.lowest_cost < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute) &&
         probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses) {
       ++ratio_restarts;
       restart_from(scan.lowest_point, scan.lowest_cost);
@@ -707,7 +735,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         note << (i == 0 ? "; not bounded within 16 standard deviations: " : ", ")
              << open[i];
       }
-      if (scan.lowest_cost < best_cost - 1e-9 * std::abs(best_cost)) {
+      if (scan.lowest_cost < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute)) {
         result.optimum_verified = false;
         note << "; the last scan still met a cost lower by " << best_cost - scan.lowest_cost;
       }
