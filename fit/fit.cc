@@ -670,22 +670,19 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.simulations = p.counter.simulations;
   result.jacobian_evaluations = p.counter.jacobians;
 
-  // To physical units: value_k = g(θ_k), so Cov = D·Cov_θ·D·s².
-  auto to_physical = [&](const Eigen::MatrixXd& c_theta) {
-    Eigen::MatrixXd c = c_theta.topLeftCorner(n_free, n_free);
-    for (int i = 0; i < n_free; ++i) {
-      for (int j = 0; j < n_free; ++j) {
-        c(i, j) *= p.map->Derivative(i, p.theta[i]) *
-                   p.map->Derivative(j, p.theta[j]) * result.residual_variance;
-      }
+  // To physical units: value_k = g(θ_k), so Cov = D·Cov_θ·D·s² (the
+  // Gauss–Newton covariance; likelihood-ratio intervals replace the
+  // intervals below, not this matrix).
+  Eigen::MatrixXd cov = cov_theta.topLeftCorner(n_free, n_free);
+  for (int i = 0; i < n_free; ++i) {
+    for (int j = 0; j < n_free; ++j) {
+      cov(i, j) *= p.map->Derivative(i, p.theta[i]) * p.map->Derivative(j, p.theta[j]) *
+                   result.residual_variance;
     }
-    return c;
-  };
-  const Eigen::MatrixXd cov_gauss_newton = to_physical(cov_theta);
+  }
   result.uncertainty_method = "gauss_newton";
   result.uncertainty_note = "covariance (JᵀJ)⁻¹ at the estimate (Gauss–Newton), "
                             "scaled by the residual variance";
-  Eigen::MatrixXd cov = to_physical(cov_theta);
   result.correlation = Eigen::MatrixXd::Identity(n_free, n_free);
   std::vector<bool> determined(n_free, true);
   if (std::isfinite(best_cost)) {
@@ -751,7 +748,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     e.initial = job.free[k].initial;
     e.free = true;
     e.std_error = std::sqrt(cov(k, k));
-    e.std_error_gauss_newton = std::sqrt(cov_gauss_newton(k, k));
+    e.std_error_gauss_newton = std::sqrt(cov(k, k));
     e.std_error_bootstrap = e.bootstrap_low = e.bootstrap_high =
         std::numeric_limits<double>::quiet_NaN();
     e.ci95_low = e.value - t975 * e.std_error;

@@ -4,10 +4,14 @@
 #define TESTS_COST_CHECKS_H_
 
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
 #include <ceres/ceres.h>
+
+#include "fit/experiment_cost.h"
+#include "fit/job.h"
 
 namespace axis {
 namespace testing_files {
@@ -55,6 +59,19 @@ inline std::vector<ColumnCheck> CheckJacobian(const ceres::CostFunction& cost,
     out[k].difference_gradient = (cost_p - cost_m) / (2 * h);
   }
   return out;
+}
+
+// CheckJacobian for the cost of the job's first experiment at its initial
+// values (θ in the optimised coordinates of fit/experiment_cost.h).
+inline std::vector<ColumnCheck> CheckJobJacobian(const FitJob& job, double step) {
+  const ParameterMap map(job.model.params, job.free);
+  EvaluationCounter counter;
+  const int n = static_cast<int>(job.free.size());
+  std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
+      job.model.structure, map, job.experiments[0], n, -1, &counter));
+  std::vector<double> theta;
+  for (int k = 0; k < n; ++k) theta.push_back(map.ToInternal(k, job.free[k].initial));
+  return CheckJacobian(*cost, theta, step);
 }
 
 }  // namespace testing_files

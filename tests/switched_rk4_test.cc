@@ -125,14 +125,8 @@ TEST(SwitchedRk4Test, CostJacobianOverAPrbsRecordMatchesCentralDifferences) {
       "    input: {column: u, interpolation: hold}\n"
       "    fit: {a: 0.02, tach: 0.005}\n");
   const FitJob job = LoadFitJob(job_path);
-  const ParameterMap map(job.model.params, job.free);
-  EvaluationCounter counter;
-  std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
-      job.model.structure, map, job.experiments[0], 5, -1, &counter));
-  std::vector<double> theta;
-  for (int k = 0; k < 5; ++k) theta.push_back(map.ToInternal(k, job.free[k].initial));
   const std::vector<testing_files::ColumnCheck> checks =
-      testing_files::CheckJacobian(*cost, theta, 1e-7);
+      testing_files::CheckJobJacobian(job, 1e-7);
   for (int k = 0; k < 5; ++k) {
     const testing_files::ColumnCheck& c = checks[k];
     EXPECT_LT(c.error_norm / c.difference_norm, 1e-4) << job.free[k].name;
