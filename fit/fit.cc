@@ -568,14 +568,18 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   const bool ratio_method =
       job.uncertainty.method == UncertaintySettings::Method::kLikelihoodRatio &&
       !discovering;
+  const bool profile_method =
+      job.uncertainty.method == UncertaintySettings::Method::kProfile && !discovering;
   // The scan also belongs to the optimum check (a lower point restarts the
-  // solver), so it runs with the check whatever the interval method.
-  const bool run_scan = (ratio_method || probe_rounds > 0) && !discovering;
+  // solver), so it runs with the check whatever the interval method; the
+  // profile's refits take its place (they meet any lower point it would).
+  const bool run_scan = (ratio_method || probe_rounds > 0) && !discovering && !profile_method;
   const double local_starts = discovering ? 0.0 : job.solver.local_starts;
   static const std::vector<double> kRatioSteps = {0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16};
   constexpr int kRatioPasses = 3;
   Eigen::MatrixXd cov_theta;
   RatioScan scan;
+  ProfileScan profile;
   int ratio_restarts = 0;
   constexpr int kLocalPasses = 3;
   int local_passes = 0;
@@ -634,17 +638,45 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         continue;
       }
     }
-    if (!run_scan) break;
-    scan = LikelihoodRatioIntervals(&full_problem, p.lower, p.upper,
-                                    cov_theta * result.residual_variance, n_free, t975,
-                                    result.residual_variance, kRatioSteps, &p.theta);
-    if (scan.lowest_cost < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute) &&
-        probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses) {
+    const double lower_than_best =
+        best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute);
+    // The profile's refits or the line scan; either may meet a lower cost,
+    // which restarts the solver there (at most kRatioPasses − 1 times).
+    const bool may_restart = probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses;
+    double met_cost = 0.0;
+    const std::vector<double>* met_point = nullptr;
+    if (profile_method) {
+      // Profile refits: warm-started next to the profile, so Ceres' default
+      // trust region (nearly Gauss–Newton steps) and a stop once a step
+      // gains less than 1 % of the threshold (the profile's ends are
+      // located to 5 % of it).
+      const double threshold = 0.5 * t975 * t975 * result.residual_variance;
+      ceres::Solver::Options o = options;
+      o.max_num_iterations = std::min(o.max_num_iterations, 50);
+      o.initial_trust_region_radius = 1e4;
+      AbsoluteDecreaseStop stop(0.01 * threshold);
+      o.callbacks.push_back(&stop);
+      profile = ProfileLikelihoodIntervals(&full_problem, o, p.lower, p.upper,
+                                           cov_theta * result.residual_variance, n_free, t975,
+                                           result.residual_variance, lower_than_best,
+                                           may_restart, &p.theta);
+      met_cost = profile.lowest_cost;
+      met_point = &profile.lowest_point;
+    } else if (run_scan) {
+      scan = LikelihoodRatioIntervals(&full_problem, p.lower, p.upper,
+                                      cov_theta * result.residual_variance, n_free, t975,
+                                      result.residual_variance, kRatioSteps, &p.theta);
+      met_cost = scan.lowest_cost;
+      met_point = &scan.lowest_point;
+    } else {
+      break;
+    }
+    if (met_cost < lower_than_best && may_restart) {
       ++ratio_restarts;
-      restart_from(scan.lowest_point, scan.lowest_cost);
+      restart_from(*met_point, met_cost);
       if (job.solver.progress && progress != nullptr) {
-        *progress << "likelihood-ratio scan found a lower cost, solver restarted: cost "
-                  << best_cost << "\n";
+        *progress << (profile_method ? "profile likelihood" : "likelihood-ratio scan")
+                  << " met a lower cost, solver restarted: cost " << best_cost << "\n";
       }
       result.optimum_verified = false;
       check_optimum();
@@ -703,25 +735,40 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // Likelihood-ratio intervals (fit/uncertainty.h): the cost itself along
   // the profile directions, which JᵀJ describes only near a smooth minimum.
   const std::vector<RatioInterval> ratio =
-      ratio_method ? scan.intervals : std::vector<RatioInterval>();
+      ratio_method     ? scan.intervals
+      : profile_method ? profile.intervals
+                       : std::vector<RatioInterval>();
   if (!ratio_method && ratio_restarts > 0) {
     result.optimum_check += "; the likelihood-ratio scan met a lower cost and restarted the "
                             "solver " + std::to_string(ratio_restarts) + " time(s)";
   }
-  if (ratio_method && std::isfinite(best_cost)) {
+  // The report's note on intervals that follow the cost (profile or line
+  // scan): how they were found, the sides that never rose past the
+  // threshold, and a lower cost the last pass still met.
+  if ((profile_method || ratio_method) && std::isfinite(best_cost)) {
+    const char* what = profile_method ? "profile" : "scan";
+    const double lowest = profile_method ? profile.lowest_cost : scan.lowest_cost;
     std::ostringstream note;
     if (ratio.empty()) {
-      note << "likelihood_ratio failed (the covariance is not finite or the cost "
-           << "cannot be evaluated); " << result.uncertainty_note;
+      note << (profile_method ? "profile likelihood" : "likelihood_ratio")
+           << " failed (the covariance is not finite or the cost cannot be evaluated); "
+           << result.uncertainty_note;
     } else {
-      result.uncertainty_method = "likelihood_ratio";
-      note << "likelihood-ratio intervals: the cost probed along each parameter's "
-           << "profile direction at ±{0.5 … 16} Gauss–Newton standard deviations ("
-           << scan.evaluations << " evaluations); each end where the cost has risen by "
-           << "½t²s²; std error = half-width / t";
+      if (profile_method) {
+        result.uncertainty_method = "profile";
+        note << "profile-likelihood intervals: each end where the cost minimised over the "
+             << "other parameters has risen by ½t²s² (" << profile.solves << " refits, "
+             << profile.iterations << " iterations); std error = half-width / t";
+      } else {
+        result.uncertainty_method = "likelihood_ratio";
+        note << "likelihood-ratio intervals: the cost probed along each parameter's "
+             << "profile direction at ±{0.5 … 16} Gauss–Newton standard deviations ("
+             << scan.evaluations << " evaluations); each end where the cost has risen by "
+             << "½t²s²; std error = half-width / t";
+      }
       if (ratio_restarts > 0) {
-        note << "; the scan met a lower cost and restarted the solver " << ratio_restarts
-             << " time(s)";
+        note << "; the " << what << " met a lower cost and restarted the solver "
+             << ratio_restarts << " time(s)";
       }
       std::vector<std::string> open;
       for (int k = 0; k < n_free; ++k) {
@@ -729,12 +776,12 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         if (!ratio[k].bounded_high) open.push_back(job.free[k].name + " (high)");
       }
       for (size_t i = 0; i < open.size(); ++i) {
-        note << (i == 0 ? "; not bounded within 16 standard deviations: " : ", ")
+        note << (i == 0 ? "; not bounded within 16 standard deviations or the bounds: " : ", ")
              << open[i];
       }
-      if (scan.lowest_cost < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute)) {
+      if (lowest < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute)) {
         result.optimum_verified = false;
-        note << "; the last scan still met a cost lower by " << best_cost - scan.lowest_cost;
+        note << "; the last " << what << " still met a cost lower by " << best_cost - lowest;
       }
     }
     result.uncertainty_note = note.str();

@@ -496,10 +496,11 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
   if (const YAML::Node node = root.Optional("uncertainty")) {
     YamlMap map(node, path, "uncertainty.");
     UncertaintySettings& u = job.uncertainty;
-    u.method = map.Choice("method", {"gauss_newton", "likelihood_ratio"},
-                          "gauss_newton") == "gauss_newton"
-                   ? UncertaintySettings::Method::kGaussNewton
-                   : UncertaintySettings::Method::kLikelihoodRatio;
+    const std::string method =
+        map.Choice("method", {"gauss_newton", "likelihood_ratio", "profile"}, "profile");
+    u.method = method == "gauss_newton"       ? UncertaintySettings::Method::kGaussNewton
+               : method == "likelihood_ratio" ? UncertaintySettings::Method::kLikelihoodRatio
+                                              : UncertaintySettings::Method::kProfile;
     u.bootstrap = static_cast<int>(map.Integer("bootstrap", u.bootstrap, 0, 10000));
     u.block = static_cast<int>(map.Integer("block", u.block, 1, 1000000));
     u.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));

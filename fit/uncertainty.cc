@@ -8,6 +8,8 @@
 #include <string>
 
 #include <Eigen/Eigenvalues>
+#include <ceres/manifold.h>
+#include <ceres/solver.h>
 
 #include "fit/fit.h"
 
@@ -104,6 +106,148 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
     }
     out.push_back(interval);
   }
+  *theta = centre;
+  return scan;
+}
+
+ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
+                                       const ceres::Solver::Options& options,
+                                       const std::vector<double>& lower,
+                                       const std::vector<double>& upper,
+                                       const Eigen::MatrixXd& cov_theta, int n_free,
+                                       double t975, double residual_variance,
+                                       double lowest_allowed, bool stop_at_lower,
+                                       std::vector<double>* theta) {
+  const int n = static_cast<int>(theta->size());
+  const std::vector<double> centre = *theta;
+  ProfileScan scan;
+  scan.lowest_point = centre;
+  scan.lowest_cost = std::numeric_limits<double>::infinity();
+  if (cov_theta.rows() != n || cov_theta.cols() != n || !cov_theta.allFinite()) {
+    return scan;
+  }
+  const double c0 = CostAt(problem, centre, theta);
+  scan.lowest_cost = c0;
+  if (!std::isfinite(c0)) {
+    *theta = centre;
+    return scan;
+  }
+  constexpr double kMaxSd = 16.0;     // furthest point, in GN standard deviations
+  constexpr int kRefinements = 4;
+  constexpr double kClose = 0.05;     // |P − cost* − threshold| / threshold
+  const double threshold = 0.5 * t975 * t975 * residual_variance;
+  bool stopped = false;
+  std::vector<RatioInterval> intervals;
+  for (int k = 0; k < n_free && !stopped; ++k) {
+    RatioInterval interval;
+    const double sd = std::sqrt(cov_theta(k, k));
+    if (!(sd > 0.0)) {
+      interval.low = interval.high = centre[k];
+      intervals.push_back(interval);
+      continue;
+    }
+    const Eigen::VectorXd slope = cov_theta.col(k) / cov_theta(k, k);  // dθ/dθ_k
+    // With θ_k the only entry there is nothing to refit: P is the cost.
+    const bool refit = n > 1;
+    if (refit) problem->SetManifold(theta->data(), new ceres::SubsetManifold(n, {k}));
+    for (double sign : {-1.0, 1.0}) {
+      const double bound = sign < 0 ? lower[k] : upper[k];
+      // The last solved point on this side (x, θ), the warm start of the next.
+      double anchor_x = centre[k];
+      std::vector<double> anchor = centre;
+      // P(x) − cost*, +∞ where the refit fails.
+      const auto rise_at = [&](double x) {
+        std::vector<double> start = anchor;
+        for (int i = 0; i < n; ++i) {
+          start[i] = std::clamp(anchor[i] + (x - anchor_x) * slope[i], lower[i], upper[i]);
+        }
+        start[k] = x;
+        double cost = 0.0;
+        if (!refit) {
+          cost = CostAt(problem, start, theta);
+        } else {
+          std::copy(start.begin(), start.end(), theta->begin());
+          ceres::Solver::Summary summary;
+          ceres::Solve(options, problem, &summary);
+          ++scan.solves;
+          scan.iterations += static_cast<int>(summary.iterations.size()) - 1;
+          cost = summary.IsSolutionUsable() ? summary.final_cost
+                                            : std::numeric_limits<double>::infinity();
+        }
+        if (!std::isfinite(cost)) return std::numeric_limits<double>::infinity();
+        if (cost < scan.lowest_cost) {
+          scan.lowest_cost = cost;
+          scan.lowest_point = *theta;
+        }
+        anchor_x = x;
+        anchor = *theta;
+        return cost - c0;
+      };
+      // Bracket: below = (x, rise ≤ threshold), above = (x, rise > threshold).
+      double below_x = centre[k], below_rise = 0.0;
+      double above_x = 0.0, above_rise = 0.0;
+      bool bounded = false;
+      double x = centre[k] + sign * t975 * sd;
+      for (;;) {
+        if (sign * (x - bound) >= 0.0) x = bound;
+        const double rise = rise_at(x);
+        if (scan.lowest_cost < lowest_allowed && stop_at_lower) {
+          stopped = true;
+          break;
+        }
+        if (rise > threshold) {
+          above_x = x;
+          above_rise = rise;
+          bounded = true;
+          break;
+        }
+        below_x = x;
+        below_rise = std::max(rise, 0.0);
+        if (x == bound || std::abs(x - centre[k]) >= kMaxSd * sd) break;
+        x = centre[k] + 2.0 * (x - centre[k]);
+        if (std::abs(x - centre[k]) > kMaxSd * sd) x = centre[k] + sign * kMaxSd * sd;
+      }
+      if (stopped) break;
+      double end = below_x;
+      if (bounded) {
+        // Regula falsi on z = √rise, linear in x where P is quadratic.
+        const double target = std::sqrt(threshold);
+        for (int it = 0;; ++it) {
+          const double z_below = std::sqrt(below_rise);
+          const double z_above = std::isfinite(above_rise) ? std::sqrt(above_rise) : 2.0 * target;
+          end = below_x + (above_x - below_x) * (target - z_below) / (z_above - z_below);
+          if (it == kRefinements ||
+              std::abs(above_rise - threshold) <= kClose * threshold) {
+            break;
+          }
+          const double rise = rise_at(end);
+          if (scan.lowest_cost < lowest_allowed && stop_at_lower) {
+            stopped = true;
+            break;
+          }
+          if (std::abs(rise - threshold) <= kClose * threshold) break;
+          if (rise > threshold) {
+            above_x = end;
+            above_rise = rise;
+          } else {
+            below_x = end;
+            below_rise = std::max(rise, 0.0);
+          }
+        }
+        if (stopped) break;
+      }
+      if (sign < 0) {
+        interval.low = end;
+        interval.bounded_low = bounded;
+      } else {
+        interval.high = end;
+        interval.bounded_high = bounded;
+      }
+    }
+    if (refit) problem->SetManifold(theta->data(), nullptr);
+    intervals.push_back(interval);
+  }
+  if (!stopped) scan.intervals = std::move(intervals);
   *theta = centre;
   return scan;
 }

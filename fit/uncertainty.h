@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <ceres/problem.h>
+#include <ceres/solver.h>
 
 #include "fit/fit_result.h"
 #include "fit/job.h"
@@ -76,6 +77,54 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
                                    double t975, double residual_variance,
                                    const std::vector<double>& steps,
                                    std::vector<double>* theta);
+
+// What ProfileLikelihoodIntervals found.
+struct ProfileScan {
+  std::vector<RatioInterval> intervals;  // one per free parameter; empty on
+                                         // failure or on an early stop
+  int solves = 0;                        // constrained refits
+  int iterations = 0;                    // their solver iterations in all
+  double lowest_cost = 0.0;              // lowest cost met (the estimate's
+  std::vector<double> lowest_point;      // if nothing is lower) and where
+};
+
+// Profile-likelihood 95 % intervals: for free parameter k the profile cost
+// P(x) = min over the other entries of θ of cost(θ) with θ_k = x, each
+// interval end the x where P has risen by ½·t²·s² above the estimate's
+// cost (t = `t975`, s² = `residual_variance`), i.e. the likelihood-ratio
+// test of θ_k = x at 95 % with the others re-estimated (Wilks; with an
+// F/t threshold for the estimated σ²). Unlike a scan along a fixed line
+// this holds where the cost is not quadratic and the others' best values
+// move non-linearly with θ_k (on PRBS records the line scan and JᵀJ
+// understated T_p's interval; README, issue 9 campaign).
+// Each P(x) is one Levenberg–Marquardt run of `options` on `problem` (its
+// single parameter block `theta`, n = theta->size() entries, bounds as set
+// on the problem) with entry k held constant (ceres::SubsetManifold),
+// warm-started from the last solved point on the same side moved along the
+// Gauss–Newton profile direction C·e_k/C_kk (`cov_theta`, n×n, already
+// scaled by s²). The search starts at the Gauss–Newton end θ*_k ± t·√C_kk,
+// doubles the distance (to at most 16 Gauss–Newton standard deviations or
+// the bound [lower_k, upper_k]) until P rises past the threshold, then
+// refines the end by regula falsi on √(P − cost*) (linear in x near a
+// smooth minimum) until P is within 5 % of the threshold or 4 refinements
+// are spent. A side that does not rise past the threshold is marked
+// unbounded, its end at the last point reached. If a refit ends below
+// `lowest_allowed` (the estimate is not the optimum) and `stop_at_lower`,
+// the search stops at once with no intervals, so that the caller can
+// restart the solver at lowest_point. Leaves *theta at its entry value and
+// the parameter block without a manifold. Returns no intervals if
+// cov_theta is not finite or the cost cannot be evaluated at θ*. Source:
+// Venzon & Moolgavkar, "A method for computing profile-likelihood-based
+// confidence intervals", Appl. Statist. 37 (1988); Bates & Watts (1988)
+// §6.1.
+ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
+                                       const ceres::Solver::Options& options,
+                                       const std::vector<double>& lower,
+                                       const std::vector<double>& upper,
+                                       const Eigen::MatrixXd& cov_theta, int n_free,
+                                       double t975, double residual_variance,
+                                       double lowest_allowed, bool stop_at_lower,
+                                       std::vector<double>* theta);
 
 // Residual bootstrap (Efron & Tibshirani, "An Introduction to the
 // Bootstrap", 1993, §9.5; moving blocks, Künsch 1989): `settings.bootstrap`
