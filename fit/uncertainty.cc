@@ -150,77 +150,91 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
     // With θ_k the only entry there is nothing to refit: P is the cost.
     const bool refit = n > 1;
     if (refit) problem->SetManifold(theta->data(), new ceres::SubsetManifold(n, {k}));
+    // P(x) − cost* from a refit started at `from` (solved at from_x) moved
+    // along the profile direction to x; +∞ where the refit fails. Leaves the
+    // solved point in *solved.
+    const auto rise_at = [&](double x, double from_x, const std::vector<double>& from,
+                             std::vector<double>* solved) {
+      std::vector<double> start = from;
+      for (int i = 0; i < n; ++i) {
+        start[i] = std::clamp(from[i] + (x - from_x) * slope[i], lower[i], upper[i]);
+      }
+      start[k] = x;
+      double cost = 0.0;
+      if (!refit) {
+        cost = CostAt(problem, start, theta);
+      } else {
+        std::copy(start.begin(), start.end(), theta->begin());
+        ceres::Solver::Summary summary;
+        ceres::Solve(options, problem, &summary);
+        ++scan.solves;
+        scan.iterations += static_cast<int>(summary.iterations.size()) - 1;
+        cost = summary.IsSolutionUsable() ? summary.final_cost
+                                          : std::numeric_limits<double>::infinity();
+      }
+      *solved = *theta;
+      if (!std::isfinite(cost)) return std::numeric_limits<double>::infinity();
+      if (cost < scan.lowest_cost) {
+        scan.lowest_cost = cost;
+        scan.lowest_point = *theta;
+      }
+      return cost - c0;
+    };
     for (double sign : {-1.0, 1.0}) {
       const double bound = sign < 0 ? lower[k] : upper[k];
-      // The last solved point on this side (x, θ), the warm start of the next.
-      double anchor_x = centre[k];
-      std::vector<double> anchor = centre;
-      // P(x) − cost*, +∞ where the refit fails.
-      const auto rise_at = [&](double x) {
-        std::vector<double> start = anchor;
-        for (int i = 0; i < n; ++i) {
-          start[i] = std::clamp(anchor[i] + (x - anchor_x) * slope[i], lower[i], upper[i]);
-        }
-        start[k] = x;
-        double cost = 0.0;
-        if (!refit) {
-          cost = CostAt(problem, start, theta);
-        } else {
-          std::copy(start.begin(), start.end(), theta->begin());
-          ceres::Solver::Summary summary;
-          ceres::Solve(options, problem, &summary);
-          ++scan.solves;
-          scan.iterations += static_cast<int>(summary.iterations.size()) - 1;
-          cost = summary.IsSolutionUsable() ? summary.final_cost
-                                            : std::numeric_limits<double>::infinity();
-        }
-        if (!std::isfinite(cost)) return std::numeric_limits<double>::infinity();
-        if (cost < scan.lowest_cost) {
-          scan.lowest_cost = cost;
-          scan.lowest_point = *theta;
-        }
-        anchor_x = x;
-        anchor = *theta;
-        return cost - c0;
-      };
-      // Bracket: below = (x, rise ≤ threshold), above = (x, rise > threshold).
-      double below_x = centre[k], below_rise = 0.0;
-      double above_x = 0.0, above_rise = 0.0;
-      bool bounded = false;
-      double x = centre[k] + sign * t975 * sd;
-      for (;;) {
+      // The profile at t, 2t, 4t and 8t Gauss–Newton standard deviations
+      // (clipped to the bound), each refit warm-started from the previous
+      // point; where that ends above the threshold, also from the estimate
+      // (the profile of the backlash model's cost can cross a bump between
+      // minima, and the chain of warm starts stay behind it).
+      std::vector<double> xs = {centre[k]}, rises = {0.0};
+      std::vector<std::vector<double>> points = {centre};
+      for (double m = t975; m <= kMaxSd; m *= 2.0) {
+        double x = centre[k] + sign * m * sd;
         if (sign * (x - bound) >= 0.0) x = bound;
-        const double rise = rise_at(x);
-        if (scan.lowest_cost < lowest_allowed && stop_at_lower) {
-          stopped = true;
-          break;
+        std::vector<double> solved;
+        double rise = rise_at(x, xs.back(), points.back(), &solved);
+        if (rise > threshold && xs.size() > 1) {
+          std::vector<double> other;
+          const double cold = rise_at(x, centre[k], centre, &other);
+          if (cold < rise) {
+            rise = cold;
+            solved = other;
+          }
         }
-        if (rise > threshold) {
-          above_x = x;
-          above_rise = rise;
-          bounded = true;
-          break;
-        }
-        below_x = x;
-        below_rise = std::max(rise, 0.0);
-        if (x == bound || std::abs(x - centre[k]) >= kMaxSd * sd) break;
-        x = centre[k] + 2.0 * (x - centre[k]);
-        if (std::abs(x - centre[k]) > kMaxSd * sd) x = centre[k] + sign * kMaxSd * sd;
+        xs.push_back(x);
+        rises.push_back(rise);
+        points.push_back(solved);
+        if ((scan.lowest_cost < lowest_allowed && stop_at_lower) || x == bound) break;
       }
-      if (stopped) break;
-      double end = below_x;
+      if (scan.lowest_cost < lowest_allowed && stop_at_lower) {
+        stopped = true;
+        break;
+      }
+      // The furthest point still below the threshold; the end lies between
+      // it and the next one out.
+      size_t j = 0;
+      for (size_t i = 0; i < xs.size(); ++i) {
+        if (rises[i] <= threshold) j = i;
+      }
+      const bool bounded = j + 1 < xs.size();
+      double end = xs[j];
       if (bounded) {
-        // Regula falsi on z = √rise, linear in x where P is quadratic.
+        // Regula falsi on z = √rise, linear in x where P is quadratic;
+        // refits warm-started from the point below.
+        double below_x = xs[j], below_rise = std::max(rises[j], 0.0);
+        double above_x = xs[j + 1], above_rise = rises[j + 1];
+        std::vector<double> below_point = points[j];
         const double target = std::sqrt(threshold);
         for (int it = 0;; ++it) {
           const double z_below = std::sqrt(below_rise);
           const double z_above = std::isfinite(above_rise) ? std::sqrt(above_rise) : 2.0 * target;
           end = below_x + (above_x - below_x) * (target - z_below) / (z_above - z_below);
-          if (it == kRefinements ||
-              std::abs(above_rise - threshold) <= kClose * threshold) {
+          if (it == kRefinements || std::abs(above_rise - threshold) <= kClose * threshold) {
             break;
           }
-          const double rise = rise_at(end);
+          std::vector<double> solved;
+          const double rise = rise_at(end, below_x, below_point, &solved);
           if (scan.lowest_cost < lowest_allowed && stop_at_lower) {
             stopped = true;
             break;
@@ -232,6 +246,7 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
           } else {
             below_x = end;
             below_rise = std::max(rise, 0.0);
+            below_point = solved;
           }
         }
         if (stopped) break;

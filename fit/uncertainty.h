@@ -100,13 +100,16 @@ struct ProfileScan {
 // Each P(x) is one Levenberg–Marquardt run of `options` on `problem` (its
 // single parameter block `theta`, n = theta->size() entries, bounds as set
 // on the problem) with entry k held constant (ceres::SubsetManifold),
-// warm-started from the last solved point on the same side moved along the
-// Gauss–Newton profile direction C·e_k/C_kk (`cov_theta`, n×n, already
-// scaled by s²). The search starts at the Gauss–Newton end θ*_k ± t·√C_kk,
-// doubles the distance (to at most 16 Gauss–Newton standard deviations or
-// the bound [lower_k, upper_k]) until P rises past the threshold, then
-// refines the end by regula falsi on √(P − cost*) (linear in x near a
-// smooth minimum) until P is within 5 % of the threshold or 4 refinements
+// started from a solved point moved along the Gauss–Newton profile
+// direction C·e_k/C_kk (`cov_theta`, n×n, already scaled by s²). Per side,
+// P is evaluated at θ*_k ± {1, 2, 4, 8}·t·√C_kk (clipped to the bound
+// [lower_k, upper_k]), each refit warm-started from the previous point and,
+// where it ends above the threshold, also from θ* (the lower of the two
+// counts): the profile of a piecewise-smooth cost can cross a bump between
+// minima, so the end is placed past the furthest point still below the
+// threshold (the hull of the confidence set), refined by regula falsi on
+// √(P − cost*) (linear in x near a smooth minimum) until P is within 5 % of
+// the threshold or 4 refinements
 // are spent. A side that does not rise past the threshold is marked
 // unbounded, its end at the last point reached. If a refit ends below
 // `lowest_allowed` (the estimate is not the optimum) and `stop_at_lower`,

@@ -250,6 +250,46 @@ TEST(ProfileTest, ExponentialDecayMatchesTheClosedFormProfile) {
             0.05 * half);
 }
 
+// r0 = g(x) with two valleys: |x| near 0 and |x − 8| + 0.5 from x = 4 on;
+// r1 = y − x/2 (y follows x). The profile over x is ½g(x)²; its 95 % set
+// (½g² ≤ ½·1.96²) is [−1.96, 1.96] ∪ [6.54, 9.46].
+struct Valleys {
+  template <typename T>
+  bool operator()(const T* theta, T* r) const {
+    const T& x = theta[0];
+    if (x < T(4.0)) {
+      r[0] = x < T(0.0) ? -x : x;
+    } else {
+      r[0] = (x < T(8.0) ? T(8.0) - x : x - T(8.0)) + T(0.5);
+    }
+    r[1] = theta[1] - T(0.5) * x;
+    return true;
+  }
+};
+
+// The profile crosses a bump (above the threshold at 3.5) into a second
+// valley still below it (at 7.06): the interval is the hull of the set, its
+// high end at 9.46 (g is linear there, so regula falsi on √rise is exact to
+// the solver's tolerance); the low end stays at −1.96.
+TEST(ProfileTest, SecondValleyBelowTheThresholdWidensTheInterval) {
+  std::vector<double> theta = {0.0, 0.0};
+  ceres::Problem problem;
+  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Valleys, 2, 2>(new Valleys),
+                           nullptr, theta.data());
+  // Gauss–Newton covariance at (0, 0) from the right-hand slope, scaled so
+  // that √C_xx = 0.9: the probed points are 1.76, 3.53, 7.06 and 14.1.
+  Eigen::Matrix2d jtj;
+  jtj << 1.25, -0.5, -0.5, 1.0;
+  const Eigen::MatrixXd cov = 0.81 * jtj.inverse();
+  const ProfileScan scan = ProfileLikelihoodIntervals(
+      &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 1, 1.96, 1.0, -1e-9,
+      true, &theta);
+  ASSERT_EQ(scan.intervals.size(), 1u);
+  EXPECT_NEAR(scan.intervals[0].low, -1.96, 1e-6);
+  EXPECT_NEAR(scan.intervals[0].high, 8.0 + 1.96 - 0.5, 1e-6);
+  EXPECT_TRUE(scan.intervals[0].bounded_high);
+}
+
 // A refit that ends below the estimate's cost (here the estimate's second
 // entry is one standard deviation off its optimum) stops the search with no
 // intervals and hands back the lower point; without the stop the intervals
