@@ -385,8 +385,9 @@ std::vector<FitExperiment> ParseExperimentList(YamlMap& root,
   const YAML::Node list = required ? root.Required(key) : root.Optional(key);
   if (!list) return out;
   if (!list.IsSequence() || (required && list.size() == 0)) {
-    ThrowConfigError(root.file(), list, key, "a list of experiments",
-                     Describe(list));
+    ThrowConfigError(root.file(), list, key,
+                     required ? "a non-empty list of experiments" : "a list of experiments",
+                     list.IsSequence() ? "an empty list" : Describe(list));
   }
   for (size_t k = 0; k < list.size(); ++k) {
     YamlMap map(list[k], root.file(), key + "[" + std::to_string(k) + "].");

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -29,17 +30,44 @@ const char* RangeText(YamlMap::Range range) {
 
 }  // namespace
 
+void CheckUniqueKeys(const YAML::Node& node, const std::string& file,
+                     const std::string& prefix) {
+  if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) {
+      CheckUniqueKeys(node[i], file, prefix + "[" + std::to_string(i) + "]");
+    }
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> first_line;
+  const std::string dot = prefix.empty() ? "" : prefix + ".";
+  for (const auto& entry : node) {
+    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : Describe(entry.first);
+    const int line = entry.first.Mark().line + 1;
+    const auto [where, inserted] = first_line.emplace(key, line);
+    if (!inserted) {
+      ThrowConfigError(file, entry.first, dot + key, "each key once in a mapping",
+                       "'" + key + "' again (first on line " +
+                           std::to_string(where->second) + ")");
+    }
+    CheckUniqueKeys(entry.second, file, dot + key);
+  }
+}
+
 YAML::Node LoadYamlFile(const std::string& file) {
   std::ifstream in(file);
   if (!in) {
     throw std::invalid_argument(file + ": cannot read the file");
   }
+  YAML::Node root;
   try {
-    return YAML::Load(in);
+    root = YAML::Load(in);
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(file + ":" + std::to_string(e.mark.line + 1) +
                                 ": invalid YAML: " + e.msg);
   }
+  CheckUniqueKeys(root, file, "");
+  return root;
 }
 
 void ThrowConfigError(const std::string& file, const YAML::Node& node,
@@ -64,6 +92,8 @@ YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string prefix)
     ThrowConfigError(file_, node_, key, "a mapping of keys to values",
                      Describe(node_));
   }
+  // Documents not read by LoadYamlFile (built in code) are checked here.
+  CheckUniqueKeys(node_, file_, prefix_.empty() ? "" : prefix_.substr(0, prefix_.size() - 1));
 }
 
 bool YamlMap::Has(const std::string& key) const {

@@ -14,9 +14,18 @@
 
 namespace axis {
 
-// Loads a YAML file. Throws std::invalid_argument "<file>: cannot read"
-// or "<file>:<line>: invalid YAML: <reason>".
+// Loads a YAML file. Throws std::invalid_argument "<file>: cannot read",
+// "<file>:<line>: invalid YAML: <reason>", or, for a key repeated in any
+// mapping of the document (yaml-cpp keeps both; the loaders would read one
+// and ignore the other), CheckUniqueKeys' error.
 YAML::Node LoadYamlFile(const std::string& file);
+
+// Throws std::invalid_argument "<file>:<line>: key '<path>': expected each
+// key once in a mapping, got '<key>' again (first on line N)" for the first
+// key repeated in `node` or any mapping below it. `prefix` is the key path
+// of `node` ("" at top level).
+void CheckUniqueKeys(const YAML::Node& node, const std::string& file,
+                     const std::string& prefix);
 
 // Throws std::invalid_argument "<file>:<line>: key '<key>': expected
 // <expected>, got <got>" with the line of `node` (1-based).

@@ -100,6 +100,21 @@ TEST(ConfigTest, UnknownNestedKeyNamesItsPath) {
   EXPECT_NE(msg.find("key 'input.hight'"), std::string::npos) << msg;
 }
 
+// A key given twice is refused with both lines (yaml-cpp keeps both and a
+// loader would read one of them): at the top level and inside a mapping.
+TEST(ConfigTest, RepeatedKeyIsRefusedWithBothLines) {
+  const std::string top = WriteTemp("twice.yaml", Experiment("duration: 0.02\n"));
+  std::string msg = ErrorOf([&] { LoadExperiment(top); });
+  EXPECT_NE(msg.find(top + ":5: key 'duration'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected each key once in a mapping, got 'duration' again (first on line 2)"),
+            std::string::npos)
+      << msg;
+  const std::string nested = WriteTemp(
+      "twice_nested.yaml", Experiment("", "input:\n  type: step\n  amplitude: 1\n  amplitude: 2\n"));
+  msg = ErrorOf([&] { LoadExperiment(nested); });
+  EXPECT_NE(msg.find(nested + ":7: key 'input.amplitude'"), std::string::npos) << msg;
+}
+
 TEST(ConfigTest, MissingKeyIsNamed) {
   const std::string path = WriteTemp(
       "missing.yaml", "model: " + kRoot + "/configs/axes/x_axis.yaml\n"

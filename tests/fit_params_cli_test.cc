@@ -111,6 +111,29 @@ TEST_F(FitParamsBadInput, UnknownJobKey) {
   ExpectRejected(job, {"unknown_key.yaml:10", "'solvr'"});
 }
 
+// A free parameter listed twice, or a job key given twice, is refused with
+// the file, the line of the second and the line of the first.
+TEST_F(FitParamsBadInput, RepeatedKeys) {
+  const std::string csv = kRoot + "/testdata/x_step_10V_clean.csv";
+  ExpectRejected(Job("twice_free.yaml", csv,
+                     "  B_a: {initial: 150, lower: 10, upper: 2000}\n"
+                     "  B_a: {initial: 200, lower: 10, upper: 2000}\n"),
+                 {"twice_free.yaml:4", "free.B_a", "again (first on line 3)"});
+  const std::string job = Job("twice_title.yaml", csv);
+  std::ofstream(job, std::ios::app) << "title: a\ntitle: b\n";
+  ExpectRejected(job, {"twice_title.yaml:11", "'title'", "again (first on line 10)"});
+}
+
+// An empty experiment list says so.
+TEST_F(FitParamsBadInput, EmptyExperimentList) {
+  const std::string job = Write("no_experiments.yaml",
+                                "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+                                "free:\n  B_a: {initial: 150, lower: 10, upper: 2000}\n"
+                                "experiments: []\n");
+  ExpectRejected(job, {"no_experiments.yaml:4", "expected a non-empty list of experiments",
+                       "got an empty list"});
+}
+
 TEST_F(FitParamsBadInput, CommandLine) {
   EXPECT_EQ(RunCli("").exit_code, 2);
   EXPECT_EQ(RunCli("--model " + kRoot + "/configs/axes/x_axis.yaml").exit_code, 2);
