@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "sim/csv.h"
+#include "sim/stability.h"
 
 namespace axis {
 namespace {
@@ -437,6 +438,13 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     YamlMap map(node, path, "simulation.");
     step = map.Number("step", step, Range::kFinitePositive);
     map.Finish();
+  }
+  {
+    const YAML::Node sim = root.node()["simulation"];
+    const YAML::Node node = sim && sim.IsMap() ? sim["step"] : YAML::Node();
+    CheckRk4Step(job.model.structure, job.model.params, step,
+                 node ? path + ":" + std::to_string(node.Mark().line + 1) : path,
+                 "simulation.step");
   }
 
   // Free parameters, before the experiments so that a bad name is reported

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "sim/csv.h"
+#include "sim/stability.h"
 
 namespace axis {
 namespace {
@@ -536,6 +537,11 @@ ExperimentConfig LoadExperiment(const std::string& path) {
 
   e.options.duration = root.Number("duration", Range::kFinitePositive);
   e.options.step = root.Number("step", 1e-5, Range::kFinitePositive);
+  {
+    const YAML::Node node = root.node()["step"];
+    CheckRk4Step(e.model.structure, e.model.params, e.options.step,
+                 node ? path + ":" + std::to_string(node.Mark().line + 1) : path, "step");
+  }
   const double rate = root.Number("output_rate", 1000.0, Range::kFinitePositive);
   e.options.output_period = 1.0 / rate;
   {

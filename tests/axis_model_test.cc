@@ -5,6 +5,7 @@
 // central finite differences, and the RK4 stability limit of the default
 // X axis.
 #include "sim/axis_model.h"
+#include "sim/stability.h"
 
 #include <algorithm>
 #include <cmath>
@@ -788,6 +789,12 @@ TEST(StabilityTest, DefaultStepIsInsideTheRk4StabilityLimit) {
   // The bound is a real eigenvalue's: both ways agree to the bisection's
   // precision and the 4 digits of 2.785.
   EXPECT_NEAR(h_exact, h_real_axis, 1e-3 * h_real_axis);
+  // The loaders' up-front check (sim/stability.h) finds the same limit; with
+  // the gear in contact no new fast mode appears, the stiffness only moves
+  // the current loop's eigenvalue by 1.3 ppm (bound 1e-5).
+  const Rk4StabilityLimit limit = Rk4StabilityLimitOf(s, p);
+  EXPECT_NEAR(limit.max_step, h_exact, 1e-5 * h_exact);
+  EXPECT_NEAR(std::abs(limit.eigenvalue), fastest, 1e-5 * fastest);
 
   // In motion (10 V, gear in contact at the steady state) the fastest mode
   // is the same current loop, so the bound holds along the step response.

@@ -124,6 +124,15 @@ TEST_F(FitParamsBadInput, RepeatedKeys) {
   ExpectRejected(job, {"twice_title.yaml:11", "'title'", "again (first on line 10)"});
 }
 
+// A simulation step beyond RK4's stability limit is refused before any
+// data is read or simulated.
+TEST_F(FitParamsBadInput, UnstableSimulationStep) {
+  const std::string job = Job("unstable.yaml", kRoot + "/testdata/x_step_10V_clean.csv");
+  std::ofstream(job, std::ios::app) << "simulation: {step: 1.0e-3}\n";
+  ExpectRejected(job, {"unstable.yaml:10", "'simulation.step'", "RK4 stability limit",
+                       "got 0.001 s"});
+}
+
 // An empty experiment list says so.
 TEST_F(FitParamsBadInput, EmptyExperimentList) {
   const std::string job = Write("no_experiments.yaml",

@@ -65,6 +65,24 @@ TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
   EXPECT_FALSE(Exists(out));
 }
 
+// A step beyond RK4's stability limit is refused before simulating (exit 2),
+// naming the limit and the eigenvalue (the current loop, −1.42·10⁵ 1/s).
+TEST(SimulateAxisCli, UnstableStepIsRefusedUpFront) {
+  const std::string bad = ::testing::TempDir() + "unstable_step.yaml";
+  std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
+                     << "duration: 0.1\nstep: 1.0e-3\nchannels: [v]\n"
+                     << "input: {type: step, amplitude: 1}\n";
+  const std::string out = ::testing::TempDir() + "never_unstable.csv";
+  std::remove(out.c_str());
+  const Result r = RunCli(bad + " --out " + out);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(bad + ":3: key 'step'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("RK4 stability limit"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("-142563"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("got 0.001 s"), std::string::npos) << r.err;
+  EXPECT_FALSE(Exists(out));
+}
+
 TEST(SimulateAxisCli, BadCommandLineExitsTwo) {
   EXPECT_EQ(RunCli("").exit_code, 2);
   const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out " +

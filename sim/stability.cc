@@ -1,0 +1,83 @@
+#include "sim/stability.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+#include <ceres/jet.h>
+
+namespace axis {
+namespace {
+
+using J7 = ceres::Jet<double, kNumStates>;
+
+// ∂f/∂y of the model at state y (input 0), by Jet.
+Eigen::Matrix<double, kNumStates, kNumStates> StateJacobian(
+    const AxisStructure& structure, const AxisParams<double>& params,
+    const AxisState<double>& y) {
+  AxisState<J7> yj;
+  for (int k = 0; k < kNumStates; ++k) yj[k] = J7(y[k], k);
+  AxisState<J7> dy;
+  AxisDerivative(structure, params.cast<J7>(), yj, J7(0.0), &dy);
+  Eigen::Matrix<double, kNumStates, kNumStates> jac;
+  for (int r = 0; r < kNumStates; ++r) jac.row(r) = dy[r].v.transpose();
+  return jac;
+}
+
+double Amplification(std::complex<double> z) {
+  return std::abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0))));
+}
+
+}  // namespace
+
+Rk4StabilityLimit Rk4StabilityLimitOf(const AxisStructure& structure,
+                                      const AxisParams<double>& params) {
+  Rk4StabilityLimit limit;
+  limit.max_step = std::numeric_limits<double>::infinity();
+  AxisState<double> rest = AxisState<double>::Zero();
+  AxisState<double> contact = rest;
+  contact[2] = 2.0 * params.H / params.r_g;  // pinion ahead: X = r_g·y2 − y0 = 2H
+  for (const AxisState<double>& y : {rest, contact}) {
+    const Eigen::Matrix<double, kNumStates, kNumStates> jac = StateJacobian(structure, params, y);
+    if (!jac.allFinite()) {
+      limit.max_step = std::numeric_limits<double>::quiet_NaN();
+      return limit;
+    }
+    const Eigen::EigenSolver<Eigen::Matrix<double, kNumStates, kNumStates>> solver(jac, false);
+    for (int k = 0; k < kNumStates; ++k) {
+      const std::complex<double> lambda = solver.eigenvalues()[k];
+      if (std::abs(lambda) < 1e-6) continue;  // rigid-body modes: |R| = 1
+      double lo = 0.0, hi = 10.0 / std::abs(lambda);
+      if (Amplification(hi * lambda) <= 1.0) continue;
+      for (int it = 0; it < 100; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (Amplification(mid * lambda) <= 1.0 ? lo : hi) = mid;
+      }
+      if (lo < limit.max_step) {
+        limit.max_step = lo;
+        limit.eigenvalue = lambda;
+      }
+    }
+  }
+  return limit;
+}
+
+void CheckRk4Step(const AxisStructure& structure, const AxisParams<double>& params,
+                  double step, const std::string& where, const std::string& key) {
+  const Rk4StabilityLimit limit = Rk4StabilityLimitOf(structure, params);
+  if (!(step > limit.max_step)) return;
+  std::ostringstream msg;
+  msg << where << ": key '" << key << "': expected a step of at most " << limit.max_step
+      << " s (the RK4 stability limit of the linearised model, fastest eigenvalue "
+      << limit.eigenvalue.real();
+  if (limit.eigenvalue.imag() != 0.0) {
+    msg << (limit.eigenvalue.imag() > 0 ? " + " : " - ") << std::abs(limit.eigenvalue.imag())
+        << "i";
+  }
+  msg << " 1/s), got " << step << " s";
+  throw std::invalid_argument(msg.str());
+}
+
+}  // namespace axis

@@ -1,0 +1,46 @@
+// The largest step at which classical RK4 (sim/rk4.h) is stable on the
+// axis model, known before simulating (issue 17: a step beyond it used to
+// simulate and then fail with "left the finite numbers").
+//
+// The model (MODEL.md §3, with the structure's §4 options and §7 effects)
+// is linearised by ceres::Jet at two points with no clamp active: at rest
+// (the gear inside the backlash) and at rest with the gear in contact
+// (pinion ahead of the rack by 2·H, where the gear stiffness couples motor
+// and arm). RK4 is stable for an eigenvalue λ while |R(hλ)| ≤ 1, R(z) = 1 +
+// z + z²/2 + z³/6 + z⁴/24 (Hairer & Wanner, "Solving ODEs II", §IV.2); on
+// the negative real axis that is h ≤ 2.785/|λ|. For the X axis the fastest
+// mode is the current loop, λ ≈ −(K_a/K_i + R)/L = −1.42·10⁵ 1/s, limit
+// 19.6 µs (tests/axis_model_test.cc, StabilityTest).
+#ifndef SIM_STABILITY_H_
+#define SIM_STABILITY_H_
+
+#include <complex>
+#include <string>
+
+#include "sim/axis_model.h"
+#include "sim/axis_params.h"
+
+namespace axis {
+
+// The stability limit and the eigenvalue that sets it.
+struct Rk4StabilityLimit {
+  double max_step = 0.0;               // s; +∞ if no eigenvalue limits it
+  std::complex<double> eigenvalue;     // 1/s, the limiting one
+};
+
+// The largest RK4 step (s) stable at both linearisation points above, found
+// by bisection on |R(hλ)| ≤ 1 for every eigenvalue with |λ| > 1e-6 1/s.
+// Never throws; non-finite parameters give a NaN max_step.
+Rk4StabilityLimit Rk4StabilityLimitOf(const AxisStructure& structure,
+                                      const AxisParams<double>& params);
+
+// Throws std::invalid_argument "<where>: key 'step': expected a step of at
+// most <limit> s (the RK4 stability limit of the linearised model, fastest
+// eigenvalue <λ> 1/s), got <step> s" if `step` exceeds the limit. `where` is
+// the file (and line) for the message.
+void CheckRk4Step(const AxisStructure& structure, const AxisParams<double>& params,
+                  double step, const std::string& where, const std::string& key);
+
+}  // namespace axis
+
+#endif  // SIM_STABILITY_H_
