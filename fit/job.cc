@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "sim/csv.h"
-#include "sim/stability.h"
+#include "sim/preflight.h"
 
 namespace axis {
 namespace {
@@ -563,6 +563,22 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
                                         step, dir, true);
   job.validate = ParseExperimentList(root, "validate", "validate", job.model,
                                      step, dir, false);
+  {
+    // Per fitted experiment, a Jacobian evaluation holds the simulated
+    // channels and the residuals as Jets of 1 + |θ| doubles, and Ceres the
+    // dense Jacobian (residuals × |θ|, twice for the QR factorisation).
+    double theta = static_cast<double>(job.free.size());
+    for (const FitExperiment& e : job.experiments) theta += e.estimate_initial_state ? 2.0 : 0.0;
+    double bytes = 0.0;
+    for (const FitExperiment& e : job.experiments) {
+      const double samples = static_cast<double>(e.t.size());
+      bytes += 8.0 * samples *
+               ((e.measured_channels.size() + e.fitted.size()) * (1.0 + theta) +
+                2.0 * e.fitted.size() * theta);
+    }
+    CheckMemory(bytes, path, "the fit",
+                "fit a shorter 'window' of the experiments or resample the data");
+  }
   if (const YAML::Node node = root.Optional("published")) {
     ParsePublished(node, path, job.model, job.experiments, job.validate,
                    &job.published);

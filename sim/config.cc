@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "sim/csv.h"
-#include "sim/stability.h"
+#include "sim/preflight.h"
 
 namespace axis {
 namespace {
@@ -574,6 +574,20 @@ ExperimentConfig LoadExperiment(const std::string& path) {
           map.Number(name, Range::kNonNegative);
     }
     map.Finish();
+  }
+  {
+    // The trace: one double per output sample and channel (and time); a
+    // delayed channel also keeps one value per RK4 step.
+    const double outputs = std::floor(e.options.duration / e.options.output_period) + 1.0;
+    const double steps = e.options.duration / e.options.step;
+    double delayed = 0.0;
+    for (bool d : e.model.structure.sensors.delay) delayed += d ? 1.0 : 0.0;
+    const double bytes =
+        8.0 * (outputs * (e.options.channels.size() + 1.0) * 2.0 + steps * delayed);
+    std::ostringstream advice;
+    advice << "shorten 'duration' (" << e.options.duration << " s) or lower 'output_rate' ("
+           << rate << " Hz)";
+    CheckMemory(bytes, path, "the simulation", advice.str());
   }
   e.seed = static_cast<std::uint64_t>(root.Integer("seed", 0, 0, 1L << 62));
   if (const YAML::Node node = root.Optional("initial_state")) {

@@ -5,7 +5,7 @@
 // central finite differences, and the RK4 stability limit of the default
 // X axis.
 #include "sim/axis_model.h"
-#include "sim/stability.h"
+#include "sim/preflight.h"
 
 #include <algorithm>
 #include <cmath>
@@ -789,7 +789,7 @@ TEST(StabilityTest, DefaultStepIsInsideTheRk4StabilityLimit) {
   // The bound is a real eigenvalue's: both ways agree to the bisection's
   // precision and the 4 digits of 2.785.
   EXPECT_NEAR(h_exact, h_real_axis, 1e-3 * h_real_axis);
-  // The loaders' up-front check (sim/stability.h) finds the same limit; with
+  // The loaders' up-front check (sim/preflight.h) finds the same limit; with
   // the gear in contact no new fast mode appears, the stiffness only moves
   // the current loop's eigenvalue by 1.3 ppm (bound 1e-5).
   const Rk4StabilityLimit limit = Rk4StabilityLimitOf(s, p);

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/config.h"
+#include "sim/preflight.h"
 
 #include "tests/test_files.h"
 
@@ -113,6 +114,17 @@ TEST(ConfigTest, RepeatedKeyIsRefusedWithBothLines) {
       "twice_nested.yaml", Experiment("", "input:\n  type: step\n  amplitude: 1\n  amplitude: 2\n"));
   msg = ErrorOf([&] { LoadExperiment(nested); });
   EXPECT_NE(msg.find(nested + ":7: key 'input.amplitude'"), std::string::npos) << msg;
+}
+
+// The memory check: nothing below half the physical memory, a clear
+// message above it.
+TEST(ConfigTest, MemoryCheckRefusesMoreThanHalfThePhysicalMemory) {
+  const double physical = PhysicalMemoryBytes();
+  ASSERT_GT(physical, 0.0);
+  EXPECT_NO_THROW(CheckMemory(0.4 * physical, "f.yaml", "the fit", "advice"));
+  const std::string msg = ErrorOf([&] { CheckMemory(0.6 * physical, "f.yaml", "the fit", "advice"); });
+  EXPECT_NE(msg.find("f.yaml: expected the fit to fit in memory"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(": advice"), std::string::npos) << msg;
 }
 
 TEST(ConfigTest, MissingKeyIsNamed) {

@@ -83,6 +83,23 @@ TEST(SimulateAxisCli, UnstableStepIsRefusedUpFront) {
   EXPECT_FALSE(Exists(out));
 }
 
+// An experiment whose trace would not fit in memory is refused before
+// allocating (it used to end in std::bad_alloc), naming the keys to change.
+TEST(SimulateAxisCli, HugeExperimentIsRefusedUpFront) {
+  const std::string bad = ::testing::TempDir() + "huge.yaml";
+  std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
+                     << "duration: 1.0e9\nchannels: [v, a]\n"
+                     << "input: {type: step, amplitude: 1}\n";
+  const std::string out = ::testing::TempDir() + "never_huge.csv";
+  std::remove(out.c_str());
+  const Result r = RunCli(bad + " --out " + out);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("expected the simulation to fit in memory"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'duration' (1e+09 s)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'output_rate' (1000 Hz)"), std::string::npos) << r.err;
+  EXPECT_FALSE(Exists(out));
+}
+
 TEST(SimulateAxisCli, BadCommandLineExitsTwo) {
   EXPECT_EQ(RunCli("").exit_code, 2);
   const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out " +

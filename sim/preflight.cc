@@ -1,9 +1,11 @@
-#include "sim/stability.h"
+#include "sim/preflight.h"
 
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include <unistd.h>
 
 #include <Eigen/Eigenvalues>
 #include <ceres/jet.h>
@@ -77,6 +79,25 @@ void CheckRk4Step(const AxisStructure& structure, const AxisParams<double>& para
         << "i";
   }
   msg << " 1/s), got " << step << " s";
+  throw std::invalid_argument(msg.str());
+}
+
+double PhysicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return 0.0;
+  return static_cast<double>(pages) * static_cast<double>(page_size);
+}
+
+void CheckMemory(double bytes, const std::string& where, const std::string& what,
+                 const std::string& advice) {
+  const double physical = PhysicalMemoryBytes();
+  if (!(physical > 0.0) || bytes <= 0.5 * physical) return;
+  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << where << ": expected " << what << " to fit in memory (at most half of this machine's "
+      << physical / kGiB << " GiB), got an estimated " << bytes / kGiB << " GiB: " << advice;
   throw std::invalid_argument(msg.str());
 }
 

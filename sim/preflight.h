@@ -1,6 +1,7 @@
-// The largest step at which classical RK4 (sim/rk4.h) is stable on the
-// axis model, known before simulating (issue 17: a step beyond it used to
-// simulate and then fail with "left the finite numbers").
+// Checks made before simulating (issue 17): the largest step at which
+// classical RK4 (sim/rk4.h) is stable on the axis model (a step beyond it
+// used to simulate and then fail with "left the finite numbers"), and the
+// memory a simulation or fit will need.
 //
 // The model (MODEL.md §3, with the structure's §4 options and §7 effects)
 // is linearised by ceres::Jet at two points with no clamp active: at rest
@@ -11,8 +12,8 @@
 // the negative real axis that is h ≤ 2.785/|λ|. For the X axis the fastest
 // mode is the current loop, λ ≈ −(K_a/K_i + R)/L = −1.42·10⁵ 1/s, limit
 // 19.6 µs (tests/axis_model_test.cc, StabilityTest).
-#ifndef SIM_STABILITY_H_
-#define SIM_STABILITY_H_
+#ifndef SIM_PREFLIGHT_H_
+#define SIM_PREFLIGHT_H_
 
 #include <complex>
 #include <string>
@@ -41,6 +42,17 @@ Rk4StabilityLimit Rk4StabilityLimitOf(const AxisStructure& structure,
 void CheckRk4Step(const AxisStructure& structure, const AxisParams<double>& params,
                   double step, const std::string& where, const std::string& key);
 
+// Physical memory of this machine in bytes (sysconf), or 0 if unknown.
+double PhysicalMemoryBytes();
+
+// Throws std::invalid_argument "<where>: expected <what> to fit in memory
+// (at most half of this machine's <P> GiB), got an estimated <B> GiB: <advice>"
+// if `bytes` exceeds half the physical memory (checked before allocating:
+// a simulation of duration 1e9 s used to end in std::bad_alloc). Does
+// nothing if the physical memory is unknown.
+void CheckMemory(double bytes, const std::string& where, const std::string& what,
+                 const std::string& advice);
+
 }  // namespace axis
 
-#endif  // SIM_STABILITY_H_
+#endif  // SIM_PREFLIGHT_H_
