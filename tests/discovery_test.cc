@@ -19,6 +19,7 @@
 #include "fit/statistics.h"
 #include "sim/csv.h"
 #include "sim/experiment.h"
+#include "tests/test_files.h"
 
 namespace axis {
 namespace {
@@ -122,7 +123,7 @@ TEST(DiscoveryTest, NoFalseDiscoveryOverNoiseSeeds) {
   int false_discoveries = 0;
   const int kSeeds = 3;
   for (int seed = 1; seed <= kSeeds; ++seed) {
-    const std::string dir = ::testing::TempDir() + "none_seed" + std::to_string(seed);
+    const std::string dir = axis::testing_files::TestTempDir() + "none_seed" + std::to_string(seed);
     std::filesystem::create_directories(dir);
     FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/none.yaml");
     for (FitExperiment* e : {&job.experiments[0], &job.experiments[1], &job.experiments[2]}) {
@@ -198,7 +199,7 @@ TEST(DiscoveryTest, UnknownCandidateNameIsAnError) {
       text.replace(at, rel.size(), abs);
     }
   }
-  const std::string path = ::testing::TempDir() + "bad_candidates.yaml";
+  const std::string path = axis::testing_files::TestTempDir() + "bad_candidates.yaml";
   std::ofstream(path) << text;
   try {
     LoadFitJob(path);
@@ -215,7 +216,7 @@ TEST(DiscoveryTest, UnknownCandidateNameIsAnError) {
 // RMS equals a recomputation from fit_<experiment>.csv, and the discovered
 // model loads as a model config.
 TEST(DiscoveryTest, ReportMatchesTheWrittenTraces) {
-  const std::string out = ::testing::TempDir() + "discover_coulomb";
+  const std::string out = axis::testing_files::TestTempDir() + "discover_coulomb";
   std::filesystem::remove_all(out);
   FitParamsOptions options;
   options.job_path = kRoot + "/configs/jobs/discover/coulomb.yaml";

@@ -14,6 +14,7 @@
 #include "fit/statistics.h"
 #include "sim/csv.h"
 #include "sim/experiment.h"
+#include "tests/test_files.h"
 
 namespace axis {
 namespace {
@@ -56,7 +57,7 @@ TEST(EmpsJobTest, DiscoveryFindsCoulombFrictionOnAShortWindow) {
     text.insert(at, "    window: [0, 12]\n");
     at += 40;
   }
-  const std::string path = ::testing::TempDir() + "emps_short.yaml";
+  const std::string path = axis::testing_files::TestTempDir() + "emps_short.yaml";
   std::ofstream(path) << text;
   FitJob job = LoadFitJob(path);
   ASSERT_NEAR(job.experiments[0].t.back(), 12.0, 0.002);

@@ -108,7 +108,7 @@ TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
 }
 
 TEST(FitOptionsTest, QuickFormWritesTheReport) {
-  const std::string out = ::testing::TempDir() + "quick_out";
+  const std::string out = axis::testing_files::TestTempDir() + "quick_out";
   std::filesystem::remove_all(out);
   const std::string cmd = std::string(BINARY_DIR) + "/fit-params --model " +
                           kRoot + "/configs/axes/x_axis.yaml --data " + kRoot +

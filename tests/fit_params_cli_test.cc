@@ -41,7 +41,7 @@ std::string Job(const std::string& name, const std::string& csv,
 class FitParamsBadInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    out_ = ::testing::TempDir() + "fit_out_bad_" +
+    out_ = axis::testing_files::TestTempDir() + "fit_out_bad_" +
            ::testing::UnitTest::GetInstance()->current_test_info()->name();
     std::filesystem::remove_all(out_);
   }

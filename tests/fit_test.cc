@@ -15,6 +15,7 @@
 #include "fit/fit.h"
 #include "fit/job.h"
 #include "tests/cost_checks.h"
+#include "tests/test_files.h"
 
 namespace axis {
 namespace {
@@ -47,7 +48,7 @@ std::string PaperJob(const std::string& suffix,
   }
   y << "solver: {starts: " << starts << ", seed: " << seed
     << ", threads: 2, max_iterations: 200}\n";
-  const std::string path = ::testing::TempDir() + "paper_job_" +
+  const std::string path = axis::testing_files::TestTempDir() + "paper_job_" +
                            std::to_string(std::hash<std::string>()(y.str())) + ".yaml";
   std::ofstream(path) << y.str();
   return path;

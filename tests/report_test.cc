@@ -20,6 +20,7 @@
 
 #include "fit/fit_result.h"
 #include "sim/csv.h"
+#include "tests/test_files.h"
 
 namespace axis {
 namespace {
@@ -141,7 +142,7 @@ class ReportTest : public ::testing::Test {
   void SetUp() override {
     const ::testing::TestInfo* info =
         ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) /
+    dir_ = fs::path(axis::testing_files::TestTempDir()) /
            ("report_test_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
   }

@@ -28,7 +28,7 @@ Result RunCli(const std::string& args) {
 bool Exists(const std::string& path) { return std::ifstream(path).good(); }
 
 TEST(SimulateAxisCli, WritesTheFig4Trace) {
-  const std::string out = ::testing::TempDir() + "fig4.csv";
+  const std::string out = axis::testing_files::TestTempDir() + "fig4.csv";
   std::remove(out.c_str());
   const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out " + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -42,7 +42,7 @@ TEST(SimulateAxisCli, WritesTheFig4Trace) {
 }
 
 TEST(SimulateAxisCli, SetAndSeedAreApplied) {
-  const std::string out = ::testing::TempDir() + "fig4_set.csv";
+  const std::string out = axis::testing_files::TestTempDir() + "fig4_set.csv";
   const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out " +
                        out + " --set K1=507 --seed 3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -51,11 +51,11 @@ TEST(SimulateAxisCli, SetAndSeedAreApplied) {
 }
 
 TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
-  const std::string bad = ::testing::TempDir() + "bad_exp.yaml";
+  const std::string bad = axis::testing_files::TestTempDir() + "bad_exp.yaml";
   std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
                      << "duration: 0.1\nchannels: [v]\n"
                      << "input: {type: step, amplitude: 1}\nset: {M: -5}\n";
-  const std::string out = ::testing::TempDir() + "never.csv";
+  const std::string out = axis::testing_files::TestTempDir() + "never.csv";
   std::remove(out.c_str());
   const Result r = RunCli(bad + " --out " + out);
   EXPECT_EQ(r.exit_code, 2);
@@ -68,11 +68,11 @@ TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
 // A step beyond RK4's stability limit is refused before simulating (exit 2),
 // naming the limit and the eigenvalue (the current loop, −1.42·10⁵ 1/s).
 TEST(SimulateAxisCli, UnstableStepIsRefusedUpFront) {
-  const std::string bad = ::testing::TempDir() + "unstable_step.yaml";
+  const std::string bad = axis::testing_files::TestTempDir() + "unstable_step.yaml";
   std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
                      << "duration: 0.1\nstep: 1.0e-3\nchannels: [v]\n"
                      << "input: {type: step, amplitude: 1}\n";
-  const std::string out = ::testing::TempDir() + "never_unstable.csv";
+  const std::string out = axis::testing_files::TestTempDir() + "never_unstable.csv";
   std::remove(out.c_str());
   const Result r = RunCli(bad + " --out " + out);
   EXPECT_EQ(r.exit_code, 2);
@@ -86,11 +86,11 @@ TEST(SimulateAxisCli, UnstableStepIsRefusedUpFront) {
 // An experiment whose trace would not fit in memory is refused before
 // allocating (it used to end in std::bad_alloc), naming the keys to change.
 TEST(SimulateAxisCli, HugeExperimentIsRefusedUpFront) {
-  const std::string bad = ::testing::TempDir() + "huge.yaml";
+  const std::string bad = axis::testing_files::TestTempDir() + "huge.yaml";
   std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
                      << "duration: 1.0e9\nchannels: [v, a]\n"
                      << "input: {type: step, amplitude: 1}\n";
-  const std::string out = ::testing::TempDir() + "never_huge.csv";
+  const std::string out = axis::testing_files::TestTempDir() + "never_huge.csv";
   std::remove(out.c_str());
   const Result r = RunCli(bad + " --out " + out);
   EXPECT_EQ(r.exit_code, 2);
@@ -103,7 +103,7 @@ TEST(SimulateAxisCli, HugeExperimentIsRefusedUpFront) {
 TEST(SimulateAxisCli, BadCommandLineExitsTwo) {
   EXPECT_EQ(RunCli("").exit_code, 2);
   const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out " +
-                       ::testing::TempDir() + "x.csv --set NOPE=1");
+                       axis::testing_files::TestTempDir() + "x.csv --set NOPE=1");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("'NOPE'"), std::string::npos) << r.err;
   EXPECT_EQ(RunCli("/nonexistent.yaml --out /tmp/x.csv").exit_code, 2);

@@ -106,7 +106,7 @@ TEST(SwitchedRk4Test, EventParameterInTheGuard) {
 TEST(SwitchedRk4Test, CostJacobianOverAPrbsRecordMatchesCentralDifferences) {
   SimulateAxisOptions sim;
   sim.experiment_path = kRoot + "/configs/experiments/x_prbs.yaml";
-  sim.out_path = ::testing::TempDir() + "x_prbs.csv";
+  sim.out_path = axis::testing_files::TestTempDir() + "x_prbs.csv";
   sim.no_noise = true;
   SimulateAxis(sim);
   const std::string job_path = testing_files::WriteTemp("x_prbs_job.yaml",

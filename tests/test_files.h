@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -15,9 +16,23 @@
 namespace axis {
 namespace testing_files {
 
-// Writes `text` to `name` in ::testing::TempDir() and returns its path.
+// A directory of the running test's own, ::testing::TempDir() +
+// "<suite>.<test>/" (created), so that tests run in parallel by ctest
+// (each case a process) never share a file name.
+inline std::string TestTempDir() {
+  const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string dir =
+      ::testing::TempDir() +
+      (info != nullptr ? std::string(info->test_suite_name()) + "." + info->name()
+                       : std::string("outside_a_test")) +
+      "/";
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// Writes `text` to `name` in TestTempDir() and returns its path.
 inline std::string WriteTemp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
+  const std::string path = TestTempDir() + name;
   std::ofstream(path) << text;
   return path;
 }
