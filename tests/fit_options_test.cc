@@ -63,7 +63,7 @@ TEST(FitOptionsTest, RankDeficiencyIsNamed) {
 
 // The initial arm position and velocity estimated along with B_a, on a
 // window of the noise-free 10 V step that starts in motion (t = 0.2 s):
-// the fit must find the state the truth had there.
+// the fit (B_a started 25 % low) must find the state the truth had there.
 TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
   // The truth at t = 0.2 s, from the noise-free recording.
   std::ifstream in(kRoot + "/testdata/x_step_10V_clean.csv");
@@ -79,7 +79,7 @@ TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
   const std::string job = Write("state.yaml",
       "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
       "free:\n"
-      "  B_a: {initial: 200, lower: 10, upper: 2000}\n"
+      "  B_a: {initial: 150, lower: 10, upper: 2000}\n"
       "experiments:\n"
       "  - name: moving\n"
       "    data: " + kRoot + "/testdata/x_step_10V_clean.csv\n"
