@@ -92,8 +92,8 @@ struct UncertaintySettings {
                        // rises by ½t²s² (fit/uncertainty.h)
   };
   // Default profile likelihood: on the issue 9 campaign (PRBS records,
-  // README) the Gauss–Newton and line-scan intervals covered the truth in
-  // 82–87 % of the cases (T_p in 70 %), the profile's in the 92–98 % band.
+  // README) it held the truth more often than the Gauss–Newton and
+  // line-scan intervals (82–87 %, T_p 70 %), T_p most of all.
   Method method = Method::kProfile;
   // Residual bootstrap cross-check (fit/uncertainty.h): refits of the
   // fitted trace plus the residuals resampled in blocks of `block` samples
