@@ -152,6 +152,11 @@ class AbsoluteDecreaseStop : public ceres::IterationCallback {
 constexpr double kLowerRelative = 1e-9;
 constexpr double kLowerAbsolute = 1e-6;
 
+// The cost a point must be below to count as lower than `cost` (see above).
+double LowerThan(double cost) {
+  return cost - (kLowerRelative * std::abs(cost) + kLowerAbsolute);
+}
+
 // One round of the optimum check: the cost at θ* + s·d for the probe
 // directions d (every coordinate and every principal axis of (JᵀJ)⁻¹, scaled
 // to one standard deviation — a change of ½ in cost on a quadratic — and the
@@ -525,7 +530,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.theta,
                    &lowest, &lowest_cost, &probes);
         ++result.probe_rounds;
-        if (!(lowest_cost < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute))) {
+        if (!(lowest_cost < LowerThan(best_cost))) {
           result.optimum_verified = true;
           break;
         }
@@ -627,7 +632,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         }
       }
       std::copy(centre.begin(), centre.end(), p.theta.begin());
-      if (lowest < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute)) {
+      if (lowest < LowerThan(best_cost)) {
         result.local_decrease += best_cost - lowest;
         restart_from(lowest_point, lowest);
         if (job.solver.progress && progress != nullptr) {
@@ -639,7 +644,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       }
     }
     const double lower_than_best =
-        best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute);
+        LowerThan(best_cost);
     // The profile's refits or the line scan; either may meet a lower cost,
     // which restarts the solver there (at most kRatioPasses − 1 times).
     const bool may_restart = probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses;
@@ -779,7 +784,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         note << (i == 0 ? "; not bounded within 16 standard deviations or the bounds: " : ", ")
              << open[i];
       }
-      if (lowest < best_cost - (kLowerRelative * std::abs(best_cost) + kLowerAbsolute)) {
+      if (lowest < LowerThan(best_cost)) {
         result.optimum_verified = false;
         note << "; the last " << what << " still met a cost lower by " << best_cost - lowest;
       }

@@ -137,6 +137,8 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
   constexpr double kClose = 0.05;     // |P − cost* − threshold| / threshold
   const double threshold = 0.5 * t975 * t975 * residual_variance;
   bool stopped = false;
+  // A refit met a point the caller wants to restart from.
+  const auto met_lower = [&] { return stop_at_lower && scan.lowest_cost < lowest_allowed; };
   std::vector<RatioInterval> intervals;
   for (int k = 0; k < n_free && !stopped; ++k) {
     RatioInterval interval;
@@ -205,9 +207,9 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
         xs.push_back(x);
         rises.push_back(rise);
         points.push_back(solved);
-        if ((scan.lowest_cost < lowest_allowed && stop_at_lower) || x == bound) break;
+        if (met_lower() || x == bound) break;
       }
-      if (scan.lowest_cost < lowest_allowed && stop_at_lower) {
+      if (met_lower()) {
         stopped = true;
         break;
       }
@@ -235,7 +237,7 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
           }
           std::vector<double> solved;
           const double rise = rise_at(end, below_x, below_point, &solved);
-          if (scan.lowest_cost < lowest_allowed && stop_at_lower) {
+          if (met_lower()) {
             stopped = true;
             break;
           }

@@ -30,6 +30,30 @@ const char* RangeText(YamlMap::Range range) {
 
 }  // namespace
 
+namespace {
+
+// The key of a mapping entry as the messages name it.
+std::string KeyText(const YAML::Node& key) {
+  return key.IsScalar() ? key.Scalar() : Describe(key);
+}
+
+// Throws on the first key of the mapping `node` given twice; `dot` is its
+// key path with a trailing '.' ("" at top level).
+void CheckOwnKeys(const YAML::Node& node, const std::string& file, const std::string& dot) {
+  std::map<std::string, int> first_line;
+  for (const auto& entry : node) {
+    const std::string key = KeyText(entry.first);
+    const auto [where, inserted] = first_line.emplace(key, entry.first.Mark().line + 1);
+    if (!inserted) {
+      ThrowConfigError(file, entry.first, dot + key, "each key once in a mapping",
+                       "'" + key + "' again (first on line " +
+                           std::to_string(where->second) + ")");
+    }
+  }
+}
+
+}  // namespace
+
 void CheckUniqueKeys(const YAML::Node& node, const std::string& file,
                      const std::string& prefix) {
   if (node.IsSequence()) {
@@ -39,19 +63,9 @@ void CheckUniqueKeys(const YAML::Node& node, const std::string& file,
     return;
   }
   if (!node.IsMap()) return;
-  std::map<std::string, int> first_line;
   const std::string dot = prefix.empty() ? "" : prefix + ".";
-  for (const auto& entry : node) {
-    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : Describe(entry.first);
-    const int line = entry.first.Mark().line + 1;
-    const auto [where, inserted] = first_line.emplace(key, line);
-    if (!inserted) {
-      ThrowConfigError(file, entry.first, dot + key, "each key once in a mapping",
-                       "'" + key + "' again (first on line " +
-                           std::to_string(where->second) + ")");
-    }
-    CheckUniqueKeys(entry.second, file, dot + key);
-  }
+  CheckOwnKeys(node, file, dot);
+  for (const auto& entry : node) CheckUniqueKeys(entry.second, file, dot + KeyText(entry.first));
 }
 
 YAML::Node LoadYamlFile(const std::string& file) {
@@ -92,8 +106,9 @@ YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string prefix)
     ThrowConfigError(file_, node_, key, "a mapping of keys to values",
                      Describe(node_));
   }
-  // Documents not read by LoadYamlFile (built in code) are checked here.
-  CheckUniqueKeys(node_, file_, prefix_.empty() ? "" : prefix_.substr(0, prefix_.size() - 1));
+  // LoadYamlFile checked the whole document; a document built in code is
+  // checked here, each mapping when its loader opens it.
+  CheckOwnKeys(node_, file_, prefix_);
 }
 
 bool YamlMap::Has(const std::string& key) const {

@@ -100,54 +100,42 @@ TEST(SimulateAxisCli, SeedAndNoNoiseAreApplied) {
   EXPECT_EQ(own.Column("v"), clean.Column("v"));  // v carries no noise
 }
 
-TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
-  const std::string bad = axis::testing_files::TestTempDir() + "bad_exp.yaml";
-  std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
-                     << "duration: 0.1\nchannels: [v]\n"
-                     << "input: {type: step, amplitude: 1}\nset: {M: -5}\n";
-  const std::string out = axis::testing_files::TestTempDir() + "never.csv";
+// Writes an experiment of the X axis with `body` after its model line, runs
+// simulate-axis on it, and expects exit 2, every one of `needles` in
+// standard error (with "$" replaced by the experiment's path) and no output.
+void ExpectRefused(const std::string& body, const std::vector<std::string>& needles) {
+  const std::string dir = axis::testing_files::TestTempDir();
+  const std::string bad = dir + "bad.yaml";
+  std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n" << body;
+  const std::string out = dir + "never.csv";
   std::remove(out.c_str());
   const Result r = RunCli(bad + " --out " + out);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find(bad), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("'M'"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("expected a positive number"), std::string::npos) << r.err;
+  for (std::string needle : needles) {
+    if (const size_t at = needle.find('$'); at != std::string::npos) needle.replace(at, 1, bad);
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "missing '" << needle << "' in " << r.err;
+  }
   EXPECT_FALSE(Exists(out));
+}
+
+TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
+  ExpectRefused("duration: 0.1\nchannels: [v]\ninput: {type: step, amplitude: 1}\nset: {M: -5}\n",
+                {"$", "'M'", "expected a positive number"});
 }
 
 // A step beyond RK4's stability limit is refused before simulating (exit 2),
 // naming the limit and the eigenvalue (the current loop, −1.42·10⁵ 1/s).
 TEST(SimulateAxisCli, UnstableStepIsRefusedUpFront) {
-  const std::string bad = axis::testing_files::TestTempDir() + "unstable_step.yaml";
-  std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
-                     << "duration: 0.1\nstep: 1.0e-3\nchannels: [v]\n"
-                     << "input: {type: step, amplitude: 1}\n";
-  const std::string out = axis::testing_files::TestTempDir() + "never_unstable.csv";
-  std::remove(out.c_str());
-  const Result r = RunCli(bad + " --out " + out);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find(bad + ":3: key 'step'"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("RK4 stability limit"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("-142563"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("got 0.001 s"), std::string::npos) << r.err;
-  EXPECT_FALSE(Exists(out));
+  ExpectRefused("duration: 0.1\nstep: 1.0e-3\nchannels: [v]\ninput: {type: step, amplitude: 1}\n",
+                {"$:3: key 'step'", "RK4 stability limit", "-142563", "got 0.001 s"});
 }
 
 // An experiment whose trace would not fit in memory is refused before
 // allocating (it used to end in std::bad_alloc), naming the keys to change.
 TEST(SimulateAxisCli, HugeExperimentIsRefusedUpFront) {
-  const std::string bad = axis::testing_files::TestTempDir() + "huge.yaml";
-  std::ofstream(bad) << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
-                     << "duration: 1.0e9\nchannels: [v, a]\n"
-                     << "input: {type: step, amplitude: 1}\n";
-  const std::string out = axis::testing_files::TestTempDir() + "never_huge.csv";
-  std::remove(out.c_str());
-  const Result r = RunCli(bad + " --out " + out);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("expected the simulation to fit in memory"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("'duration' (1e+09 s)"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("'output_rate' (1000 Hz)"), std::string::npos) << r.err;
-  EXPECT_FALSE(Exists(out));
+  ExpectRefused("duration: 1.0e9\nchannels: [v, a]\ninput: {type: step, amplitude: 1}\n",
+                {"expected the simulation to fit in memory", "'duration' (1e+09 s)",
+                 "'output_rate' (1000 Hz)"});
 }
 
 TEST(SimulateAxisCli, BadCommandLineExitsTwo) {
