@@ -5,10 +5,15 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <type_traits>
 
 #include <ceres/jet.h>
 
+#include <string>
+
 #include "sim/axis_model.h"
+#include "sim/config.h"
+#include "sim/simulate.h"
 #include "sim/rk4.h"
 
 namespace {
@@ -21,6 +26,12 @@ template <typename T>
 void BM_Rk4Step(benchmark::State& state) {
   const axis::AxisStructure structure;
   axis::AxisParams<T> params = axis::AxisParams<double>().cast<T>();
+  // As in the paper job: the five unknowns carry derivative parts.
+  if constexpr (!std::is_same<T, double>::value) {
+    T* unknowns[] = {&params.V_L, &params.B_a, &params.b_g, &params.k_g,
+                     &params.T_p};
+    for (int k = 0; k < 5; ++k) unknowns[k]->v[k % T::DIMENSION] = 1.0;
+  }
   const axis::AxisCoefficients<T> coeffs =
       axis::MakeAxisCoefficients(structure, params);
   const T input(kInput);
@@ -42,20 +53,23 @@ void BM_Rk4Step(benchmark::State& state) {
 }
 
 // The same equations written out on plain doubles, no Eigen, no switches.
+template <typename T>
 struct Plain {
-  double y[7] = {0, 0, 0, 0, 0, 0, 0};
+  T y[7] = {T(0), T(0), T(0), T(0), T(0), T(0), T(0)};
 };
 
-inline void PlainDerivative(const double* y, double u, double* dy) {
+template <typename T>
+inline void PlainDerivative(const T* y, double u, T* dy) {
   const double R = 0.56, L = 0.00235, K_e = 0.289, K_tau = 0.289,
                J_m = 0.000847, B_m = 0.000733, K_t = 0.0668, r_g = 0.00573,
                H = 0.00001, M = 146, T_z = 0.00705, T_p = 0.04, T_r = 0.000159,
                K1 = 1014, K2 = 870, K_i = 3, V_M = 95, V_L = 2.7, B_a = 200,
                b_g = 1500, k_g = 5e6, K_a = 1000;
-  const double vc = std::clamp(y[4] + T_z * y[5], -V_L, V_L);
-  const double vm = std::clamp(K_a * (vc - y[6] / K_i), -V_M, V_M);
-  const double X = r_g * y[2] - y[0];
-  double fg = 0.0;
+  using std::clamp;
+  const T vc = clamp<T>(y[4] + T_z * y[5], T(-V_L), T(V_L));
+  const T vm = clamp<T>(K_a * (vc - y[6] / K_i), T(-V_M), T(V_M));
+  const T X = r_g * y[2] - y[0];
+  T fg(0.0);
   if (X > H) fg = (X - H) * k_g + (r_g * y[3] - y[1]) * b_g;
   if (X < -H) fg = (X + H) * k_g + (r_g * y[3] - y[1]) * b_g;
   dy[0] = y[1];
@@ -67,10 +81,14 @@ inline void PlainDerivative(const double* y, double u, double* dy) {
   dy[6] = (vm - R * y[6] - K_e * y[3]) / L;
 }
 
+// T = double, or ceres::Jet<double, 5> with every parameter a plain double
+// (no derivative parts, unlike BM_Rk4Step's five unknowns): a lower bound on
+// the cost of the Jet arithmetic of the equations.
+template <typename T>
 void BM_HandWrittenStep(benchmark::State& state) {
-  Plain s;
+  Plain<T> s;
   long n = 0;
-  double k1[7], k2[7], k3[7], k4[7], tmp[7];
+  T k1[7], k2[7], k3[7], k4[7], tmp[7];
   for (auto _ : state) {
     const double h = kStep;
     PlainDerivative(s.y, kInput, k1);
@@ -86,14 +104,45 @@ void BM_HandWrittenStep(benchmark::State& state) {
     benchmark::DoNotOptimize(s);
     if (++n == kRestartEvery) {
       n = 0;
-      s = Plain();
+      s = Plain<T>();
     }
   }
   state.SetItemsProcessed(state.iterations());
 }
 
-BENCHMARK(BM_HandWrittenStep);
+// One simulation as a fit evaluates it: configs/experiments/x_prbs.yaml (3 s,
+// PRBS ±5 V, the backlash crossed at every reversal, so the switched RK4 of
+// sim/switched_rk4.h locates events), in double, in Jet<1> (a residual-only
+// evaluation's guard) and in Jet<5> (a Jacobian evaluation, the paper's five
+// unknowns carrying derivative parts).
+template <typename T>
+void BM_SimulatePrbs(benchmark::State& state) {
+  const axis::ExperimentConfig e =
+      axis::LoadExperiment(std::string(PROJECT_SOURCE_DIR) +
+                           "/configs/experiments/x_prbs.yaml");
+  axis::AxisParams<T> params = e.model.params.cast<T>();
+  if constexpr (!std::is_same<T, double>::value) {
+    T* unknowns[] = {&params.V_L, &params.B_a, &params.b_g, &params.k_g,
+                     &params.T_p};
+    for (int k = 0; k < 5; ++k) unknowns[k]->v[k % T::DIMENSION] = 1.0;
+  }
+  const axis::SimulationGrid grid = axis::MakeGrid(e.options, e.drive);
+  const axis::AxisState<T> y0 = e.initial_state.cast<T>();
+  for (auto _ : state) {
+    axis::Trace<T> trace = axis::Simulate(e.model.structure, params, y0,
+                                          e.drive, e.options, grid);
+    benchmark::DoNotOptimize(trace);
+  }
+  state.SetItemsProcessed(state.iterations() * grid.num_steps);
+}
+BENCHMARK_TEMPLATE(BM_SimulatePrbs, double)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 1>)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 5>)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_TEMPLATE(BM_HandWrittenStep, double);
+BENCHMARK_TEMPLATE(BM_HandWrittenStep, ceres::Jet<double, 5>);
 BENCHMARK_TEMPLATE(BM_Rk4Step, double);
+BENCHMARK_TEMPLATE(BM_Rk4Step, ceres::Jet<double, 1>);
 BENCHMARK_TEMPLATE(BM_Rk4Step, ceres::Jet<double, 5>);
 
 }  // namespace

@@ -1,11 +1,13 @@
 #include "fit/fit.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -47,6 +49,37 @@ class ProgressPrinter : public ceres::IterationCallback {
   std::ostream* out_;
   int start_;
   double horizon_;
+};
+
+// Adds the wall time and evaluations between construction and destruction
+// to the phase `name` of *result (FitResult::phases).
+class PhaseTimer {
+ public:
+  PhaseTimer(const char* name, const EvaluationCounter& counter, FitResult* result)
+      : name_(name), counter_(counter), result_(result),
+        start_(std::chrono::steady_clock::now()),
+        simulations_(counter.simulations), jacobians_(counter.jacobians) {}
+  ~PhaseTimer() {
+    auto it = std::find_if(result_->phases.begin(), result_->phases.end(),
+                           [&](const FitPhase& f) { return f.name == name_; });
+    if (it == result_->phases.end()) {
+      result_->phases.push_back(FitPhase{name_});
+      it = result_->phases.end() - 1;
+    }
+    it->seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    it->simulations += counter_.simulations - simulations_;
+    it->jacobians += counter_.jacobians - jacobians_;
+  }
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+ private:
+  std::string name_;
+  const EvaluationCounter& counter_;
+  FitResult* result_;
+  std::chrono::steady_clock::time_point start_;
+  int simulations_;
+  int jacobians_;
 };
 
 // The first `horizon` seconds of an experiment (all of it if shorter).
@@ -426,6 +459,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   std::vector<double> best_step(theta_size, 0.0);  // the last stage's step
   ceres::Solver::Summary best_summary;
   for (size_t s = 0; s < starts.size(); ++s) {
+    PhaseTimer timer("starts", p.counter, &result);
     std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
     ceres::Solver::Summary summary;
     // A stage whose warm start fails to evaluate (the previous, shorter
@@ -522,6 +556,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // Runs the probe rounds from the current best point (see above); fills
   // result.optimum_*.
   auto check_optimum = [&]() {
+    PhaseTimer timer("optimum check", p.counter, &result);
     if (std::isfinite(best_cost) && probe_rounds > 0) {
       ceres::Problem& last = *stages.back().problem;
       for (int round = 0;; ++round) {
@@ -590,10 +625,12 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   int local_passes = 0;
   for (;;) {
     result.residual_variance = 2.0 * best_cost / dof;
+    std::optional<PhaseTimer> timer(std::in_place, "covariance", p.counter, &result);
     cov_theta = std::isfinite(best_cost)
                     ? CovarianceOfTheta(&full_problem, theta, theta_size, job.solver.threads)
                     : Eigen::MatrixXd::Constant(theta_size, theta_size,
                                                 std::numeric_limits<double>::quiet_NaN());
+    timer.reset();
     if (!std::isfinite(best_cost)) break;
     // Local restarts: Levenberg–Marquardt from θ* ± local_starts standard
     // deviations along every principal axis of the covariance. The probes
@@ -603,6 +640,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     // the side of the start it came from).
     if (local_starts > 0.0 && probe_rounds > 0 &&
         local_passes < kLocalPasses && cov_theta.allFinite()) {
+      timer.emplace("local restarts", p.counter, &result);
       ++local_passes;
       const std::vector<double> centre = best;
       std::vector<double> lowest_point;
@@ -632,6 +670,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         }
       }
       std::copy(centre.begin(), centre.end(), p.theta.begin());
+      timer.reset();
       if (lowest < LowerThan(best_cost)) {
         result.local_decrease += best_cost - lowest;
         restart_from(lowest_point, lowest);
@@ -650,6 +689,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     const bool may_restart = probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses;
     double met_cost = 0.0;
     const std::vector<double>* met_point = nullptr;
+    timer.emplace("intervals", p.counter, &result);
     if (profile_method) {
       // Profile refits: warm-started next to the profile, so Ceres' default
       // trust region (nearly Gauss–Newton steps) and a stop once a step
@@ -676,6 +716,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     } else {
       break;
     }
+    timer.reset();
     if (met_cost < lower_than_best && may_restart) {
       ++ratio_restarts;
       restart_from(*met_point, met_cost);
@@ -704,8 +745,6 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.converged = best_summary.termination_type == ceres::CONVERGENCE;
   result.termination = best_summary.message;
   result.iterations = static_cast<int>(best_summary.iterations.size()) - 1;
-  result.simulations = p.counter.simulations;
-  result.jacobian_evaluations = p.counter.jacobians;
 
   // To physical units: value_k = g(θ_k), so Cov = D·Cov_θ·D·s² (the
   // Gauss–Newton covariance; likelihood-ratio intervals replace the
@@ -723,6 +762,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.correlation = Eigen::MatrixXd::Identity(n_free, n_free);
   std::vector<bool> determined(n_free, true);
   if (std::isfinite(best_cost)) {
+    PhaseTimer timer("covariance", p.counter, &result);
     const std::vector<bool> null = NullSpaceMembers(&full_problem, n_free);
     for (int i = 0; i < n_free; ++i) determined[i] = !null[i];
   }
@@ -838,6 +878,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.aic = 2.0 * best_cost + 2.0 * n;
   result.bic = 2.0 * best_cost + n * std::log(static_cast<double>(num_residuals));
 
+  {
+  PhaseTimer timer("evaluation", p.counter, &result);
   for (size_t j = 0; j < job.experiments.size(); ++j) {
     FitExperiment e = job.experiments[j];
     if (state_index[j] >= 0) {
@@ -853,6 +895,9 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     result.experiments.push_back(
         EvaluateExperiment(job.model.structure, fitted, e));
   }
+  }
+  result.simulations = p.counter.simulations;
+  result.jacobian_evaluations = p.counter.jacobians;
   return result;
 }
 
@@ -903,7 +948,9 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
   out << "cost " << result.initial_cost << " -> " << result.final_cost
       << (result.converged ? " (converged)" : " (NOT converged)") << ", "
       << result.simulations << " simulations, " << result.jacobian_evaluations
-      << " Jacobian evaluations\n";  out << result.optimum_check << "\n";
+      << " Jacobian evaluations\n";
+  out << FormatPhases(result) << "\n";
+  out << result.optimum_check << "\n";
   out << "uncertainty: " << result.uncertainty_note << "\n";
   if (job.uncertainty.bootstrap > 0) out << FormatBootstrap(result);
   std::vector<std::string> warnings;

@@ -66,6 +66,16 @@ struct ExperimentFit {
   std::vector<ChannelFit> channels;
 };
 
+// Wall time and model evaluations spent in one phase of FitParameters
+// (accumulated when a phase runs more than once).
+struct FitPhase {
+  std::string name;     // "starts", "optimum check", "local restarts",
+                        // "covariance", "intervals", "evaluation"
+  double seconds = 0.0;  // wall-clock time (std::chrono::steady_clock)
+  int simulations = 0;   // residual-only evaluations in the phase
+  int jacobians = 0;     // evaluations with derivatives in the phase
+};
+
 struct FitResult {
   std::vector<ParameterEstimate> parameters;  // free first (job order), then fixed
   std::vector<std::string> free_names;        // order of the correlation matrix
@@ -99,6 +109,8 @@ struct FitResult {
   std::string uncertainty_method;
   std::string uncertainty_note;
   int bootstrap_replicates = 0;  // refits that converged (0: no bootstrap)
+  // Where the time went, in the order the phases first ran.
+  std::vector<FitPhase> phases;
 };
 
 }  // namespace axis

@@ -15,7 +15,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -441,6 +443,20 @@ std::string FormatFitTable(const FitResult& result) {
   return RenderText(FitTable(result));
 }
 
+std::string FormatPhases(const FitResult& result) {
+  double total = 0.0;
+  for (const FitPhase& f : result.phases) total += f.seconds;
+  std::ostringstream out;
+  out << std::setprecision(3) << "time: " << total << " s (";
+  for (size_t k = 0; k < result.phases.size(); ++k) {
+    const FitPhase& f = result.phases[k];
+    out << (k == 0 ? "" : ", ") << f.name << " " << f.seconds << " s: "
+        << f.simulations << " simulations, " << f.jacobians << " Jacobians";
+  }
+  out << ")";
+  return out.str();
+}
+
 std::vector<std::string> ExperimentFileStems(const FitResult& result) {
   std::vector<std::string> stems;
   std::set<std::string> used;
@@ -559,6 +575,7 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
          ", simulations: " + std::to_string(result.simulations) +
          ", Jacobian evaluations: " +
          std::to_string(result.jacobian_evaluations) + "\n";
+  out += "- " + FormatPhases(result) + "\n";
   out += "- termination: " +
          (result.termination.empty() ? std::string("-")
                                      : OneLine(result.termination)) +
@@ -647,6 +664,14 @@ void WriteReportJson(const std::string& path, const FitResult& result,
   j["simulations"] = result.simulations;
   j["jacobian_evaluations"] = result.jacobian_evaluations;
   j["termination"] = result.termination;
+  Json phases = Json::array();
+  for (const FitPhase& f : result.phases) {
+    phases.push_back({{"name", f.name},
+                      {"seconds", JsonNumber<Json>(f.seconds)},
+                      {"simulations", f.simulations},
+                      {"jacobians", f.jacobians}});
+  }
+  j["phases"] = phases;
   j["uncertainty"] = {{"method", result.uncertainty_method},
                       {"note", result.uncertainty_note},
                       {"bootstrap_replicates", result.bootstrap_replicates}};

@@ -56,6 +56,11 @@ std::string FormatParameterTable(const FitResult& result);
 // residual with the input u with its lag in samples. Ends with a newline.
 std::string FormatFitTable(const FitResult& result);
 
+// One line: the wall time of FitParameters and, per phase
+// (FitResult::phases), its seconds, simulations and Jacobian evaluations,
+// e.g. "time: 41.2 s (starts 2.1 s: 40 simulations, 35 Jacobians, …)".
+std::string FormatPhases(const FitResult& result);
+
 // The base names "fit_<name>" of the per-experiment files, one per entry of
 // result.experiments: characters of the name other than ASCII letters,
 // digits, '.', '-' and '_' become '_', an empty name becomes

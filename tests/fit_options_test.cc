@@ -3,11 +3,13 @@
 // command-line form writes the full report.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -105,6 +107,22 @@ TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
   std::cout << "v(0.2 s): estimate " << v0 << ", truth " << v_true << "\n";
   EXPECT_NEAR(v0, v_true, 0.005 * v_true);
   EXPECT_NEAR(Estimate(r, "B_a").value, 200.0, 200.0 * 0.02);
+
+  // The phase account (FitResult::phases) holds every evaluation once.
+  int simulations = 0, jacobians = 0;
+  std::vector<std::string> names;
+  for (const FitPhase& f : r.phases) {
+    EXPECT_GE(f.seconds, 0.0) << f.name;
+    simulations += f.simulations;
+    jacobians += f.jacobians;
+    names.push_back(f.name);
+  }
+  EXPECT_EQ(simulations, r.simulations);
+  EXPECT_EQ(jacobians, r.jacobian_evaluations);
+  ASSERT_GE(names.size(), 3u);
+  EXPECT_EQ(names[0], "starts");
+  EXPECT_EQ(names[1], "optimum check");
+  EXPECT_NE(std::find(names.begin(), names.end(), "evaluation"), names.end());
 }
 
 TEST(FitOptionsTest, QuickFormWritesTheReport) {
