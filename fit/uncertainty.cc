@@ -236,7 +236,17 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
             break;
           }
           std::vector<double> solved;
-          const double rise = rise_at(end, below_x, below_point, &solved);
+          double rise = rise_at(end, below_x, below_point, &solved);
+          if (!met_lower() && rise > threshold && below_x != centre[k]) {
+            // As at the coarse points: a chain of warm starts can stay
+            // behind a bump that a refit from the estimate passes.
+            std::vector<double> other;
+            const double cold = rise_at(end, centre[k], centre, &other);
+            if (cold < rise) {
+              rise = cold;
+              solved = other;
+            }
+          }
           if (met_lower()) {
             stopped = true;
             break;
