@@ -3,7 +3,8 @@
 //            --free V_L,B_a,b_g,k_g,T_p [--out DIR]
 //
 // Estimates the free parameters of a model from recorded traces (fit/fit.h).
-// Exit codes: 0 success, 2 bad input (command line, job, data), 1 other.
+// Exit codes: 0 success, 2 bad input (command line, job, data), 1 other,
+// 130/143 interrupted by SIGINT/SIGTERM (nothing written; sim/interrupt.h).
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -13,10 +14,12 @@
 #include <glog/logging.h>
 
 #include "fit/fit.h"
+#include "sim/interrupt.h"
 
 int main(int argc, char** argv) {
   // Ceres logs through glog; fit-params reports solver trouble itself
   // (termination message, undetermined parameters), so only fatal messages.
+  axis::InstallInterruptHandlers("fit-params");
   google::InitGoogleLogging(argv[0]);
   FLAGS_minloglevel = google::GLOG_FATAL;
   CLI::App app{"Estimate servo-axis parameters from recorded traces"};

@@ -3,7 +3,8 @@
 //
 // Simulates one experiment file (configs/experiments/*.yaml) and writes the
 // recorded channels as CSV. Exit codes: 0 success, 2 bad input (command
-// line, config, data file), 1 other failures.
+// line, config, data file), 1 other failures, 130/143 interrupted by
+// SIGINT/SIGTERM (nothing written; sim/interrupt.h).
 #include <unistd.h>
 
 #include <cstdio>
@@ -13,8 +14,10 @@
 #include <CLI/CLI.hpp>
 
 #include "sim/experiment.h"
+#include "sim/interrupt.h"
 
 int main(int argc, char** argv) {
+  axis::InstallInterruptHandlers("simulate-axis");
   CLI::App app{"Simulate one servo-axis experiment (Nelson & Chang 1984 model)"};
   axis::SimulateAxisOptions options;
   app.add_option("experiment", options.experiment_path, "experiment YAML file")

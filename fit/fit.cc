@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -22,6 +23,7 @@
 #include "fit/statistics.h"
 #include "fit/uncertainty.h"
 #include "sim/csv.h"
+#include "sim/interrupt.h"
 
 namespace axis {
 namespace {
@@ -938,6 +940,7 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
         ": expected an output directory (--out DIR or output.dir in the job), "
         "got none");
   }
+  SetInterruptTarget(job.out_dir);
   out << "fit-params: " << job.title << "\n"
       << "  " << job.experiments.size() << " fitted experiment(s), "
       << job.validate.size() << " validation experiment(s), "
@@ -989,17 +992,31 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                      FormatDiscovery(discovery) + "```\n";
     extra.json["discovery"] = DiscoveryToJson(discovery);
   }
-  WriteFitOutputs(job.out_dir, result, job.title, &warnings, extra);
-  if (discover) {
-    WriteDiagnostics(job.out_dir, diagnostics, &warnings);
-    AxisConfig discovered = job.model;
-    discovered.name = job.model.name + "_discovered";
-    discovered.source = "fit-params --discover on " + job.title;
-    WriteFileAtomic(job.out_dir + "/model_discovered.yaml",
-                    "# Written by fit-params --discover: the fitted model with the\n"
-                    "# effects the data asked for. Loadable by simulate-axis and\n"
-                    "# fit-params as a model config.\n" +
-                        AxisConfigToYaml(discovered));
+  // Everything goes to a staging folder first and is moved into place at
+  // the end; an interrupt meanwhile is held (sim/interrupt.h).
+  {
+    DeferInterrupts defer;
+    const std::string staging = MakeStagingDirectory(job.out_dir);
+    try {
+      WriteFitOutputs(staging, result, job.title, &warnings, extra);
+      if (discover) {
+        WriteDiagnostics(staging, diagnostics, &warnings);
+        AxisConfig discovered = job.model;
+        discovered.name = job.model.name + "_discovered";
+        discovered.source = "fit-params --discover on " + job.title;
+        WriteFileAtomic(staging + "/model_discovered.yaml",
+                        "# Written by fit-params --discover: the fitted model with the\n"
+                        "# effects the data asked for. Loadable by simulate-axis and\n"
+                        "# fit-params as a model config.\n" +
+                            AxisConfigToYaml(discovered));
+      }
+      CommitStagingDirectory(staging, job.out_dir);
+    } catch (...) {
+      std::error_code ec;
+      std::filesystem::remove_all(staging, ec);
+      throw;
+    }
+    defer.Committed();
   }
   for (const std::string& w : warnings) err << "fit-params: warning: " << w << "\n";
   out << "wrote " << job.out_dir << "/{params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";

@@ -803,6 +803,49 @@ bool WriteExperimentPlot(const std::string& png_path,
       fit.name, warning);
 }
 
+std::string MakeStagingDirectory(const std::string& dir) {
+  fs::path target = fs::path(dir);
+  if (!target.has_filename()) target = target.parent_path();  // "out/" → "out"
+  const fs::path staging =
+      target.string() + ".partial." + std::to_string(static_cast<long>(::getpid()));
+  std::error_code ec;
+  if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
+  fs::remove_all(staging, ec);
+  ec.clear();
+  fs::create_directory(staging, ec);
+  if (ec) {
+    throw std::runtime_error(staging.string() +
+                             ": cannot create the staging folder for the outputs: " +
+                             ec.message());
+  }
+  return staging.string();
+}
+
+void CommitStagingDirectory(const std::string& staging, const std::string& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) {
+    fs::rename(staging, dir, ec);
+    if (ec) {
+      throw std::runtime_error(dir + ": cannot move the outputs from '" + staging +
+                               "' into place: " + ec.message());
+    }
+    return;
+  }
+  if (!fs::is_directory(dir, ec)) {
+    throw std::runtime_error(dir + ": cannot create the output directory: "
+                             "exists and is not a directory");
+  }
+  for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
+    const fs::path to = fs::path(dir) / entry.path().filename();
+    fs::rename(entry.path(), to, ec);
+    if (ec) {
+      throw std::runtime_error(to.string() + ": cannot move the output from '" +
+                               entry.path().string() + "': " + ec.message());
+    }
+  }
+  fs::remove_all(staging, ec);
+}
+
 void WriteFitOutputs(const std::string& dir, const FitResult& result,
                      const std::string& title,
                      std::vector<std::string>* warnings,

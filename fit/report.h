@@ -153,6 +153,21 @@ bool RenderGnuplotPng(const std::string& png_path,
                       const std::function<std::string(const std::string&)>& script,
                       const std::string& what, std::string* warning);
 
+// A run's outputs are written into a staging folder and moved into place
+// only when all of them are complete, so that a failure or an interrupt
+// (sim/interrupt.h) leaves no partial output folder.
+//
+// Creates and returns an empty sibling of `dir`, "<dir>.partial.<pid>"
+// (creating the parents of `dir` if missing; removing a stale staging folder
+// of the same name). Throws std::runtime_error naming the folder.
+std::string MakeStagingDirectory(const std::string& dir);
+
+// Moves the outputs of `staging` to `dir`: a single rename if `dir` does not
+// exist, else file by file (each rename atomic; files of `dir` with other
+// names stay), then removes `staging`. Throws std::runtime_error naming the
+// file that cannot be moved.
+void CommitStagingDirectory(const std::string& staging, const std::string& dir);
+
 // Writes every output of a fit into `dir` (created with its parents if
 // missing): params.csv, params.md (titled `title`), report.json, and for each
 // experiment <stem>.csv and <stem>.png (stems from ExperimentFileStems, e.g.

@@ -228,11 +228,13 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
         double above_x = xs[j + 1], above_rise = rises[j + 1];
         std::vector<double> below_point = points[j];
         const double target = std::sqrt(threshold);
+        bool interpolate_and_stop = false;
         for (int it = 0;; ++it) {
           const double z_below = std::sqrt(below_rise);
           const double z_above = std::isfinite(above_rise) ? std::sqrt(above_rise) : 2.0 * target;
           end = below_x + (above_x - below_x) * (target - z_below) / (z_above - z_below);
-          if (it == kRefinements || std::abs(above_rise - threshold) <= kClose * threshold) {
+          if (interpolate_and_stop || it == kRefinements ||
+              std::abs(above_rise - threshold) <= kClose * threshold) {
             break;
           }
           std::vector<double> solved;
@@ -251,7 +253,7 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
             stopped = true;
             break;
           }
-          if (std::abs(rise - threshold) <= kClose * threshold) break;
+          const bool close = std::abs(rise - threshold) <= kClose * threshold;
           if (rise > threshold) {
             above_x = end;
             above_rise = rise;
@@ -260,6 +262,10 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
             below_rise = std::max(rise, 0.0);
             below_point = solved;
           }
+          // Close enough: one more interpolation in the narrowed bracket
+          // (free) rather than the refit point itself, which may lie up to
+          // kClose inside or outside the crossing.
+          it = close ? kRefinements - 1 : it;
         }
         if (stopped) break;
       }

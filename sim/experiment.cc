@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "sim/csv.h"
+#include "sim/interrupt.h"
 
 namespace axis {
 
@@ -37,6 +38,7 @@ void WriteTraceCsv(const std::string& path, const Trace<double>& trace,
 }
 
 void SimulateAxis(const SimulateAxisOptions& options) {
+  SetInterruptTarget(options.out_path);
   ExperimentConfig e = LoadExperiment(options.experiment_path);
   for (const std::string& set : options.sets) ApplySetArgument(&e.model, set);
   e.initial_state = ConsistentInitialState(e.model, e.initial_state);
@@ -56,7 +58,9 @@ void SimulateAxis(const SimulateAxisOptions& options) {
         "step or check the parameters); nothing written");
   }
   if (!options.no_noise) AddNoise(e.noise_sigma, e.seed, &trace);
+  DeferInterrupts defer;  // no temporary file left behind (sim/interrupt.h)
   WriteTraceCsv(options.out_path, trace, e.options.channels);
+  defer.Committed();
 }
 
 }  // namespace axis
