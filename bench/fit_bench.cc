@@ -54,6 +54,30 @@ void BM_PaperJobWithDiscovery(benchmark::State& state) {
 }
 BENCHMARK(BM_PaperJobWithDiscovery)->Unit(benchmark::kMillisecond)->Iterations(2);
 
+// A discovery case as `fit-params JOB --discover` runs it: the fit of the
+// declared model, the score test, the refits and the backward pass.
+// configs/jobs/discover/coulomb.yaml: 3 × 2 s, one undeclared effect;
+// coulomb_load_offset.yaml: 4 records, two undeclared effects (the slowest
+// discovery case of tests/discovery_test.cc).
+void BM_Discover(benchmark::State& state, const char* job_file) {
+  axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) + job_file);
+  job.solver.progress = false;
+  job.discover.enabled = true;
+  axis::DiscoveryReport report;
+  for (auto _ : state) {
+    axis::FitJob j = job;
+    axis::FitResult result = axis::FitParameters(j);
+    report = axis::Discover(j.discover, &j, &result, nullptr);
+    benchmark::DoNotOptimize(report);
+  }
+  state.counters["effects_added"] = report.selected.size();
+}
+BENCHMARK_CAPTURE(BM_Discover, coulomb, "/configs/jobs/discover/coulomb.yaml")
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_Discover, coulomb_load_offset,
+                  "/configs/jobs/discover/coulomb_load_offset.yaml")
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
+
 // configs/jobs/emps.yaml as `fit-params` runs it: the closed-loop fit of M
 // and B_a on the 24.8 s estimation run, the discovery loop (up to five
 // effects, backward pass), validation runs. Target (issue 5): at most 60 s.

@@ -281,9 +281,13 @@ void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
 }
 
 AxisConfig LoadAxisConfig(const std::string& path) {
+  return ParseAxisConfig(LoadYamlFile(path), path);
+}
+
+AxisConfig ParseAxisConfig(const YAML::Node& document, const std::string& path) {
   AxisConfig config;
   config.path = path;
-  YamlMap root(LoadYamlFile(path), path, "");
+  YamlMap root(document, path, "");
   config.name = root.String("name");
   config.source = root.String("source", "");
   root.String("description", "");
@@ -527,10 +531,14 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
 }
 
 ExperimentConfig LoadExperiment(const std::string& path) {
+  return ParseExperiment(LoadYamlFile(path), path, DirectoryOf(path));
+}
+
+ExperimentConfig ParseExperiment(const YAML::Node& document, const std::string& path,
+                                 const std::string& dir) {
   ExperimentConfig e;
   e.path = path;
-  const std::string dir = DirectoryOf(path);
-  YamlMap root(LoadYamlFile(path), path, "");
+  YamlMap root(document, path, "");
   e.description = root.String("description", "");
   e.model = LoadAxisConfig(ResolvePath(dir, root.String("model")));
   ParseModelOverrides(root, &e.model);

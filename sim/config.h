@@ -37,6 +37,10 @@ struct AxisConfig {
 // amplifier: force_source without coupling: rigid.
 AxisConfig LoadAxisConfig(const std::string& path);
 
+// As LoadAxisConfig, from a parsed YAML document; `path` names it in
+// messages.
+AxisConfig ParseAxisConfig(const YAML::Node& document, const std::string& path);
+
 // The dynamic effects of MODEL.md §7: config name, parameter names (in
 // VisitParams naming) and the switch in EffectSwitches. The one list of them.
 struct EffectInfo {
@@ -121,6 +125,12 @@ struct ExperimentConfig {
 
 // Loads an experiment file. Throws std::invalid_argument.
 ExperimentConfig LoadExperiment(const std::string& path);
+
+// As LoadExperiment, from a parsed YAML document; `path` names it in
+// messages and relative file names (model, data columns) are resolved
+// against `base_dir`.
+ExperimentConfig ParseExperiment(const YAML::Node& document, const std::string& path,
+                                 const std::string& base_dir);
 
 // The initial state made consistent with the coupling: in rigid coupling
 // y2 = y0/r_g and y3 = y1/r_g.

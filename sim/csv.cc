@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -315,12 +316,13 @@ bool CsvTable::HasColumn(const std::string& name) const {
   return false;
 }
 
-CsvTable ReadCsv(const std::string& path) {
-  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-  if (!file) {
-    throw std::invalid_argument(
-        path + ": cannot open for reading: " + ErrnoText(errno));
-  }
+namespace {
+
+// Parses the CSV delivered by `read_chunk(buffer, capacity)` (the bytes
+// read, 0 at the end; throws on a read error) as ReadCsv describes; `path`
+// names it in messages.
+template <typename ReadChunk>
+CsvTable ParseChunks(const std::string& path, ReadChunk read_chunk) {
   csv_parser parser_storage;
   if (csv_init(&parser_storage, CSV_STRICT | CSV_STRICT_FINI | CSV_APPEND_NULL |
                                     CSV_REPALL_NL) != 0) {
@@ -332,14 +334,8 @@ CsvTable ReadCsv(const std::string& path) {
   std::vector<char> buffer(kChunkSize);
   bool first_chunk = true;
   while (!reader.failed()) {
-    const size_t size = std::fread(buffer.data(), 1, buffer.size(), file.get());
-    if (size == 0) {
-      if (std::ferror(file.get())) {
-        throw std::invalid_argument(path +
-                                    ": cannot read: " + ErrnoText(errno));
-      }
-      break;
-    }
+    const size_t size = read_chunk(buffer.data(), buffer.size());
+    if (size == 0) break;
     size_t begin = 0;
     if (first_chunk && size >= 3 &&
         std::memcmp(buffer.data(), "\xEF\xBB\xBF", 3) == 0) {
@@ -368,6 +364,33 @@ CsvTable ReadCsv(const std::string& path) {
                 "expected a closing quote, got the end of the file");
   }
   return reader.Finish();
+}
+
+}  // namespace
+
+CsvTable ReadCsv(const std::string& path) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+  if (!file) {
+    throw std::invalid_argument(
+        path + ": cannot open for reading: " + ErrnoText(errno));
+  }
+  return ParseChunks(path, [&](char* buffer, size_t capacity) {
+    const size_t size = std::fread(buffer, 1, capacity, file.get());
+    if (size == 0 && std::ferror(file.get())) {
+      throw std::invalid_argument(path + ": cannot read: " + ErrnoText(errno));
+    }
+    return size;
+  });
+}
+
+CsvTable ParseCsv(const std::string& text, const std::string& name) {
+  size_t offset = 0;
+  return ParseChunks(name, [&](char* buffer, size_t capacity) {
+    const size_t size = std::min(capacity, text.size() - offset);
+    std::memcpy(buffer, text.data() + offset, size);
+    offset += size;
+    return size;
+  });
 }
 
 void CheckStrictlyIncreasing(const CsvTable& table, const std::string& column) {

@@ -62,6 +62,10 @@ struct CsvTable {
 // ignored. Throws std::bad_alloc if memory runs out.
 CsvTable ReadCsv(const std::string& path);
 
+// As ReadCsv, from the text of a CSV file held in memory; `name` stands for
+// the path in messages and in CsvTable::path (fuzz/csv_fuzz.cc).
+CsvTable ParseCsv(const std::string& text, const std::string& name);
+
 // Checks that column `column` of `table` is strictly increasing (e.g. a time
 // axis). Throws std::invalid_argument
 //   "<path>:<line>: expected column 't' strictly increasing, got 0.002 after

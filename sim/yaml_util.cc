@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -73,14 +74,18 @@ YAML::Node LoadYamlFile(const std::string& file) {
   if (!in) {
     throw std::invalid_argument(file + ": cannot read the file");
   }
+  return ParseYamlText(std::string(std::istreambuf_iterator<char>(in), {}), file);
+}
+
+YAML::Node ParseYamlText(const std::string& text, const std::string& name) {
   YAML::Node root;
   try {
-    root = YAML::Load(in);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw std::invalid_argument(file + ":" + std::to_string(e.mark.line + 1) +
+    throw std::invalid_argument(name + ":" + std::to_string(e.mark.line + 1) +
                                 ": invalid YAML: " + e.msg);
   }
-  CheckUniqueKeys(root, file, "");
+  CheckUniqueKeys(root, name, "");
   return root;
 }
 

@@ -20,6 +20,10 @@ namespace axis {
 // and ignore the other), CheckUniqueKeys' error.
 YAML::Node LoadYamlFile(const std::string& file);
 
+// As LoadYamlFile, from YAML text held in memory; `name` stands for the file
+// in messages.
+YAML::Node ParseYamlText(const std::string& text, const std::string& name);
+
 // Throws std::invalid_argument "<file>:<line>: key '<path>': expected each
 // key once in a mapping, got '<key>' again (first on line N)" for the first
 // key repeated in `node` or any mapping below it. `prefix` is the key path

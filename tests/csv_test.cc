@@ -65,11 +65,14 @@ class CsvTest : public ::testing::Test {
 
   // Expects ReadCsv of a file holding `text` to throw std::invalid_argument
   // whose message starts with "<path><location>" (e.g. ":3: " or ": ") and
-  // contains every one of `parts`.
+  // contains every one of `parts`; and ParseCsv of the text alike, with its
+  // name in place of the path.
   void ExpectReadError(const std::string& text, const std::string& location,
                        const std::vector<std::string>& parts) {
     const std::string path = WriteText("bad.csv", text);
     ExpectInvalidArgument([&] { ReadCsv(path); }, path + location, parts);
+    ExpectInvalidArgument([&] { ParseCsv(text, "memory.csv"); }, "memory.csv" + location,
+                          parts);
   }
 
   template <typename F>
@@ -423,6 +426,11 @@ TEST_F(CsvTest, LargeTableRoundTrip) {
   EXPECT_EQ(table.names, names);
   EXPECT_EQ(table.columns, columns);
   EXPECT_NO_THROW(CheckStrictlyIncreasing(table, "t_s"));
+  // From memory (several of the parser's 64 KiB chunks): the same table.
+  const CsvTable from_text = ParseCsv(ReadText(path), "large.csv");
+  EXPECT_EQ(from_text.path, "large.csv");
+  EXPECT_EQ(from_text.names, names);
+  EXPECT_EQ(from_text.columns, columns);
 }
 
 }  // namespace

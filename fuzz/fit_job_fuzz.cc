@@ -1,0 +1,17 @@
+// libFuzzer target: the fit-job loader (fit/job.h ParseFitJob) on arbitrary
+// YAML text, relative paths resolved in configs/jobs (so that the seed
+// corpus's models and data files load).
+#include <cstddef>
+#include <cstdint>
+
+#include "fit/job.h"
+#include "fuzz/fuzz_common.h"
+#include "sim/yaml_util.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  axis::fuzz::Expect(data, size, [](const std::string& text) {
+    axis::ParseFitJob(axis::ParseYamlText(text, "fuzz.yaml"), "fuzz.yaml",
+                      PROJECT_SOURCE_DIR "/configs/jobs");
+  });
+  return 0;
+}
