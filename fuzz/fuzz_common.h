@@ -7,10 +7,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <typeinfo>
 
 namespace axis::fuzz {
 
@@ -26,7 +28,11 @@ void Expect(const uint8_t* data, size_t size, Parse parse) {
     if (std::string(e.what()).empty()) std::abort();
   } catch (const std::bad_alloc&) {
     throw;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "unexpected exception %s: %s\n", typeid(e).name(), e.what());
+    std::abort();
   } catch (...) {
+    std::fprintf(stderr, "unexpected exception of a non-standard type\n");
     std::abort();
   }
 }

@@ -1,7 +1,9 @@
 #include "sim/yaml_util.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <ios>
 #include <iterator>
 #include <map>
 #include <sstream>
@@ -70,11 +72,22 @@ void CheckUniqueKeys(const YAML::Node& node, const std::string& file,
 }
 
 YAML::Node LoadYamlFile(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) {
+    throw std::invalid_argument(file + ": cannot read the file: expected a file, got a directory");
+  }
   std::ifstream in(file);
   if (!in) {
     throw std::invalid_argument(file + ": cannot read the file");
   }
-  return ParseYamlText(std::string(std::istreambuf_iterator<char>(in), {}), file);
+  std::string text;
+  try {
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  } catch (const std::ios_base::failure& e) {
+    // (found by fuzz/experiment_fuzz.cc: a directory opened as a file)
+    throw std::invalid_argument(file + ": cannot read the file: " + e.what());
+  }
+  return ParseYamlText(text, file);
 }
 
 YAML::Node ParseYamlText(const std::string& text, const std::string& name) {

@@ -86,6 +86,18 @@ TEST(ConfigTest, EveryCommittedExperimentLoads) {
   }
 }
 
+// Found by fuzz/experiment_fuzz.cc: `model:` naming a directory escaped as
+// std::ios_base::failure (exit 1, not 2).
+TEST(ConfigTest, ModelThatIsADirectoryIsRefused) {
+  const std::string path = WriteTemp("dir_model.yaml",
+                                     "model: " + kRoot + "/configs/axes\nduration: 1\n");
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find(kRoot + "/configs/axes: cannot read the file: expected a file, got a "
+                             "directory"),
+            std::string::npos)
+      << msg;
+}
+
 TEST(ConfigTest, UnknownKeyNamesFileLineAndKey) {
   const std::string path = WriteTemp("unknown.yaml", Experiment("colour: red\n"));
   const std::string msg = ErrorOf([&] { LoadExperiment(path); });
