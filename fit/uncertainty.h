@@ -104,13 +104,15 @@ struct ProfileScan {
 // direction C·e_k/C_kk (`cov_theta`, n×n, already scaled by s²). Per side,
 // P is evaluated at θ*_k ± {1, 2, 4, 8}·t·√C_kk (clipped to the bound
 // [lower_k, upper_k]), each refit warm-started from the previous point and,
-// where it ends above the threshold, also from θ* (the lower of the two
-// counts): the profile of a piecewise-smooth cost can cross a bump between
-// minima, so the end is placed past the furthest point still below the
-// threshold (the hull of the confidence set), refined by regula falsi on
-// √(P − cost*) (linear in x near a smooth minimum) until P is within 5 % of
-// the threshold or 4 refinements
-// are spent. A side that does not rise past the threshold is marked
+// where it ends above the threshold, also from θ*; a refit ending above but
+// within 3 times the threshold is retried from the solved point outside it
+// (the lowest result counts): the cost is piecewise smooth with small jumps,
+// and one local refit can stop in a local minimum above the profile. The
+// profile can cross a bump between minima, so the end is placed past the
+// furthest point still below the threshold (the hull of the confidence
+// set), refined by regula falsi on √(P − cost*) (linear in x near a smooth
+// minimum; refits from the bracket's inner end, retried as above) until P
+// is within 5 % of the threshold or 4 refinements are spent. A side that does not rise past the threshold is marked
 // unbounded, its end at the last point reached. If a refit ends below
 // `lowest_allowed` (the estimate is not the optimum) and `stop_at_lower`,
 // the search stops at once with no intervals, so that the caller can
