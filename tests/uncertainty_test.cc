@@ -290,6 +290,51 @@ TEST(ProfileTest, SecondValleyBelowTheThresholdWidensTheInterval) {
   EXPECT_TRUE(scan.intervals[0].bounded_high);
 }
 
+// r0 = x/3, so the profile over x is ½(x/3)², its 95 % set [−5.88, 5.88];
+// r1 holds y at 0 for x < 3 and at 10 for x > 5; for 3 ≤ x ≤ 5 it has two
+// minima, y = 10 (r1 = 0) and a local one at y = 0 (½r1² = 1.5, zero
+// gradient: a refit started at y = 0 stays there).
+struct LocalMinimum {
+  template <typename T>
+  bool operator()(const T* theta, T* r) const {
+    using std::sqrt;
+    const T& x = theta[0];
+    const T& y = theta[1];
+    r[0] = x / T(3.0);
+    if (x < T(3.0)) {
+      r[1] = y;
+    } else if (x > T(5.0) || y >= T(5.0)) {
+      r[1] = y - T(10.0);
+    } else {
+      r[1] = sqrt(y * y + T(3.0));
+    }
+    return true;
+  }
+};
+
+// With √C_xx = 1 the probed points are 1.96, 3.92, 7.84: at 3.92 the refits
+// from the point below and from the estimate (both y = 0) stop in the local
+// minimum, rise 0.85 + 1.5 > 1.92; the one from the solved point at 7.84
+// (y = 10) finds the profile, 0.85, so the end lies between 3.92 and 7.84,
+// at 5.88 (√rise is linear in x there, so regula falsi is exact to the
+// solver's tolerance), not below 3.92.
+TEST(ProfileTest, RefitStuckInALocalMinimumIsRetriedFromOutside) {
+  std::vector<double> theta = {0.0, 0.0};
+  ceres::Problem problem;
+  problem.AddResidualBlock(
+      new ceres::AutoDiffCostFunction<LocalMinimum, 2, 2>(new LocalMinimum), nullptr,
+      theta.data());
+  const Eigen::MatrixXd cov = Eigen::Matrix2d::Identity();
+  const ProfileScan scan = ProfileLikelihoodIntervals(
+      &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 1, 1.96, 1.0, -1e-9,
+      true, &theta);
+  ASSERT_EQ(scan.intervals.size(), 1u);
+  EXPECT_NEAR(scan.intervals[0].low, -3.0 * 1.96, 1e-6);
+  EXPECT_NEAR(scan.intervals[0].high, 3.0 * 1.96, 1e-6);
+  EXPECT_TRUE(scan.intervals[0].bounded_low);
+  EXPECT_TRUE(scan.intervals[0].bounded_high);
+}
+
 // A refit that ends below the estimate's cost (here the estimate's second
 // entry is one standard deviation off its optimum) stops the search with no
 // intervals and hands back the lower point; without the stop the intervals
