@@ -9,7 +9,6 @@
 #include <limits>
 #include <memory>
 #include <optional>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 
@@ -24,6 +23,7 @@
 #include "fit/uncertainty.h"
 #include "sim/csv.h"
 #include "sim/interrupt.h"
+#include "sim/random.h"
 
 namespace axis {
 namespace {
@@ -457,13 +457,12 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
 
   // Starting points: the job's, then random ones within the bounds.
   std::vector<std::vector<double>> starts = {p.theta};
-  std::mt19937_64 rng(job.solver.seed);
+  RandomEngine rng(job.solver.seed);
   for (int s = 0; s < job.solver.starts; ++s) {
     std::vector<double> start = p.theta;
     for (int k = 0; k < n_free; ++k) {
       // Uniform in internal coordinates = log-uniform for positive ones.
-      std::uniform_real_distribution<double> draw(p.lower[k], p.upper[k]);
-      start[k] = draw(rng);
+      start[k] = UniformReal(p.lower[k], p.upper[k], rng);
     }
     starts.push_back(start);
   }

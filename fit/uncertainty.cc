@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +11,7 @@
 #include <ceres/solver.h>
 
 #include "fit/fit.h"
+#include "sim/random.h"
 
 namespace axis {
 
@@ -323,7 +323,7 @@ void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress
   base.uncertainty.method = UncertaintySettings::Method::kGaussNewton;
   base.uncertainty.bootstrap = 0;
   base.validate.clear();
-  std::mt19937_64 rng(job.uncertainty.seed);
+  RandomEngine rng(job.uncertainty.seed);
   std::vector<std::vector<double>> values(n_free);
   int converged = 0;
   for (int b = 0; b < replicates; ++b) {
@@ -342,10 +342,9 @@ void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress
         if (!c.fitted) continue;
         const size_t n = c.measured.size();
         const size_t block = std::min<size_t>(job.uncertainty.block, n);
-        std::uniform_int_distribution<size_t> start(0, n - block);
         std::vector<double>& y = e.measured[i];
         for (size_t k = 0; k < n;) {
-          const size_t s0 = start(rng);
+          const size_t s0 = UniformIndex(0, n - block, rng);
           for (size_t m = 0; m < block && k < n; ++m, ++k) {
             y[k] = c.simulated[k] + (c.measured[s0 + m] - c.simulated[s0 + m]);
           }

@@ -1,11 +1,11 @@
 #include "sim/experiment.h"
 
 #include <cstdio>
-#include <random>
 #include <stdexcept>
 
 #include "sim/csv.h"
 #include "sim/interrupt.h"
+#include "sim/random.h"
 
 namespace axis {
 
@@ -18,11 +18,10 @@ Trace<double> RunExperiment(const ExperimentConfig& e,
 
 void AddNoise(const std::array<double, kNumChannels>& sigma, std::uint64_t seed,
               Trace<double>* trace) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
+  RandomEngine rng(seed);
   for (int c = 0; c < kNumChannels; ++c) {
     if (!(sigma[c] > 0.0)) continue;
-    for (double& value : trace->values[c]) value += sigma[c] * normal(rng);
+    for (double& value : trace->values[c]) value += sigma[c] * StandardNormal(rng);
   }
 }
 

@@ -19,8 +19,9 @@ Trace<double> RunExperiment(const ExperimentConfig& experiment,
                             const std::function<void(double)>& progress = nullptr);
 
 // Adds independent Gaussian noise N(0, σ_c²) to every recorded channel c with
-// σ_c = sigma[c] > 0, from a std::mt19937_64 seeded with `seed` (channels in
-// Channel order, samples in time order: fixed seeds give identical files).
+// σ_c = sigma[c] > 0, drawn by StandardNormal (sim/random.h) from a
+// RandomEngine seeded with `seed` (channels in Channel order, samples in time
+// order: fixed seeds give identical files on every platform).
 void AddNoise(const std::array<double, kNumChannels>& sigma, std::uint64_t seed,
               Trace<double>* trace);
 
