@@ -5,13 +5,13 @@
 #include <cmath>
 #include <fstream>
 #include <map>
-#include <random>
 #include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "fit/experiment_cost.h"
+#include "sim/random.h"
 #include "fit/fit.h"
 #include "fit/job.h"
 #include "tests/cost_checks.h"
@@ -129,7 +129,7 @@ TEST(FitTest, NoisyDataTruthWithinIntervals) {
 TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
   const int kSeeds = 10;
   int reached = 0;
-  std::mt19937_64 rng(2024);
+  RandomEngine rng(2024);
   for (int seed = 1; seed <= kSeeds; ++seed) {
     // A random initial point inside the bounds, log-uniform, and 2 more
     // random starts drawn by the fit itself.
@@ -138,8 +138,7 @@ TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
         {"V_L", {0.5, 20}}, {"B_a", {10, 2000}}, {"b_g", {100, 20000}},
         {"k_g", {5e5, 5e7}}, {"T_p", {0.005, 1.0}}};
     for (const auto& [name, b] : bounds) {
-      std::uniform_real_distribution<double> u(std::log(b.first), std::log(b.second));
-      start[name] = std::exp(u(rng));
+      start[name] = std::exp(UniformReal(std::log(b.first), std::log(b.second), rng));
     }
     const FitResult r = Fit(PaperJob("_clean", start, /*starts=*/2, seed),
                             UncertaintySettings::Method::kGaussNewton);

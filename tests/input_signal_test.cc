@@ -4,6 +4,7 @@
 // the same values as the binary search), and MakePrbs (±amplitude + offset,
 // maximum-length period 2^n − 1, argument checks).
 #include "sim/input_signal.h"
+#include "sim/random.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +12,6 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -231,19 +231,17 @@ struct Sweep {
 };
 
 Sweep RandomSweep(std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> gap(1e-6, 0.3);
-  std::uniform_real_distribution<double> value(-5.0, 5.0);
+  RandomEngine rng(seed);
   Sweep s;
   double t = -0.37;
   for (int i = 0; i < 60; ++i) {
     s.knots.push_back(t);
-    s.values.push_back(value(rng));
-    t += gap(rng);
+    s.values.push_back(UniformReal(-5.0, 5.0, rng));
+    t += UniformReal(1e-6, 0.3, rng);
   }
-  std::uniform_real_distribution<double> when(s.knots.front() - 1.0,
-                                              s.knots.back() + 1.0);
-  for (int i = 0; i < 2000; ++i) s.times.push_back(when(rng));
+  for (int i = 0; i < 2000; ++i) {
+    s.times.push_back(UniformReal(s.knots.front() - 1.0, s.knots.back() + 1.0, rng));
+  }
   for (double k : s.knots) {
     s.times.push_back(k);
     s.times.push_back(k);
