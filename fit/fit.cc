@@ -571,8 +571,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // Runs the probe rounds from the current best point (see above); fills
   // result.optimum_*.
   auto check_optimum = [&]() {
-    PhaseTimer timer("optimum check", p.counter, &result);
     if (std::isfinite(best_cost) && probe_rounds > 0) {
+      PhaseTimer timer("optimum check", p.counter, &result);
       ceres::Problem& last = *stages.back().problem;
       for (int round = 0;; ++round) {
         std::vector<double> lowest;
@@ -1010,6 +1010,13 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                             AxisConfigToYaml(discovered));
       }
       CommitStagingDirectory(staging, job.out_dir);
+      // Warnings name the files where they end up, not the staging folder.
+      for (std::string& w : warnings) {
+        for (size_t at = w.find(staging); at != std::string::npos;
+             at = w.find(staging, at + job.out_dir.size())) {
+          w.replace(at, staging.size(), job.out_dir);
+        }
+      }
     } catch (...) {
       std::error_code ec;
       std::filesystem::remove_all(staging, ec);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -149,6 +150,34 @@ TEST(FitOptionsTest, QuickFormWritesTheReport) {
   EXPECT_LT(std::abs(v_l - 2.7), 4.0 * se);
   EXPECT_EQ(report["experiments"][0]["role"], "fit");
   EXPECT_EQ(report["starts"].size(), 1u);
+}
+
+// Outputs are staged in a temporary folder and moved into place at the end;
+// a plot warning names the file where it would have been, not the staging
+// folder (a gnuplot on PATH that fails: the run still succeeds).
+TEST(FitOptionsTest, PlotWarningNamesTheOutputFolder) {
+  const std::string tmp = axis::testing_files::TestTempDir();
+  const std::string bin = tmp + "failing_gnuplot_bin";
+  const std::string out = tmp + "warning_out";
+  std::filesystem::remove_all(out);
+  std::filesystem::create_directories(bin);
+  std::ofstream(bin + "/gnuplot") << "#!/bin/sh\necho 'no terminal here' >&2\nexit 3\n";
+  std::filesystem::permissions(bin + "/gnuplot", std::filesystem::perms::owner_all);
+  const std::string err = tmp + "warning_err.txt";
+  const std::string cmd = "PATH=" + bin + ":$PATH " + std::string(BINARY_DIR) +
+                          "/fit-params --model " + kRoot + "/configs/axes/x_axis.yaml --data " +
+                          kRoot + "/testdata/x_step_4V.csv --input u --fit a,tach "
+                          "--free V_L --out " + out + " > /dev/null 2> " + err;
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 0);
+  std::ifstream in(err);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("fit-params: warning: gnuplot exited with status 3 (no terminal here)"),
+            std::string::npos) << text;
+  EXPECT_NE(text.find("(" + out + "/fit_data.png)"), std::string::npos) << text;
+  EXPECT_EQ(text.find(".partial."), std::string::npos) << text;
+  EXPECT_TRUE(std::filesystem::exists(out + "/report.json"));
 }
 
 }  // namespace
