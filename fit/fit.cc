@@ -710,7 +710,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     const bool may_restart = probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses;
     double met_cost = 0.0;
     const std::vector<double>* met_point = nullptr;
-    timer.emplace("intervals", p.counter, &result);
+    if (profile_method || run_scan) timer.emplace("intervals", p.counter, &result);
     if (profile_method) {
       // Profile refits: warm-started next to the profile, so Ceres' default
       // trust region (nearly Gauss–Newton steps) and a stop once a step
