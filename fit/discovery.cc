@@ -450,7 +450,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       record.p_value = score.p_value;
       record.bic_before = result->bic;
       record.bic_after = refit.bic;
-      record.kept = refit.bic < result->bic;
+      record.implausible = ImplausibleValue(chosen.name, refit, next);
+      record.kept = refit.bic < result->bic && record.implausible.empty();
       for (const ParameterEstimate& e : refit.parameters) {
         if (e.free && std::find(names.begin(), names.end(), e.name) != names.end()) {
           record.parameters.push_back(e);
@@ -461,7 +462,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       if (progress) {
         *progress << "  refit with " << chosen.name << ": BIC " << record.bic_before
                   << " -> " << record.bic_after
-                  << (record.kept ? " (kept)" : " (rejected)") << "\n";
+                  << (record.kept ? " (kept)" : " (rejected)")
+                  << (record.implausible.empty() ? "" : ": " + record.implausible) << "\n";
       }
       if (!record.kept) {
         rejected += (rejected.empty() ? "" : ", ") + chosen.name;
@@ -516,6 +518,37 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
   return report;
 }
 
+std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
+                             const FitJob& job) {
+  const auto value = [&](const std::string& name) {
+    for (const ParameterEstimate& p : fit.parameters) {
+      if (p.name == name) return p.value;
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  std::ostringstream why;
+  if (effect == "payload") {
+    const double dm = value("Delta_M");
+    if (dm < 0.0) {
+      why << "payload Delta_M = " << dm << " kg is below zero: the declared mass M is too "
+          << "large (free M instead)";
+    }
+  } else if (effect.rfind("sensor_delay.", 0) == 0) {
+    double period = std::numeric_limits<double>::infinity();
+    for (const FitExperiment& e : job.experiments) {
+      period = std::min(period, e.options.output_period);
+    }
+    const std::string name = "tau_d." + effect.substr(std::string("sensor_delay.").size());
+    const double tau = value(name);
+    if (tau < period) {
+      why << name << " = " << tau << " s is shorter than the sample period " << period
+          << " s: a sub-sample timing error (e.g. of an input read by linear interpolation "
+          << "between samples), not a sensor delay";
+    }
+  }
+  return why.str();
+}
+
 std::string FormatDiscovery(const DiscoveryReport& report) {
   std::ostringstream out;
   out << "Model discovery (score test, Bonferroni, BIC)\n";
@@ -545,6 +578,7 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
       out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
           << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
           << ")  BIC " << s.bic_before << " -> " << s.bic_after << "\n";
+      if (!s.implausible.empty()) out << "  not physical: " << s.implausible << "\n";
     }
     for (const ParameterEstimate& p : s.parameters) {
       out << "  " << p.name << " = " << p.value << " +- " << p.std_error << " "
@@ -598,6 +632,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     step["bic_after"] = JsonNumber(s.bic_after);
     step["kept"] = s.kept;
     step["removal"] = s.removal;
+    if (!s.implausible.empty()) step["implausible"] = s.implausible;
     step["channels"] = nlohmann::json::array();
     for (const ChannelChange& c : s.channels) {
       step["channels"].push_back({{"experiment", c.experiment},

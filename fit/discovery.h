@@ -105,7 +105,11 @@ struct DiscoveryStep {
   double p_value = 1.0;
   double bic_before = 0.0, bic_after = 0.0;
   bool kept = false;  // BIC improved (a removal: BIC improved without it)
+                      // and the value is physical (`implausible` empty)
   bool removal = false;  // a backward step: the refit without `effect`
+  // Why the fitted value is not physical, if it is not (ImplausibleValue):
+  // such an effect is rejected whatever BIC says (issue 10).
+  std::string implausible;
   std::vector<ChannelChange> channels;
 };
 
@@ -124,6 +128,16 @@ struct DiscoveryReport {
 // it if BIC improves; Coulomb stays while Stribeck is in. Progress lines go to `progress`.
 DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                          FitResult* result, std::ostream* progress);
+
+// Why the value of `effect` (a Candidate::name) fitted in `fit` has no
+// physical meaning, or "" if it has one: a payload below zero (the declared
+// mass is too large: a stand-in for M), a sensor delay shorter than the
+// shortest sample period of the job's fitted experiments (a sub-sample
+// timing error, e.g. of a smooth input read by linear interpolation between
+// samples, that a delay absorbs). Effects without such a rule are physical
+// at any value within their bounds.
+std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
+                             const FitJob& job);
 
 // The discovery table for the terminal and params.md.
 std::string FormatDiscovery(const DiscoveryReport& report);

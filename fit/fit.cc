@@ -945,6 +945,18 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
       << job.validate.size() << " validation experiment(s), "
       << job.free.size() << " free parameter(s), " << job.solver.starts + 1
       << " start(s)\n";
+  // Columns read in a way the job did not state (e.g. held inputs).
+  nlohmann::json input_notes = nlohmann::json::array();
+  std::string input_markdown;
+  for (const std::vector<FitExperiment>* list : {&job.experiments, &job.validate}) {
+    for (const FitExperiment& e : *list) {
+      for (const std::string& note : e.input_notes) {
+        out << "  " << e.name << ": " << note << "\n";
+        input_markdown += "- " + e.name + ": " + note + "\n";
+        input_notes.push_back({{"experiment", e.name}, {"note", note}});
+      }
+    }
+  }
   if (options.discover) job.discover.enabled = true;
   FitResult result = FitParameters(job, &out);
   const bool discover = job.discover.enabled;
@@ -977,6 +989,10 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
   if (job.uncertainty.bootstrap > 0) out << FormatBootstrap(result);
   std::vector<std::string> warnings;
   ReportSections extra;
+  if (!input_markdown.empty()) {
+    extra.markdown += "\n## Inputs\n\n" + input_markdown;
+    extra.json["input_notes"] = input_notes;
+  }
   if (job.published.present) {
     const PublishedComparison comparison = ComparePublished(job, result);
     const std::string table = FormatPublished(comparison);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -60,19 +61,57 @@ InputSignal ColumnSignal(const CsvTable& data, const std::string& column,
   return s;
 }
 
+// The share of consecutive samples of values[first, first + count) that are
+// exactly equal, and the number of changes between them.
+struct Levels {
+  double equal_share = 0.0;
+  size_t changes = 0;
+};
+
+Levels CountLevels(const std::vector<double>& values, size_t first, size_t count) {
+  Levels out;
+  if (count < 2) return out;
+  size_t equal = 0;
+  for (size_t k = first + 1; k < first + count; ++k) {
+    (values[k] == values[k - 1] ? equal : out.changes) += 1;
+  }
+  out.equal_share = static_cast<double>(equal) / static_cast<double>(count - 1);
+  return out;
+}
+
 // A drive signal of an experiment: either a profile (`type:` key, see
-// ParseInputSignal) or a column of the experiment's data file.
+// ParseInputSignal) or a column of the experiment's data file. Without an
+// `interpolation` key a column that is piecewise constant (at least half of
+// its consecutive samples equal, and at least one change) is held, as a DAC
+// or a sampled controller holds it, and *note says so; otherwise linear.
+// A sampled smooth signal changes at every sample; reading a held one
+// linearly puts a ramp one sample early at every switch, which the
+// discovery loop then explains with friction or sensor delays (issue 10).
 InputSignal ParseDriveSignal(YamlMap& map, const CsvTable& data,
                              double period, size_t first,
                              size_t count, const std::string& base_dir,
-                             double duration) {
+                             double duration, std::string* note) {
   if (map.Has("type")) return ParseInputSignal(map, base_dir, duration);
   const std::string column = map.String("column");
   RequireColumn(map, map.Optional("column"), map.KeyPath("column"), data, column);
   const double scale = map.Number("scale", 1.0);
   const double offset = map.Number("offset", 0.0);
-  const bool hold =
-      map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
+  bool hold = false;
+  if (map.Has("interpolation")) {
+    hold = map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
+  } else {
+    const Levels levels = CountLevels(data.Column(column), first, count);
+    hold = levels.changes > 0 && levels.equal_share >= 0.5;
+    if (hold) {
+      std::ostringstream why;
+      why << map.KeyPath("column") << " '" << column
+          << "' read as held (piecewise constant: " << std::setprecision(3)
+          << 100.0 * levels.equal_share << " % of consecutive samples equal, "
+          << levels.changes << " changes); set " << map.KeyPath("interpolation")
+          << ": linear to interpolate instead";
+      *note = why.str();
+    }
+  }
   map.Finish();
   return ColumnSignal(data, column, scale, offset, hold, first, count, period);
 }
@@ -327,8 +366,10 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
   }
   if (has_input) {
     YamlMap input(map.Required("input"), map.file(), map.KeyPath("input."));
+    std::string note;
     e.drive.input = ParseDriveSignal(input, data, e.options.output_period, first, count,
-                                     base_dir, e.options.duration);
+                                     base_dir, e.options.duration, &note);
+    if (!note.empty()) e.input_notes.push_back(note);
   } else {
     e.drive.closed_loop = true;
     e.drive.controller = model.controller;
@@ -344,13 +385,17 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
       e.drive.reference = ParseReference(ref, base_dir, 0.0);
     } else {
       e.drive.reference.kind = Reference::Kind::kTable;
+      std::string note;
       e.drive.reference.table = ParseDriveSignal(
-          ref, data, e.options.output_period, first, count, base_dir, e.options.duration);
+          ref, data, e.options.output_period, first, count, base_dir, e.options.duration, &note);
+      if (!note.empty()) e.input_notes.push_back(note);
     }
     if (const YAML::Node node = map.Optional("injection")) {
       YamlMap inj(node, map.file(), map.KeyPath("injection."));
+      std::string note;
       e.drive.injection = ParseDriveSignal(inj, data, e.options.output_period, first, count,
-                                           base_dir, e.options.duration);
+                                           base_dir, e.options.duration, &note);
+      if (!note.empty()) e.input_notes.push_back(note);
       e.drive.has_injection = true;
     }
   }

@@ -37,6 +37,10 @@ struct FitExperiment {
   bool estimate_initial_state = false;  // y0, y1 free per experiment
   AxisState<double> initial_state = AxisState<double>::Zero();
   SimulationOptions options;  // duration, step, output period = data period
+  // How data columns driving the experiment were read where the job did not
+  // say (a piecewise-constant column held; fit/job.cc ParseDriveSignal), one
+  // sentence each naming the key.
+  std::vector<std::string> input_notes;
 
   // Measured samples of channel c (throws std::invalid_argument if absent).
   const std::vector<double>& Measured(Channel c) const;

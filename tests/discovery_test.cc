@@ -48,11 +48,6 @@ const ParameterEstimate* Estimate(const FitResult& r, const std::string& name) {
   return nullptr;
 }
 
-double Value(const FitResult& r, const std::string& name) {
-  const ParameterEstimate* p = Estimate(r, name);
-  return p != nullptr ? p->value : std::nan("");
-}
-
 // The estimate of `param` within 10 % of `truth` (the issue's band) and
 // within 4 of its standard errors (with the effect in the model the fit is
 // the generating model: |estimate − truth| beyond 4 standard errors has
@@ -108,9 +103,11 @@ TEST(DiscoveryTest, ViscousAsymmetry) {
   ExpectFound("viscous_asymmetry", "viscous_asymmetry", "Delta_B", 60.0);
 }
 
-// Two effects: exactly these two are selected, each near the truth; the
-// backward pass refitted without the first one added and kept it (BIC
-// worse without it).
+// Two effects: exactly these two are selected, each near the truth. The
+// backward pass refitted without every added effect but the last (an
+// effect added on the way, e.g. cogging standing in for the still missing
+// Coulomb friction, may be dropped there): one removal step each, and an
+// effect is listed as removed exactly when its removal step improved BIC.
 TEST(DiscoveryTest, CoulombAndLoadOffset) {
   const Outcome o = RunCase("coulomb_load_offset");
   std::vector<std::string> sorted = o.report.selected;
@@ -119,15 +116,20 @@ TEST(DiscoveryTest, CoulombAndLoadOffset) {
       << o.report.stop_reason;
   ExpectNearTruth(o.result, "F_0", 60.0);
   ExpectNearTruth(o.result, "F_c", 30.0);
-  ASSERT_FALSE(o.report.selected.empty());
-  const auto backward = std::find_if(
-      o.report.steps.begin(), o.report.steps.end(),
-      [&](const DiscoveryStep& s) { return s.removal; });
-  ASSERT_NE(backward, o.report.steps.end()) << "no backward step";
-  EXPECT_EQ(backward->effect, o.report.selected.front());
-  EXPECT_FALSE(backward->kept);
-  EXPECT_GT(backward->bic_after, backward->bic_before);
-  EXPECT_TRUE(o.report.removed.empty());
+  size_t added = 0, removals = 0;
+  for (const DiscoveryStep& s : o.report.steps) {
+    if (!s.removal) {
+      added += s.kept;
+      continue;
+    }
+    ++removals;
+    const bool removed = std::find(o.report.removed.begin(), o.report.removed.end(),
+                                   s.effect) != o.report.removed.end();
+    EXPECT_EQ(s.kept, removed) << s.effect;
+    EXPECT_EQ(s.kept, s.bic_after < s.bic_before) << s.effect;
+  }
+  EXPECT_EQ(added, o.report.selected.size() + o.report.removed.size());
+  EXPECT_EQ(removals, added - 1);
   std::string selected;
   for (const std::string& e : o.report.selected) selected += e + " ";
   RecordProperty("selected", selected);
@@ -166,6 +168,31 @@ TEST(DiscoveryTest, NoEffectAddsNothing) {
   }
   EXPECT_NE(tried.stop_reason.find("no significant candidate improved BIC"), std::string::npos)
       << tried.stop_reason;
+}
+
+// Values without physical meaning are named (issue 10): a negative payload
+// (seen: −4.4 kg on unseen data), a sensor delay below the 1 ms sample period
+// (seen: 7.3 µs); the committed cases' values (25 kg, 2 ms) pass.
+TEST(DiscoveryTest, ImplausibleValuesAreNamed) {
+  const FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/none.yaml");
+  const auto fit_with = [](const std::string& name, double value) {
+    FitResult r;
+    ParameterEstimate p;
+    p.name = name;
+    p.value = value;
+    p.free = true;
+    r.parameters.push_back(p);
+    return r;
+  };
+  const std::string payload = ImplausibleValue("payload", fit_with("Delta_M", -4.4), job);
+  EXPECT_NE(payload.find("Delta_M = -4.4 kg is below zero"), std::string::npos) << payload;
+  EXPECT_EQ(ImplausibleValue("payload", fit_with("Delta_M", 25.0), job), "");
+  const std::string delay =
+      ImplausibleValue("sensor_delay.a", fit_with("tau_d.a", 7.3e-6), job);
+  EXPECT_NE(delay.find("tau_d.a = 7.3e-06 s is shorter than the sample period 0.001 s"),
+            std::string::npos) << delay;
+  EXPECT_EQ(ImplausibleValue("sensor_delay.a", fit_with("tau_d.a", 0.002), job), "");
+  EXPECT_EQ(ImplausibleValue("coulomb", fit_with("F_c", -3.0), job), "");
 }
 
 // Stribeck friction is a candidate only once Coulomb friction is in the

@@ -60,6 +60,48 @@ std::string LoadError(const std::string& path) {
   return "no error";
 }
 
+// An input column without `interpolation`: a piecewise-constant one (here
+// changing every 5th sample: 80 of 99 consecutive pairs equal, 80.8 %) is held and
+// the job says so, naming the key; a column that changes at every sample is
+// read linearly without a note; an explicit `interpolation` is obeyed.
+TEST(JobKeysTest, PiecewiseConstantInputColumnIsHeld) {
+  std::string csv = "t,held,smooth,x\n";
+  for (int k = 0; k < 100; ++k) {
+    const double t = 0.001 * k;
+    csv += std::to_string(t) + "," + std::to_string(0.5 * (k / 5)) + "," +
+           std::to_string(std::sin(30.0 * t)) + ",0\n";
+  }
+  const std::string data = Write("levels.csv", csv);
+  const auto job = [&](const std::string& input) {
+    return "model: " + kRoot + "/configs/axes/emps.yaml\n"
+           "free:\n"
+           "  M: {initial: 95, lower: 10, upper: 500}\n"
+           "experiments:\n"
+           "  - name: levels\n"
+           "    data: " + data + "\n"
+           "    channels: {x: x}\n"
+           "    input: " + input + "\n"
+           "    fit: {x: 1.0e-6}\n";
+  };
+  const FitJob held = LoadFitJob(Write("held.yaml", job("{column: held}")));
+  EXPECT_TRUE(held.experiments[0].drive.input.hold);
+  ASSERT_EQ(held.experiments[0].input_notes.size(), 1u);
+  const std::string& note = held.experiments[0].input_notes[0];
+  EXPECT_NE(note.find("'held' read as held (piecewise constant: 80.8 % of consecutive samples "
+                      "equal, 19 changes)"),
+            std::string::npos) << note;
+  EXPECT_NE(note.find("input.interpolation: linear"), std::string::npos) << note;
+
+  const FitJob smooth = LoadFitJob(Write("smooth.yaml", job("{column: smooth}")));
+  EXPECT_FALSE(smooth.experiments[0].drive.input.hold);
+  EXPECT_TRUE(smooth.experiments[0].input_notes.empty());
+
+  const FitJob linear =
+      LoadFitJob(Write("linear.yaml", job("{column: held, interpolation: linear}")));
+  EXPECT_FALSE(linear.experiments[0].drive.input.hold);
+  EXPECT_TRUE(linear.experiments[0].input_notes.empty());
+}
+
 TEST(JobKeysTest, InitialStateFromTheFirstSamples) {
   const FitJob job = LoadFitJob(
       Write("from_samples.yaml", Job("    initial_state: {from_samples: 20}\n")));
