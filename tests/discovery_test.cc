@@ -72,13 +72,14 @@ void ExpectNoiseLevel(const Outcome& o) {
   }
 }
 
-// Selects `effect` and nothing else, with `param` near `truth`
+// Ends with `effect` and nothing else selected, with `param` near `truth`
 // (ExpectNearTruth).
 void ExpectFound(const std::string& name, const std::string& effect,
                  const std::string& param, double truth) {
   const Outcome o = RunCase(name);
+  // The final set; an effect added on the way as a stand-in and dropped by
+  // the backward pass (report.removed) is allowed.
   EXPECT_EQ(o.report.selected, std::vector<std::string>{effect}) << o.report.stop_reason;
-  EXPECT_TRUE(o.report.removed.empty());
   ExpectNearTruth(o.result, param, truth);
   for (const DiscoveryStep& s : o.report.steps) {
     for (const ParameterEstimate& p : s.parameters) {
