@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <ceres/manifold.h>
@@ -196,21 +197,25 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
       // samples), so one local refit can stop in a local minimum up to about
       // half the threshold above the profile (issue 9, seed 24 of the PRBS
       // campaign); a refit from another side of the bump finds it.
+      // Refits at x from solved point `from`; keeps it in *rise, *solved if lower.
+      const auto lower_from = [&](double x, size_t from, double* rise,
+                                  std::vector<double>* solved) {
+        std::vector<double> other;
+        const double again = rise_at(x, xs[from], points[from], &other);
+        if (again < *rise) {
+          *rise = again;
+          *solved = std::move(other);
+        }
+      };
+      const auto near_threshold = [&](double rise) {
+        return rise > threshold && rise <= kRetry * threshold;
+      };
       const auto profile_at = [&](double x, size_t warm, int outer,
                                   std::vector<double>* solved) {
         double rise = rise_at(x, xs[warm], points[warm], solved);
-        std::vector<size_t> others;
-        if (warm != 0) others.push_back(0);
-        if (outer >= 0 && std::isfinite(rises[outer])) others.push_back(outer);
-        for (size_t from : others) {
-          if (met_lower() || !(rise > threshold)) break;
-          if (from != 0 && rise > kRetry * threshold) continue;
-          std::vector<double> other;
-          const double again = rise_at(x, xs[from], points[from], &other);
-          if (again < rise) {
-            rise = again;
-            *solved = other;
-          }
+        if (warm != 0 && !met_lower() && rise > threshold) lower_from(x, 0, &rise, solved);
+        if (outer >= 0 && std::isfinite(rises[outer]) && !met_lower() && near_threshold(rise)) {
+          lower_from(x, static_cast<size_t>(outer), &rise, solved);
         }
         return rise;
       };
@@ -230,15 +235,8 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
       // Inward, points just above the threshold once more from the solved
       // point outside them.
       for (size_t i = xs.size() - 1; i-- > 1 && !met_lower();) {
-        if (!(rises[i] > threshold) || rises[i] > kRetry * threshold ||
-            !std::isfinite(rises[i + 1])) {
-          continue;
-        }
-        std::vector<double> other;
-        const double again = rise_at(xs[i], xs[i + 1], points[i + 1], &other);
-        if (again < rises[i]) {
-          rises[i] = again;
-          points[i] = other;
+        if (near_threshold(rises[i]) && std::isfinite(rises[i + 1])) {
+          lower_from(xs[i], i + 1, &rises[i], &points[i]);
         }
       }
       if (met_lower()) {
