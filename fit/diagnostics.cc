@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -29,6 +30,7 @@ BinnedResidual Bin(const std::string& variable, const std::string& unit,
   for (double e : r) mean += e / r.size();
   for (double e : r) var += (e - mean) * (e - mean) / std::max<size_t>(1, r.size() - 1);
   const double s = std::sqrt(var);
+  b.width = (hi - lo) / kBins;
   if (!(hi > lo) || !(s > 0.0)) return b;
   std::vector<double> sum(kBins, 0.0);
   std::vector<int> count(kBins, 0);
@@ -51,6 +53,34 @@ BinnedResidual Bin(const std::string& variable, const std::string& unit,
   }
   if (b.dof > 0) b.p_value = ChiSquaredSurvival(b.chi2, b.dof);
   return b;
+}
+
+// "x in [0.12, 0.31] m" style ranges of the bins of `b` whose own χ²₁ has
+// p below `threshold`; empty if none.
+std::string SignificantRanges(const BinnedResidual& b, double threshold) {
+  std::ostringstream out;
+  out << std::setprecision(3);
+  int runs = 0;
+  for (size_t j = 0; j < b.center.size();) {
+    const auto significant = [&](size_t k) {
+      const double z = b.mean[k] / b.std_error[k];
+      return ChiSquaredSurvival(z * z, 1) < threshold;
+    };
+    if (!significant(j)) {
+      ++j;
+      continue;
+    }
+    size_t end = j;
+    // A run: consecutive significant bins (adjacent centres one width apart).
+    while (end + 1 < b.center.size() && significant(end + 1) &&
+           b.center[end + 1] - b.center[end] < 1.5 * b.width) {
+      ++end;
+    }
+    out << (runs++ ? ", " : "") << "[" << b.center[j] - 0.5 * b.width << ", "
+        << b.center[end] + 0.5 * b.width << "]";
+    j = end + 1;
+  }
+  return out.str();
 }
 
 }  // namespace
@@ -76,6 +106,8 @@ std::vector<ChannelDiagnostics> DiagnoseResiduals(const FitJob& job) {
       d.experiment = e.name;
       d.channel = c.channel;
       d.unit = c.unit;
+      d.rms = c.rms;
+      d.sigma = c.sigma;
       d.ljung_box_p = c.ljung_box_p;
       d.xcorr_peak = c.input_xcorr_peak;
       d.xcorr_lag = c.input_xcorr_lag;
@@ -150,6 +182,76 @@ void WriteDiagnostics(const std::string& dir,
       if (warnings) warnings->push_back(warning);
     }
   }
+}
+
+ResidualVerdict JudgeResiduals(const std::vector<ChannelDiagnostics>& diagnostics,
+                               const FitResult& fit, double alpha) {
+  if (!(alpha > 0.0 && alpha < 1.0)) {
+    throw std::invalid_argument("JudgeResiduals: expected a level alpha in (0, 1), got " +
+                                std::to_string(alpha));
+  }
+  ResidualVerdict v;
+  v.tests = 1;
+  for (const ChannelDiagnostics& d : diagnostics) {
+    v.tests += 1;
+    for (const BinnedResidual& b : d.bins) v.tests += b.dof > 0 ? 1 : 0;
+  }
+  v.threshold = alpha / v.tests;
+  const int dof = fit.num_residuals - static_cast<int>(fit.free_names.size());
+  v.s2 = dof > 0 ? 2.0 * fit.final_cost / dof : std::numeric_limits<double>::quiet_NaN();
+  v.s2_p_value = dof > 0 ? ChiSquaredSurvival(2.0 * fit.final_cost, dof)
+                         : std::numeric_limits<double>::quiet_NaN();
+  std::ostringstream head;
+  head << std::setprecision(3);
+  if (!(v.s2_p_value >= v.threshold)) {
+    head << "s^2 = " << v.s2 << " (p " << v.s2_p_value
+         << "): the residual is larger than the declared noise";
+    v.remains.push_back(head.str());
+  }
+  for (const ChannelDiagnostics& d : diagnostics) {
+    std::ostringstream line;
+    line << std::setprecision(3) << d.experiment << "/" << d.channel << ": RMS " << d.rms
+         << " " << d.unit << " = " << (d.sigma > 0.0 ? d.rms / d.sigma : 0.0) << " sigma";
+    std::vector<std::string> found;
+    if (!(d.ljung_box_p >= v.threshold)) {
+      std::ostringstream f;
+      f << std::setprecision(3) << "not white (Ljung-Box p " << d.ljung_box_p << ")";
+      found.push_back(f.str());
+    }
+    for (const BinnedResidual& b : d.bins) {
+      if (b.dof == 0 || b.p_value >= v.threshold) continue;
+      double largest = 0.0;
+      for (double m : b.mean) largest = std::max(largest, std::abs(m));
+      const std::string ranges = SignificantRanges(b, v.threshold / b.dof);
+      std::ostringstream f;
+      f << std::setprecision(3) << "mean residual depends on " << b.variable << " (chi2 p "
+        << b.p_value << "): "
+        << (ranges.empty() ? "spread over its range"
+                           : "significant for " + b.variable + " in " + ranges + " " + b.unit)
+        << " (largest |mean| " << largest << " " << d.unit << ")";
+      found.push_back(f.str());
+    }
+    for (const std::string& f : found) {
+      line << "; " << f;
+      v.remains.push_back(d.experiment + "/" + d.channel + ": " + f);
+    }
+    v.channels.push_back(line.str());
+  }
+  v.verdict = v.remains.empty() ? "explained" : "incomplete";
+  return v;
+}
+
+std::string FormatVerdict(const ResidualVerdict& v) {
+  std::ostringstream out;
+  out << std::setprecision(4);
+  out << "Verdict: " << v.verdict << " (s^2 = " << v.s2 << ", p " << v.s2_p_value << "; "
+      << v.tests << " tests at " << v.threshold << " each)\n";
+  for (const std::string& c : v.channels) out << "  " << c << "\n";
+  if (!v.remains.empty()) {
+    out << "What remains:\n";
+    for (const std::string& r : v.remains) out << "  - " << r << "\n";
+  }
+  return out.str();
 }
 
 }  // namespace axis

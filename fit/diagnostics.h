@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "fit/fit_result.h"
 #include "fit/job.h"
 
 namespace axis {
@@ -21,6 +22,7 @@ struct BinnedResidual {
   std::string unit;
   std::vector<double> center, mean, std_error;
   std::vector<int> count;
+  double width = 0.0;  // bin width, unit of the variable
   // Σ (mean/std_error)² over the bins, χ² with `dof` = number of bins under
   // "the residual does not depend on the variable"; std_error = s/√n with s
   // the residual's standard deviation (ignores autocorrelation, so p is
@@ -32,6 +34,8 @@ struct BinnedResidual {
 
 struct ChannelDiagnostics {
   std::string experiment, channel, unit;
+  double rms = 0.0;    // residual RMS, channel unit
+  double sigma = 0.0;  // declared noise σ the residual is weighted by
   double ljung_box_p = 1.0;
   double xcorr_peak = 0.0;
   int xcorr_lag = 0;
@@ -54,6 +58,41 @@ std::string FormatDiagnostics(const std::vector<ChannelDiagnostics>& d);
 void WriteDiagnostics(const std::string& dir,
                       const std::vector<ChannelDiagnostics>& d,
                       std::vector<std::string>* warnings);
+
+// The verdict on a model's residuals after the discovery loop (issue 10):
+// "explained" when they are consistent with the declared noise, else
+// "incomplete" with what remains. At family-wise level `alpha`, Bonferroni
+// over all the tests below (threshold = alpha / tests):
+// - s² = Σ((ŷ − y)/σ)²/(m − n) (FitResult::residual_variance) not above 1:
+//   P(χ²_{m−n} > Σ((ŷ − y)/σ)²) ≥ threshold (upper tail only: a σ declared
+//   too large is not a missing effect);
+// - per fitted channel, Ljung–Box (20 lags) p ≥ threshold: white;
+// - per channel and binned variable, the χ² of the bin means p ≥
+//   threshold: the residual does not depend on v, x, a or θ mod rev.
+// A failed bin test names where the residual is significant: the runs of
+// bins whose own χ²₁ = (mean/std_error)² has p < threshold / bins.
+struct ResidualVerdict {
+  std::string verdict;        // "explained" or "incomplete"
+  double s2 = 0.0;            // residual variance in σ units
+  double s2_p_value = 1.0;    // P(χ²_{m−n} > (m − n)·s2)
+  int tests = 0;              // number of tests (Bonferroni)
+  double threshold = 0.0;     // alpha / tests
+  // Per channel: "experiment/channel: RMS 0.012 m/s^2 = 1.02 σ" and, when a
+  // test fails, what it found, e.g. "not white (Ljung–Box p 3e-12)",
+  // "mean residual depends on x: significant for x in [0.12, 0.31] m
+  // (largest |mean| 0.2 m/s^2)".
+  std::vector<std::string> channels;
+  std::vector<std::string> remains;  // the failed tests only, one line each
+};
+
+// Judges `diagnostics` (DiagnoseResiduals of the final model) with the
+// fit's s² (`fit`: num_residuals, the free parameter count, final_cost).
+// Throws std::invalid_argument if alpha is not in (0, 1).
+ResidualVerdict JudgeResiduals(const std::vector<ChannelDiagnostics>& diagnostics,
+                               const FitResult& fit, double alpha);
+
+// The verdict as text: the verdict, s², one line per channel.
+std::string FormatVerdict(const ResidualVerdict& verdict);
 
 }  // namespace axis
 

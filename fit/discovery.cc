@@ -5,11 +5,13 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Dense>
 
+#include "fit/diagnostics.h"
 #include "fit/experiment_cost.h"
 #include "fit/fit.h"
 #include "fit/report.h"
@@ -241,6 +243,57 @@ std::vector<ChannelChange> Changes(const FitResult& before, const FitResult& aft
     }
   }
   return out;
+}
+
+// The candidate of a Candidate::name ("coulomb", "sensor_delay.a"); throws
+// std::invalid_argument for a name that is not one.
+Candidate CandidateNamed(const std::string& name) {
+  const size_t dot = name.find('.');
+  Candidate c;
+  c.name = name;
+  c.effect = name.substr(0, dot);
+  const std::string channel = dot == std::string::npos ? "" : name.substr(dot + 1);
+  const std::optional<Channel> parsed = ParseChannel(channel);
+  if (parsed) c.channel = *parsed;
+  const bool sensor = c.effect == "sensor_delay" || c.effect == "sensor_bias";
+  c.columns = ColumnsOf(c.effect, channel);
+  if (c.columns.empty() || sensor != parsed.has_value()) {
+    throw std::invalid_argument(
+        "expected an effect of MODEL.md section 7 (e.g. coulomb, sensor_delay.a), got '" +
+        name + "'");
+  }
+  return c;
+}
+
+// The parameters AddEffect frees for `c`.
+std::vector<std::string> EffectParameters(const Candidate& c) {
+  if (c.effect == "cogging") return {"A_cog", "phi_cog"};
+  if (c.effect == "stribeck") return {"F_st", "v_st"};
+  return {c.columns[0].param};
+}
+
+// Refits `job` without `c` (its parameters `params` fixed), warm-started at
+// the optimum `result` with the effect switched off; `without` receives the
+// job. The step records BIC with and without; kept = BIC improved.
+std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
+                                                 const std::vector<std::string>& params,
+                                                 FitJob* job, const FitResult& result,
+                                                 FitJob* without) {
+  ApplyEstimates(result, job);
+  *without = *job;
+  RemoveEffect(c, params, without);
+  without->solver.starts = 0;
+  without->solver.probe_rounds = 0;
+  without->uncertainty.method = UncertaintySettings::Method::kGaussNewton;
+  FitResult refit = FitParameters(*without, nullptr);
+  DiscoveryStep record;
+  record.effect = c.name;
+  record.removal = true;
+  record.bic_before = result.bic;
+  record.bic_after = refit.bic;
+  record.kept = refit.bic < result.bic;
+  record.channels = Changes(result, refit);
+  return {record, refit};
 }
 
 }  // namespace
@@ -483,24 +536,12 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     }
   }
   if (report.stop_reason.empty()) report.stop_reason = "maximum number of effects reached";
-  // Backward pass: without each added effect but the last, warm-started.
+  // Backward pass: without each added effect but the last.
   for (size_t k = 0; k + 1 < added_effects.size(); ++k) {
     const auto& [candidate, params] = added_effects[k];
     if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
-    ApplyEstimates(*result, job);
-    FitJob without = *job;
-    RemoveEffect(candidate, params, &without);
-    without.solver.starts = 0;
-    without.solver.probe_rounds = 0;
-    without.uncertainty.method = UncertaintySettings::Method::kGaussNewton;
-    FitResult refit = FitParameters(without, nullptr);
-    DiscoveryStep record;
-    record.effect = candidate.name;
-    record.removal = true;
-    record.bic_before = result->bic;
-    record.bic_after = refit.bic;
-    record.kept = refit.bic < result->bic;
-    record.channels = Changes(*result, refit);
+    FitJob without;
+    auto [record, refit] = RefitWithout(candidate, params, job, *result, &without);
     report.steps.push_back(record);
     if (progress) {
       *progress << "  refit without " << candidate.name << ": BIC " << record.bic_before
@@ -511,11 +552,108 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     report.removed.push_back(candidate.name);
     report.selected.erase(
         std::find(report.selected.begin(), report.selected.end(), candidate.name));
-    *job = without;
-    *result = refit;
+    *job = std::move(without);
+    *result = std::move(refit);
+  }
+  report.level = settings.alpha / std::max<size_t>(1, report.ranking.scores.size());
+  DropInsignificant(report.level, job, result, &report, progress);
+  report.final_diagnostics = DiagnoseResiduals(*job);
+  report.verdict = JudgeResiduals(report.final_diagnostics, *result, settings.alpha);
+  return report;
+}
+
+void DropInsignificant(double level, FitJob* job, FitResult* result,
+                       DiscoveryReport* report, std::ostream* progress) {
+  if (!(level > 0.0 && level < 1.0)) {
+    throw std::invalid_argument("DropInsignificant: expected a level in (0, 1), got " +
+                                std::to_string(level));
+  }
+  report->level = level;
+  // The last added first (Stribeck before the Coulomb it refines).
+  const std::vector<std::string> effects = report->selected;
+  for (size_t k = effects.size(); k-- > 0;) {
+    const Candidate candidate = CandidateNamed(effects[k]);
+    if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
+    ApplyEstimates(*result, job);
+    const EffectSignificance w = EffectWald(candidate.name, *result);
+    if (w.p_value < level) continue;
+    FitJob without;
+    auto [record, refit] =
+        RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);
+    std::ostringstream why;
+    why << "Wald chi2 " << w.chi2 << " (dof " << w.dof << "), p " << w.p_value
+        << " not below " << level << ": not distinguishable from off";
+    record.insignificant = why.str();
+    record.kept = true;  // removed whatever BIC says
+    report->steps.push_back(record);
+    if (progress) {
+      *progress << "  refit without " << candidate.name << ": " << record.insignificant
+                << "; BIC " << record.bic_before << " -> " << record.bic_after
+                << " (removed)\n";
+    }
+    report->removed.push_back(candidate.name);
+    report->selected.erase(
+        std::find(report->selected.begin(), report->selected.end(), candidate.name));
+    *job = std::move(without);
+    *result = std::move(refit);
   }
   ApplyEstimates(*result, job);
-  return report;
+  report->significance.clear();
+  for (const std::string& name : report->selected) {
+    report->significance.push_back(EffectWald(name, *result));
+  }
+}
+
+EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
+  const Candidate candidate = CandidateNamed(effect);
+  const std::string& base = candidate.effect;
+  const std::vector<CandidateColumn>& columns = candidate.columns;
+  EffectSignificance w;
+  w.effect = effect;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // Free parameter k of the fit: its index in the correlation matrix.
+  const auto index = [&](const std::string& name) -> int {
+    for (size_t k = 0; k < fit.free_names.size(); ++k) {
+      if (fit.free_names[k] == name) return static_cast<int>(k);
+    }
+    return -1;
+  };
+  const auto estimate = [&](const std::string& name) -> const ParameterEstimate* {
+    for (const ParameterEstimate& e : fit.parameters) {
+      if (e.name == name) return &e;
+    }
+    return nullptr;
+  };
+  const auto covariance = [&](const std::string& a, const std::string& b) {
+    const int i = index(a), j = index(b);
+    if (i < 0 || j < 0) return 0.0;
+    const double rho = fit.correlation.rows() > std::max(i, j) ? fit.correlation(i, j)
+                                                               : (i == j ? 1.0 : 0.0);
+    return estimate(a)->std_error * estimate(b)->std_error * rho;
+  };
+  const std::string p = columns[0].param;
+  const ParameterEstimate* e = estimate(p);
+  double chi2 = nan;
+  if (e != nullptr && index(p) >= 0) {
+    if (base == "stribeck") {
+      const ParameterEstimate* fc = estimate("F_c");
+      const double d = e->value - (fc ? fc->value : 0.0);
+      const double var = covariance("F_st", "F_st") + covariance("F_c", "F_c") -
+                         2.0 * covariance("F_st", "F_c");
+      chi2 = d * d / var;
+    } else if (base == "cogging") {
+      w.dof = 2;
+      double var = covariance("A_cog", "A_cog");
+      const double var_phi = covariance("phi_cog", "phi_cog");
+      if (var_phi > 0.0) var -= covariance("A_cog", "phi_cog") * covariance("A_cog", "phi_cog") / var_phi;
+      chi2 = e->value * e->value / var;
+    } else {
+      chi2 = e->value * e->value / covariance(p, p);
+    }
+  }
+  w.chi2 = std::isfinite(chi2) ? chi2 : nan;
+  w.p_value = std::isfinite(chi2) ? ChiSquaredSurvival(chi2, w.dof) : nan;
+  return w;
 }
 
 std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
@@ -574,6 +712,7 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
       out << "\nStep " << k + 1 << ": without " << s.effect
           << (s.kept ? " (removed)" : " (stays)") << "  BIC " << s.bic_before
           << " -> " << s.bic_after << "\n";
+      if (!s.insignificant.empty()) out << "  not significant: " << s.insignificant << "\n";
     } else {
       out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
           << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
@@ -603,6 +742,21 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
     for (const std::string& r : report.removed) out << r << " ";
   }
   out << "\nStopped: " << report.stop_reason << "\n";
+  if (!report.significance.empty()) {
+    out << "Significance of the selected effects (Wald, against off, level " << report.level
+        << "):\n";
+    for (const EffectSignificance& w : report.significance) {
+      out << "  " << std::left << std::setw(22) << w.effect << std::right << " chi2 "
+          << w.chi2 << " (dof " << w.dof << "), p " << w.p_value << "\n";
+    }
+  }
+  if (!report.verdict.verdict.empty()) {
+    out << "\nFinal model: " << FormatVerdict(report.verdict);
+    if (report.verdict.verdict == "incomplete" && !report.selected.empty()) {
+      out << "The selected effects explain part of the residual; with the model "
+             "incomplete their values may stand in for what is missing.\n";
+    }
+  }
   return out.str();
 }
 
@@ -633,6 +787,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     step["kept"] = s.kept;
     step["removal"] = s.removal;
     if (!s.implausible.empty()) step["implausible"] = s.implausible;
+    if (!s.insignificant.empty()) step["insignificant"] = s.insignificant;
     step["channels"] = nlohmann::json::array();
     for (const ChannelChange& c : s.channels) {
       step["channels"].push_back({{"experiment", c.experiment},
@@ -662,6 +817,22 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
                                       {"separated", q.separated}});
   }
   out["stop_reason"] = report.stop_reason;
+  out["level"] = JsonNumber(report.level);
+  out["significance"] = nlohmann::json::array();
+  for (const EffectSignificance& w : report.significance) {
+    out["significance"].push_back({{"effect", w.effect}, {"chi2", JsonNumber(w.chi2)},
+                                   {"dof", w.dof}, {"p_value", JsonNumber(w.p_value)}});
+  }
+  const ResidualVerdict& v = report.verdict;
+  out["verdict"] = v.verdict;
+  out["verdict_detail"] = {{"s2", JsonNumber(v.s2)},
+                           {"s2_p_value", JsonNumber(v.s2_p_value)},
+                           {"tests", v.tests},
+                           {"threshold", JsonNumber(v.threshold)},
+                           {"channels", v.channels},
+                           {"remains", v.remains},
+                           {"stand_ins_possible", v.verdict == "incomplete" &&
+                                                      !report.selected.empty()}};
   return out;
 }
 

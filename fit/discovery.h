@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fit/discovery_settings.h"
+#include "fit/diagnostics.h"
 #include "fit/fit_result.h"
 #include "fit/job.h"
 
@@ -107,25 +108,72 @@ struct DiscoveryStep {
   bool kept = false;  // BIC improved (a removal: BIC improved without it)
                       // and the value is physical (`implausible` empty)
   bool removal = false;  // a backward step: the refit without `effect`
+  // A removal for lack of significance (EffectWald after the backward
+  // pass), with the test's figures; empty for a BIC removal.
+  std::string insignificant;
   // Why the fitted value is not physical, if it is not (ImplausibleValue):
   // such an effect is rejected whatever BIC says (issue 10).
   std::string implausible;
   std::vector<ChannelChange> channels;
 };
 
+// Wald test of one effect of a fitted model against the value that
+// switches it off (issue 10: an effect in the final model must differ
+// significantly from off). χ² = dᵀ·Σ⁻¹·d, Σ the covariance of the fit's
+// free parameters (std_error·correlation·std_error, scaled by the residual
+// variance), d the deviation from off:
+// - F_c, ΔB, F_0, k_x, ΔM, T_c, τ_d.<ch>, b.<ch> from 0 (dof 1);
+// - Stribeck: F_st − F_c from 0 (dof 1; F_c's variance 0 if it is fixed);
+// - cogging: (A_cog·cos φ, A_cog·sin φ) from (0, 0) (dof 2; by the delta
+//   method χ² = A_cog²/(var A − cov(A, φ)²/var φ)).
+// A parameter that is fixed or has no finite standard error gives
+// p_value NaN (not significant). Throws std::invalid_argument for an
+// effect that is not a Candidate::name of MODEL.md §7.
+struct EffectSignificance {
+  std::string effect;
+  double chi2 = 0.0;
+  int dof = 1;
+  double p_value = 1.0;
+};
+EffectSignificance EffectWald(const std::string& effect, const FitResult& fit);
+
 struct DiscoveryReport {
   std::vector<std::string> selected;  // effects in the final model, in the order added
   std::vector<std::string> removed;   // added, then dropped by the backward pass
+                                      // or for lack of significance
+  // Wald tests of the effects in the final model at level `level` (alpha
+  // divided by the number of candidates at the first step).
+  std::vector<EffectSignificance> significance;
+  double level = 0.0;
+  // The final model's residual diagnostics and verdict (fit/diagnostics.h).
+  std::vector<ChannelDiagnostics> final_diagnostics;
+  ResidualVerdict verdict;
   std::vector<DiscoveryStep> steps;
   Ranking ranking;                    // at the first step
   std::string stop_reason;
 };
 
+// The stand-in rule of Discover (issue 10), on its own: each effect of
+// report->selected (Candidate names, the last first; Coulomb skipped while
+// Stribeck is in) whose EffectWald p-value at the fit `result` is not below
+// `level` is refitted away (warm-started at the optimum with the effect
+// off, its parameters fixed) and dropped whatever BIC says: a removal step
+// with `insignificant` set is appended, the name moves to report->removed,
+// and `job`/`result` become the model without it. Sets report->level and
+// report->significance (the effects left). Throws std::invalid_argument for
+// a level outside (0, 1) or an unknown effect name.
+void DropInsignificant(double level, FitJob* job, FitResult* result,
+                       DiscoveryReport* report, std::ostream* progress);
+
 // Runs the loop from the fit `result` of `job`; on return `job` and `result`
 // hold the augmented model and its fit. After the forward steps, one
 // backward pass refits without each added effect but the last (an effect
 // added while a later one was missing may have stood in for it) and drops
-// it if BIC improves; Coulomb stays while Stribeck is in. Progress lines go to `progress`.
+// it if BIC improves; Coulomb stays while Stribeck is in. Then every effect
+// left, the last added first, must pass EffectWald at alpha / (number of
+// candidates at the first step), or is refitted away and dropped whatever
+// BIC says. Last, the final model's residuals are diagnosed and judged
+// (JudgeResiduals at alpha). Progress lines go to `progress`.
 DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                          FitResult* result, std::ostream* progress);
 
@@ -144,8 +192,11 @@ std::string FormatDiscovery(const DiscoveryReport& report);
 
 // report.json's "discovery" block: {"selected", "steps": [{"effect",
 // "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
-// "bic_before", "bic_after", "kept", "removal", "channels": [...]}],
-// "removed": [names], "ranking":
+// "bic_before", "bic_after", "kept", "removal", "implausible" and "insignificant" (if any), "channels": [...]}],
+// "removed": [names], "level", "significance": [{"effect", "chi2", "dof",
+// "p_value"}], "verdict": "explained" | "incomplete", "verdict_detail":
+// {"s2", "s2_p_value", "tests", "threshold", "channels", "remains",
+// "stand_ins_possible"}, "ranking":
 // [{"effect", "chi2", "dof", "p_value"}], "indistinguishable": [[a, b]],
 // "nearly_parallel": [{"a", "b", "cosine", "chi2_a_given_b",
 // "chi2_b_given_a", "separated"}], "stop_reason"}.

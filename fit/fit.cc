@@ -975,7 +975,8 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
     DiscoverySettings settings = job.discover;
     settings.enabled = true;
     discovery = Discover(settings, &job, &result, &out);
-    out << "\n" << FormatDiscovery(discovery) << "\nAfter discovery:";
+    out << "\nFinal model:\n" << FormatDiagnostics(discovery.final_diagnostics) << "\n"
+        << FormatDiscovery(discovery) << "\nAfter discovery:";
   }
   ResidualBootstrap(job, &result, &out);
   out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
@@ -1004,7 +1005,9 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
     extra.markdown += "\n## Residual diagnostics (model as declared)\n\n```\n" +
                      FormatDiagnostics(diagnostics) +
                      "```\n\n## Model discovery\n\n```\n" +
-                     FormatDiscovery(discovery) + "```\n";
+                     FormatDiscovery(discovery) + "```\n" +
+                     "\n## Residual diagnostics (final model)\n\n```\n" +
+                     FormatDiagnostics(discovery.final_diagnostics) + "```\n";
     extra.json["discovery"] = DiscoveryToJson(discovery);
   }
   // Everything goes to a staging folder first and is moved into place at

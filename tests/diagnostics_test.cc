@@ -3,6 +3,7 @@
 // the planted bin means, and a residual that follows the input 7 samples
 // late shows as a cross-correlation peak at lag 7.
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 
 #include "fit/diagnostics.h"
 #include "fit/job.h"
+#include "fit/statistics.h"
 #include "sim/config.h"
 #include "sim/csv.h"
 #include "sim/experiment.h"
@@ -82,6 +84,72 @@ TEST(DiagnosticsTest, PlantedResidualsAreFound) {
   EXPECT_GT(std::abs(da.xcorr_peak), 0.99);
   // Structured, not white.
   EXPECT_LT(da.ljung_box_p, 1e-10);
+}
+
+// JudgeResiduals against hand-computed figures: 4 tests (s², Ljung–Box,
+// two binned variables) at alpha = 1e-3 give a threshold of 2.5e-4 each.
+TEST(DiagnosticsTest, VerdictFromHandComputedTests) {
+  ChannelDiagnostics d;
+  d.experiment = "e";
+  d.channel = "a";
+  d.unit = "m/s^2";
+  d.rms = 0.02;
+  d.sigma = 0.02;
+  d.ljung_box_p = 0.5;
+  BinnedResidual v;
+  v.variable = "v";
+  v.unit = "m/s";
+  v.width = 0.1;
+  v.center = {0.05, 0.15, 0.25, 0.35};
+  v.mean = {0.0, 0.0, 0.0, 0.0};
+  v.std_error = {0.001, 0.001, 0.001, 0.001};
+  v.count = {100, 100, 100, 100};
+  v.dof = 4;
+  v.chi2 = 0.0;
+  v.p_value = 1.0;
+  BinnedResidual x = v;
+  x.variable = "x";
+  x.unit = "m";
+  d.bins = {v, x};
+  FitResult fit;
+  fit.num_residuals = 1000;
+  fit.free_names = {"V_L", "B_a", "b_g", "k_g", "T_p"};
+  fit.final_cost = 0.5 * 995.0;  // s² = 1 exactly
+
+  ResidualVerdict verdict = JudgeResiduals({d}, fit, 1e-3);
+  EXPECT_EQ(verdict.tests, 4);
+  EXPECT_DOUBLE_EQ(verdict.threshold, 2.5e-4);
+  EXPECT_DOUBLE_EQ(verdict.s2, 1.0);
+  EXPECT_EQ(verdict.verdict, "explained");
+  EXPECT_TRUE(verdict.remains.empty());
+
+  // A step in v above 0.2 m/s: bins 3 and 4 at 10 and 12 standard errors
+  // (χ² 244 on 4 dof) → significant, and named as the range [0.2, 0.4].
+  d.bins[0].mean = {0.0, 0.0, 0.010, 0.012};
+  d.bins[0].chi2 = 244.0;
+  d.bins[0].p_value = ChiSquaredSurvival(244.0, 4);
+  verdict = JudgeResiduals({d}, fit, 1e-3);
+  EXPECT_EQ(verdict.verdict, "incomplete");
+  ASSERT_EQ(verdict.remains.size(), 1u);
+  EXPECT_NE(verdict.remains[0].find("depends on v"), std::string::npos) << verdict.remains[0];
+  EXPECT_NE(verdict.remains[0].find("in [0.2, 0.4] m/s"), std::string::npos)
+      << verdict.remains[0];
+
+  // s² = 1200/995: (1200 − 995)/√(2·995) = 4.6 standard deviations of χ²₉₉₅
+  // above its mean, p ≈ 2e-6 < 2.5e-4; and a coloured residual.
+  d.bins[0] = v;
+  d.ljung_box_p = 1e-5;
+  fit.final_cost = 600.0;
+  verdict = JudgeResiduals({d}, fit, 1e-3);
+  EXPECT_EQ(verdict.verdict, "incomplete");
+  EXPECT_NEAR(verdict.s2, 1200.0 / 995.0, 1e-12);
+  EXPECT_LT(verdict.s2_p_value, 1e-5);
+  EXPECT_GT(verdict.s2_p_value, 1e-7);
+  ASSERT_EQ(verdict.remains.size(), 2u);
+  EXPECT_NE(verdict.remains[1].find("not white"), std::string::npos);
+
+  EXPECT_THROW(JudgeResiduals({d}, fit, 0.0), std::invalid_argument);
+  EXPECT_THROW(JudgeResiduals({d}, fit, 1.0), std::invalid_argument);
 }
 
 }  // namespace
