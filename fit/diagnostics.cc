@@ -186,8 +186,8 @@ void WriteDiagnostics(const std::string& dir,
 
 ResidualVerdict JudgeResiduals(const std::vector<ChannelDiagnostics>& diagnostics,
                                const FitResult& fit, double alpha) {
-  if (!(alpha > 0.0 && alpha < 1.0)) {
-    throw std::invalid_argument("JudgeResiduals: expected a level alpha in (0, 1), got " +
+  if (!(alpha > 0.0)) {
+    throw std::invalid_argument("JudgeResiduals: expected a level alpha > 0, got " +
                                 std::to_string(alpha));
   }
   ResidualVerdict v;

@@ -87,7 +87,8 @@ struct ResidualVerdict {
 
 // Judges `diagnostics` (DiagnoseResiduals of the final model) with the
 // fit's s² (`fit`: num_residuals, the free parameter count, final_cost).
-// Throws std::invalid_argument if alpha is not in (0, 1).
+// Throws std::invalid_argument unless alpha > 0 (a level of 1 or more
+// makes every test fail: nothing counts as explained).
 ResidualVerdict JudgeResiduals(const std::vector<ChannelDiagnostics>& diagnostics,
                                const FitResult& fit, double alpha);
 

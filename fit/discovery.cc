@@ -27,6 +27,12 @@ constexpr double kPi = 3.14159265358979323846;
 // F_st = F_c, so the test spans this small grid of shapes.
 constexpr double kStribeckGrid[] = {0.005, 0.02, 0.1};
 
+// Above this s² (residual variance in units of the declared noise) the model
+// error outweighs the noise and the score ranking is not trusted: the top
+// significant candidates are all refitted (Discover). 2: the misfit's
+// variance exceeds the noise's.
+constexpr double kMisspecifiedS2 = 2.0;
+
 std::vector<CandidateColumn> ColumnsOf(const std::string& effect,
                                       const std::string& channel) {
   if (effect == "coulomb") return {{"F_c", {}}};
@@ -459,12 +465,39 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     // BIC decide. A significant candidate whose refit does not improve BIC
     // (the refit found a worse local minimum, or the candidate only mimics
     // another effect locally) makes way for the next one, up to
-    // settings.tries refits per step.
-    bool added = false;
+    // settings.tries refits per step. Far from a model that explains the
+    // data (s² above kMisspecifiedS2) the score ranking itself is not
+    // reliable (a stand-in can outrank the effect: motor-side Coulomb
+    // friction above the load-side one at χ² 2.9e6 against 2.5e6): then
+    // all of the top `tries` significant candidates are refitted and the
+    // lowest BIC wins.
+    const double s2 = result->residual_variance;
+    const bool by_refit = s2 > kMisspecifiedS2;
+    std::ostringstream rule;
+    rule << std::setprecision(3);
+    if (by_refit) {
+      rule << "lowest BIC of the refitted significant candidates (s^2 = " << s2
+           << " > " << kMisspecifiedS2 << ": the score ranking is not reliable)";
+    } else {
+      rule << "first significant candidate in score order whose refit improves BIC (s^2 = "
+           << s2 << ")";
+    }
+    if (progress) *progress << "  rule: " << rule.str() << "\n";
+    struct Trial {
+      size_t step;  // index in report.steps
+      Candidate candidate;
+      FitJob job;
+      FitResult fit;
+      std::vector<std::string> names;
+    };
+    std::vector<Trial> improved;
     int tries = 0;
     std::string rejected;
     for (const Score& score : ranking.scores) {
-      if (added || tries >= settings.tries || !(score.p_value < threshold)) break;
+      if ((!by_refit && !improved.empty()) || tries >= settings.tries ||
+          !(score.p_value < threshold)) {
+        break;
+      }
       // Candidates the data cannot tell from this one. A twin with more
       // parameters is a richer alternative (Stribeck contains a
       // Coulomb-like shape): parsimony keeps this one. A twin of the same
@@ -498,6 +531,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       FitResult refit = FitParameters(next, nullptr);
       DiscoveryStep record;
       record.effect = chosen.name;
+      record.rule = rule.str();
       record.chi2 = score.chi2;
       record.dof = score.dof;
       record.p_value = score.p_value;
@@ -515,25 +549,41 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       if (progress) {
         *progress << "  refit with " << chosen.name << ": BIC " << record.bic_before
                   << " -> " << record.bic_after
-                  << (record.kept ? " (kept)" : " (rejected)")
+                  << (record.kept ? " (improves)" : " (rejected)")
                   << (record.implausible.empty() ? "" : ": " + record.implausible) << "\n";
       }
       if (!record.kept) {
         rejected += (rejected.empty() ? "" : ", ") + chosen.name;
         continue;
       }
-      report.selected.push_back(chosen.name);
-      added_effects.emplace_back(chosen, names);
-      *job = next;
-      *result = refit;
-      added = true;
+      improved.push_back({report.steps.size() - 1, chosen, std::move(next), std::move(refit),
+                          names});
     }
-    if (!added) {
+    if (improved.empty()) {
       if (report.stop_reason.empty()) {
         report.stop_reason = "no significant candidate improved BIC (tried " + rejected + ")";
       }
       break;
     }
+    size_t lowest = 0;
+    for (size_t k = 1; k < improved.size(); ++k) {
+      if (improved[k].fit.bic < improved[lowest].fit.bic) lowest = k;
+    }
+    for (size_t k = 0; k < improved.size(); ++k) {
+      if (k == lowest) continue;
+      DiscoveryStep& other = report.steps[improved[k].step];
+      other.kept = false;
+      std::ostringstream why;
+      why << "BIC " << other.bic_after << " above " << improved[lowest].candidate.name << "'s "
+          << improved[lowest].fit.bic;
+      other.outranked = why.str();
+    }
+    Trial& winner = improved[lowest];
+    if (progress) *progress << "  kept " << winner.candidate.name << "\n";
+    report.selected.push_back(winner.candidate.name);
+    added_effects.emplace_back(winner.candidate, winner.names);
+    *job = std::move(winner.job);
+    *result = std::move(winner.fit);
   }
   if (report.stop_reason.empty()) report.stop_reason = "maximum number of effects reached";
   // Backward pass: without each added effect but the last.
@@ -564,8 +614,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
 
 void DropInsignificant(double level, FitJob* job, FitResult* result,
                        DiscoveryReport* report, std::ostream* progress) {
-  if (!(level > 0.0 && level < 1.0)) {
-    throw std::invalid_argument("DropInsignificant: expected a level in (0, 1), got " +
+  if (!(level > 0.0)) {
+    throw std::invalid_argument("DropInsignificant: expected a level > 0, got " +
                                 std::to_string(level));
   }
   report->level = level;
@@ -718,6 +768,8 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
           << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
           << ")  BIC " << s.bic_before << " -> " << s.bic_after << "\n";
       if (!s.implausible.empty()) out << "  not physical: " << s.implausible << "\n";
+      if (!s.outranked.empty()) out << "  outranked: " << s.outranked << "\n";
+      if (!s.rule.empty()) out << "  rule: " << s.rule << "\n";
     }
     for (const ParameterEstimate& p : s.parameters) {
       out << "  " << p.name << " = " << p.value << " +- " << p.std_error << " "
@@ -788,6 +840,8 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     step["removal"] = s.removal;
     if (!s.implausible.empty()) step["implausible"] = s.implausible;
     if (!s.insignificant.empty()) step["insignificant"] = s.insignificant;
+    if (!s.rule.empty()) step["rule"] = s.rule;
+    if (!s.outranked.empty()) step["outranked"] = s.outranked;
     step["channels"] = nlohmann::json::array();
     for (const ChannelChange& c : s.channels) {
       step["channels"].push_back({{"experiment", c.experiment},

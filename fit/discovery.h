@@ -105,8 +105,9 @@ struct DiscoveryStep {
   int dof = 0;
   double p_value = 1.0;
   double bic_before = 0.0, bic_after = 0.0;
-  bool kept = false;  // BIC improved (a removal: BIC improved without it)
-                      // and the value is physical (`implausible` empty)
+  bool kept = false;  // forward: added (BIC improved, the value is physical
+                      // (`implausible` empty) and no other refit of the step
+                      // had a lower BIC); removal: dropped
   bool removal = false;  // a backward step: the refit without `effect`
   // A removal for lack of significance (EffectWald after the backward
   // pass), with the test's figures; empty for a BIC removal.
@@ -114,6 +115,12 @@ struct DiscoveryStep {
   // Why the fitted value is not physical, if it is not (ImplausibleValue):
   // such an effect is rejected whatever BIC says (issue 10).
   std::string implausible;
+  // Forward steps: the rule that chose among the significant candidates
+  // (score order, or the lowest BIC of the refits when s² is far above 1),
+  // and for a refit that improved BIC but lost to another candidate's,
+  // why ("BIC … above coulomb's …").
+  std::string rule;
+  std::string outranked;
   std::vector<ChannelChange> channels;
 };
 
@@ -160,8 +167,9 @@ struct DiscoveryReport {
 // off, its parameters fixed) and dropped whatever BIC says: a removal step
 // with `insignificant` set is appended, the name moves to report->removed,
 // and `job`/`result` become the model without it. Sets report->level and
-// report->significance (the effects left). Throws std::invalid_argument for
-// a level outside (0, 1) or an unknown effect name.
+// report->significance (the effects left); a level above 1 keeps every
+// effect. Throws std::invalid_argument for a level ≤ 0 or an unknown effect
+// name.
 void DropInsignificant(double level, FitJob* job, FitResult* result,
                        DiscoveryReport* report, std::ostream* progress);
 
@@ -192,7 +200,7 @@ std::string FormatDiscovery(const DiscoveryReport& report);
 
 // report.json's "discovery" block: {"selected", "steps": [{"effect",
 // "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
-// "bic_before", "bic_after", "kept", "removal", "implausible" and "insignificant" (if any), "channels": [...]}],
+// "bic_before", "bic_after", "kept", "removal", "implausible", "insignificant", "rule", "outranked" (if any), "channels": [...]}],
 // "removed": [names], "level", "significance": [{"effect", "chi2", "dof",
 // "p_value"}], "verdict": "explained" | "incomplete", "verdict_detail":
 // {"s2", "s2_p_value", "tests", "threshold", "channels", "remains",

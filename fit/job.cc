@@ -575,22 +575,11 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
           ThrowConfigError(path, list, "discover.candidates",
                            "a list of effect names", Describe(list));
         }
-        std::vector<std::string> kEffects = {"sensor_delay", "sensor_bias"};
-        for (const EffectInfo& e : DynamicEffectTable()) kEffects.push_back(e.name);
         for (const YAML::Node& c : list) {
           const std::string name = c.IsScalar() ? c.Scalar() : "";
-          const std::string effect = name.substr(0, name.find('.'));
-          const bool sensor = effect == "sensor_delay" || effect == "sensor_bias";
-          const bool known =
-              std::find(kEffects.begin(), kEffects.end(), effect) != kEffects.end() &&
-              (name == effect ||
-               (sensor && ParseChannel(name.substr(name.find('.') + 1)).has_value()));
-          if (!known) {
+          if (!IsEffectName(name, true)) {
             ThrowConfigError(path, c, "discover.candidates",
-                             "an effect of MODEL.md section 7 (coulomb, stribeck, "
-                             "viscous_asymmetry, load_offset, spring, payload, "
-                             "motor_coulomb, cogging, sensor_delay[.channel], "
-                             "sensor_bias[.channel])",
+                             "an effect of MODEL.md section 7 (" + EffectNameList() + ")",
                              Describe(c));
           }
           job.discover.candidates.push_back(name);

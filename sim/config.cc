@@ -146,6 +146,26 @@ const std::vector<EffectInfo>& DynamicEffectTable() {
   return effects;
 }
 
+bool IsEffectName(const std::string& name, bool allow_bare_sensor) {
+  const size_t dot = name.find('.');
+  const std::string effect = name.substr(0, dot);
+  if (effect == "sensor_delay" || effect == "sensor_bias") {
+    if (dot == std::string::npos) return allow_bare_sensor;
+    return ParseChannel(name.substr(dot + 1)).has_value();
+  }
+  if (dot != std::string::npos) return false;
+  for (const EffectInfo& e : DynamicEffectTable()) {
+    if (effect == e.name) return true;
+  }
+  return false;
+}
+
+std::string EffectNameList() {
+  std::string list;
+  for (const EffectInfo& e : DynamicEffectTable()) list += std::string(e.name) + ", ";
+  return list + "sensor_delay[.channel], sensor_bias[.channel]";
+}
+
 void ParseEffects(YamlMap& effects, AxisConfig* config) {
   for (const auto& entry : effects.node()) {
     const std::string name = entry.first.Scalar();

@@ -50,6 +50,16 @@ struct EffectInfo {
 };
 const std::vector<EffectInfo>& DynamicEffectTable();
 
+// Whether `name` names one effect the way the discovery loop does: a
+// DynamicEffectTable name ("coulomb"), or sensor_delay / sensor_bias with a
+// MODEL.md §6 channel ("sensor_delay.a"); with `allow_bare_sensor` also
+// "sensor_delay" / "sensor_bias" alone (every channel).
+bool IsEffectName(const std::string& name, bool allow_bare_sensor = false);
+
+// The list of effect names for messages: "coulomb, stribeck, …,
+// sensor_delay[.channel], sensor_bias[.channel]".
+std::string EffectNameList();
+
 // Parses the `effects:` mapping of a model config or experiment into
 // `config` (switches on the named effects and sets their parameters).
 // Effect names are those of MODEL.md §7; sensor_delay and sensor_bias take a

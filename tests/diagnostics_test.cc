@@ -149,7 +149,7 @@ TEST(DiagnosticsTest, VerdictFromHandComputedTests) {
   EXPECT_NE(verdict.remains[1].find("not white"), std::string::npos);
 
   EXPECT_THROW(JudgeResiduals({d}, fit, 0.0), std::invalid_argument);
-  EXPECT_THROW(JudgeResiduals({d}, fit, 1.0), std::invalid_argument);
+  EXPECT_THROW(JudgeResiduals({d}, fit, -1.0), std::invalid_argument);
 }
 
 }  // namespace
