@@ -231,10 +231,8 @@ ResidualVerdict JudgeResiduals(const std::vector<ChannelDiagnostics>& diagnostic
         << " (largest |mean| " << largest << " " << d.unit << ")";
       found.push_back(f.str());
     }
-    for (const std::string& f : found) {
-      line << "; " << f;
-      v.remains.push_back(d.experiment + "/" + d.channel + ": " + f);
-    }
+    for (const std::string& f : found) v.remains.push_back(d.experiment + "/" + d.channel + ": " + f);
+    if (found.empty()) line << "; white, no structure";
     v.channels.push_back(line.str());
   }
   v.verdict = v.remains.empty() ? "explained" : "incomplete";

@@ -77,12 +77,13 @@ struct ResidualVerdict {
   double s2_p_value = 1.0;    // P(χ²_{m−n} > (m − n)·s2)
   int tests = 0;              // number of tests (Bonferroni)
   double threshold = 0.0;     // alpha / tests
-  // Per channel: "experiment/channel: RMS 0.012 m/s^2 = 1.02 σ" and, when a
-  // test fails, what it found, e.g. "not white (Ljung–Box p 3e-12)",
-  // "mean residual depends on x: significant for x in [0.12, 0.31] m
-  // (largest |mean| 0.2 m/s^2)".
+  // Per channel: "experiment/channel: RMS 0.012 m/s^2 = 1.02 sigma", with
+  // "; white, no structure" when all its tests pass.
   std::vector<std::string> channels;
-  std::vector<std::string> remains;  // the failed tests only, one line each
+  // The failed tests, one line each, e.g. "e/a: not white (Ljung-Box p
+  // 3e-12)", "e/a: mean residual depends on x (chi2 p 1e-9): significant
+  // for x in [0.12, 0.31] m (largest |mean| 0.2 m/s^2)".
+  std::vector<std::string> remains;
 };
 
 // Judges `diagnostics` (DiagnoseResiduals of the final model) with the

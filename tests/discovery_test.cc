@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "fit/campaign.h"
 #include "fit/discovery.h"
 #include "fit/fit.h"
 #include "fit/job.h"
@@ -151,6 +152,27 @@ TEST(DiscoveryTest, CoulombAndLoadOffset) {
   std::string selected;
   for (const std::string& e : o.report.selected) selected += e + " ";
   RecordProperty("selected", selected);
+  ExpectNoiseLevel(o);
+  ExpectExplained(o);
+}
+
+// Coulomb friction and viscous asymmetry together (issue 10, misspecified
+// start): the base fit is far from the data (s² ≈ 48) and the score test
+// ranks motor-side Coulomb friction first (χ² 1.85e5). With the score order
+// alone the loop kept motor_coulomb, cogging and coulomb and ended
+// `incomplete` at s² = 7.5 (measured before the refit rule); refitting the
+// top candidates and keeping the lowest BIC finds exactly the two effects.
+TEST(DiscoveryTest, CoulombAndViscousAsymmetryChosenByRefit) {
+  const Outcome o = RunCase("coulomb_viscous_asymmetry");
+  std::vector<std::string> sorted = o.report.selected;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(sorted, (std::vector<std::string>{"coulomb", "viscous_asymmetry"}))
+      << o.report.stop_reason;
+  ExpectNearTruth(o.result, "F_c", 30.0);
+  ExpectNearTruth(o.result, "Delta_B", 60.0);
+  ASSERT_FALSE(o.report.steps.empty());
+  EXPECT_NE(o.report.steps.front().rule.find("lowest BIC"), std::string::npos)
+      << o.report.steps.front().rule;
   ExpectNoiseLevel(o);
   ExpectExplained(o);
 }
@@ -309,36 +331,23 @@ TEST(DiscoveryTest, StribeckIsACandidateOnlyWithCoulomb) {
   EXPECT_TRUE(has(with, "stribeck"));
 }
 
-// No false discovery over noise seeds: the no-effect data regenerated with
-// three other seeds (the committed generating configs, only the seed
-// changed); at a family-wise level of 1e-3 the expected number of false
-// discoveries over three seeds is 0.003.
-TEST(DiscoveryTest, NoFalseDiscoveryOverNoiseSeeds) {
-  int false_discoveries = 0;
-  const int kSeeds = 3;
-  for (int seed = 1; seed <= kSeeds; ++seed) {
-    const std::string dir = axis::testing_files::TestTempDir() + "none_seed" + std::to_string(seed);
-    std::filesystem::create_directories(dir);
-    FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/none.yaml");
-    for (FitExperiment* e : {&job.experiments[0], &job.experiments[1], &job.experiments[2]}) {
-      ExperimentConfig x = LoadExperiment(kRoot + "/testdata/generate/discover/none_" +
-                                          e->name + ".yaml");
-      Trace<double> trace = RunExperiment(x);
-      AddNoise(x.noise_sigma, 1000 * seed + x.seed, &trace);
-      for (size_t j = 0; j < e->measured_channels.size(); ++j) {
-        e->measured[j] = trace[e->measured_channels[j]];
-      }
-    }
-    job.validate.clear();
-    job.solver.progress = false;
-    FitResult result = FitParameters(job);
-    const DiscoveryReport report = Discover(job.discover, &job, &result, nullptr);
-    false_discoveries += !report.selected.empty();
-  }
-  RecordProperty("false_discoveries", std::to_string(false_discoveries) + "/" +
-                                          std::to_string(kSeeds));
-  std::cout << "false discoveries: " << false_discoveries << " of " << kSeeds << " seeds\n";
-  EXPECT_EQ(false_discoveries, 0);
+// The small campaign of the suite (issue 10): 10 seeds of
+// configs/campaigns/null_prbs_chirp.yaml (null data, PRBS and chirp inputs,
+// which the discovery cases do not use). At the family-wise level 1e-3 the
+// expected number of false discoveries over 10 seeds is 0.01, and of
+// `incomplete` verdicts on the right model ≤ 0.01: both must be 0. The full
+// campaign (100 seeds) is fit-campaign's job (README).
+TEST(DiscoveryTest, NoFalseDiscoveryOverTenNullSeeds) {
+  CampaignConfig config = LoadCampaign(kRoot + "/configs/campaigns/null_prbs_chirp.yaml");
+  config.first_seed = 1;
+  config.last_seed = 10;
+  const std::vector<SeedOutcome> outcomes = RunCampaign(config, 2, &std::cout);
+  const CampaignSummary summary = Summarize(config, outcomes);
+  EXPECT_EQ(summary.failed, 0);
+  EXPECT_EQ(summary.false_discovery.n, 10);
+  EXPECT_EQ(summary.false_discovery.k, 0) << FormatCampaign(config, summary, outcomes);
+  EXPECT_EQ(summary.explained, 10) << FormatCampaign(config, summary, outcomes);
+  RecordProperty("false_discoveries", std::to_string(summary.false_discovery.k) + "/10");
 }
 
 // Motion in one direction only (the +4 V step of the coulomb case): a
