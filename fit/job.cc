@@ -52,7 +52,7 @@ InputSignal ColumnSignal(const CsvTable& data, const std::string& column,
                          size_t count, double period) {
   InputSignal s;
   s.kind = InputSignal::Kind::kTable;
-  s.hold = hold;
+  s.hold = hold;  // (cubic: MakeCubic on the result)
   const std::vector<double>& values = data.Column(column);
   for (size_t k = first; k < first + count; ++k) {
     s.times.push_back(static_cast<double>(k - first) * period);
@@ -97,8 +97,11 @@ InputSignal ParseDriveSignal(YamlMap& map, const CsvTable& data,
   const double scale = map.Number("scale", 1.0);
   const double offset = map.Number("offset", 0.0);
   bool hold = false;
+  bool cubic = false;
   if (map.Has("interpolation")) {
-    hold = map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
+    const std::string mode = map.Choice("interpolation", {"linear", "hold", "cubic"}, "linear");
+    hold = mode == "hold";
+    cubic = mode == "cubic";
   } else {
     const Levels levels = CountLevels(data.Column(column), first, count);
     hold = levels.changes > 0 && levels.equal_share >= 0.5;
@@ -112,8 +115,10 @@ InputSignal ParseDriveSignal(YamlMap& map, const CsvTable& data,
       *note = why.str();
     }
   }
+  InputSignal s = ColumnSignal(data, column, scale, offset, hold, first, count, period);
+  if (cubic) MakeCubicOrThrow(map, &s);
   map.Finish();
-  return ColumnSignal(data, column, scale, offset, hold, first, count, period);
+  return s;
 }
 
 // A measured channel's column: `channel: column` or `channel: {column,

@@ -375,6 +375,16 @@ void RequireColumn(const YamlMap& map, const YAML::Node& node,
                    "'" + column + "'");
 }
 
+void MakeCubicOrThrow(YamlMap& map, InputSignal* s) {
+  try {
+    MakeCubic(s);
+  } catch (const std::invalid_argument& e) {
+    ThrowConfigError(map.file(), map.Optional("interpolation"), map.KeyPath("interpolation"),
+                     "samples a cubic can pass through (" + std::string(e.what()) + ")",
+                     "cubic");
+  }
+}
+
 InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir) {
   InputSignal s;
   s.kind = InputSignal::Kind::kTable;
@@ -383,7 +393,8 @@ InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir) {
   const std::string value_col = map.String("column");
   const double scale = map.Number("scale", 1.0);
   s.offset = map.Number("offset", 0.0);
-  s.hold = map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
+  const std::string mode = map.Choice("interpolation", {"linear", "hold", "cubic"}, "linear");
+  s.hold = mode == "hold";
   const CsvTable table = ReadCsv(file);
   RequireColumn(map, map.node(), map.KeyPath("time"), table, time_col);
   RequireColumn(map, map.node(), map.KeyPath("column"), table, value_col);
@@ -391,6 +402,7 @@ InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir) {
   s.times = table.Column(time_col);
   s.values = table.Column(value_col);
   for (double& v : s.values) v *= scale;
+  if (mode == "cubic") MakeCubicOrThrow(map, &s);
   return s;
 }
 
@@ -452,7 +464,9 @@ InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
       s.times.push_back(t);
       s.values.push_back(map.NumberFrom(point[1], key, Range::kAny));
     }
-    s.hold = map.Choice("interpolation", {"linear", "hold"}, "linear") == "hold";
+    const std::string mode = map.Choice("interpolation", {"linear", "hold", "cubic"}, "linear");
+    s.hold = mode == "hold";
+    if (mode == "cubic") MakeCubicOrThrow(map, &s);
   } else {  // column
     s = ParseColumnSignal(map, base_dir);
   }

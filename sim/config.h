@@ -92,6 +92,11 @@ void ApplySetArgument(AxisConfig* config, const std::string& assignment);
 InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
                              double duration);
 
+// MakeCubic(s) (sim/input_signal.h) for the mapping `map` that set
+// `interpolation: cubic`; its error becomes a config error naming the file,
+// line and key.
+void MakeCubicOrThrow(YamlMap& map, InputSignal* s);
+
 // Throws the config error "<file>:<line>: key '<key>': expected a column of
 // <data file> (<its columns>), got '<column>'" unless `table` has `column`;
 // `node` locates the line.

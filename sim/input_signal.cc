@@ -5,7 +5,14 @@
 #include <stdexcept>
 #include <string>
 
+#include <boost/math/interpolators/cardinal_cubic_b_spline.hpp>
+
 namespace axis {
+
+struct CubicSpline {
+  boost::math::interpolators::cardinal_cubic_b_spline<double> spline;
+};
+
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586476925;
@@ -53,13 +60,14 @@ double InputSignal::Evaluate(double t) const {
       return offset + amplitude * std::sin(kTwoPi * cycles);
     }
     case Kind::kTable:
+      if (cubic && t > times.front() && t < times.back()) return offset + cubic->spline(t);
       return offset + EvaluateTable(times, values, hold, t);
   }
   return offset;
 }
 
 double InputSignal::Evaluate(double t, size_t* cursor) const {
-  if (kind != Kind::kTable || times.size() < 2) return Evaluate(t);
+  if (kind != Kind::kTable || times.size() < 2 || cubic) return Evaluate(t);
   if (hold) t += HoldSlack(times);
   if (t <= times.front() || t >= times.back()) {
     return offset + EvaluateTable(times, values, false, t);
@@ -72,6 +80,32 @@ double InputSignal::Evaluate(double t, size_t* cursor) const {
   const double s = (t - times[k]) / (times[k + 1] - times[k]);
   // Same association as EvaluateTable + offset in Evaluate(t): bit-identical.
   return offset + (values[k] + s * (values[k + 1] - values[k]));
+}
+
+void MakeCubic(InputSignal* s) {
+  if (s->kind != InputSignal::Kind::kTable || s->hold) {
+    throw std::invalid_argument(
+        "cubic interpolation: expected a table or data column read without hold, got " +
+        std::string(s->hold ? "a held table" : "a profile"));
+  }
+  const size_t n = s->times.size();
+  if (n < 5) {
+    throw std::invalid_argument("cubic interpolation: expected at least 5 samples, got " +
+                                std::to_string(n));
+  }
+  const double h = (s->times.back() - s->times.front()) / static_cast<double>(n - 1);
+  for (size_t k = 1; k < n; ++k) {
+    const double spacing = s->times[k] - s->times[k - 1];
+    if (!(std::abs(spacing - h) <= 1e-6 * h)) {
+      throw std::invalid_argument(
+          "cubic interpolation: expected uniformly spaced samples (mean spacing " +
+          std::to_string(h) + " s), got a spacing of " + std::to_string(spacing) +
+          " s at sample " + std::to_string(k));
+    }
+  }
+  s->cubic = std::make_shared<const CubicSpline>(CubicSpline{
+      boost::math::interpolators::cardinal_cubic_b_spline<double>(
+          s->values.data(), n, s->times.front(), h)});
 }
 
 InputSignal MakePrbs(double amplitude, double offset, double bit_time,

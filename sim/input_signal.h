@@ -6,9 +6,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace axis {
+
+// The cubic B-spline of a uniformly sampled table (MakeCubic; defined in
+// input_signal.cc around boost::math::interpolators::cardinal_cubic_b_spline).
+struct CubicSpline;
 
 // One input signal; `kind` picks which fields matter. Times in s, values in
 // the input's unit (V for U). Built by the config loader or the Make*
@@ -30,6 +35,10 @@ struct InputSignal {
   // PRBS and data-file columns are tables.
   std::vector<double> times, values;
   bool hold = false;
+  // Set by MakeCubic: a cubic B-spline through the samples instead of
+  // straight lines (a smooth signal sampled at h: error O(h⁴) against
+  // linear's O(h²)); constant outside the range as the others.
+  std::shared_ptr<const CubicSpline> cubic;
 
   // U(t).
   double Evaluate(double t) const;
@@ -38,6 +47,16 @@ struct InputSignal {
   // binary search in the simulation loop. Same values as Evaluate(t).
   double Evaluate(double t, size_t* cursor) const;
 };
+
+// Makes the table `s` interpolate by a cubic B-spline through its samples
+// (boost::math::interpolators::cardinal_cubic_b_spline, end derivatives
+// estimated from the data): the reconstruction for a smooth input sampled
+// by a recorder (issue 10: linear interpolation of a 1 kHz sine leaves an
+// input error that a microsecond sensor delay absorbs). Throws
+// std::invalid_argument "expected …, got …" unless `s` is a table of at
+// least 5 samples uniformly spaced (every spacing within 1e-6 of the mean)
+// and not held.
+void MakeCubic(InputSignal* s);
 
 // A maximum-length pseudo-random binary sequence of ±amplitude (plus
 // offset) switching every `bit_time` s from t = 0 to `duration`, from a

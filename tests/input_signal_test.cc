@@ -362,6 +362,56 @@ std::string MaximumLengthDefects(const std::vector<bool>& bits, int order) {
   return defects.str();
 }
 
+// Cubic reconstruction of a sampled sine (3 V, 2 Hz, as a recorded input):
+// the largest error between samples (over the interior, away from the
+// estimated end derivatives) falls about 16-fold when the sample period
+// halves (O(h⁴)), linear's 4-fold (O(h²)); at 1 kHz linear's error is the
+// closed form A·(2πf·h)²/8 = 5.92e-5 V, cubic's 1.9e-10 V.
+TEST(InputSignalTest, CubicReconstructionOfASineIsFourthOrder) {
+  constexpr double kA = 3.0, kF = 2.0, kPi = 3.14159265358979323846;
+  const auto max_error = [&](double h, bool cubic) {
+    InputSignal s;
+    s.kind = InputSignal::Kind::kTable;
+    for (int k = 0; k * h <= 1.0 + 1e-12; ++k) {
+      s.times.push_back(k * h);
+      s.values.push_back(kA * std::sin(2 * kPi * kF * k * h));
+    }
+    if (cubic) MakeCubic(&s);
+    double worst = 0.0;
+    size_t cursor = 0;
+    for (double t = 0.25; t < 0.75; t += h / 7.3) {
+      const double e = std::abs(s.Evaluate(t, &cursor) - kA * std::sin(2 * kPi * kF * t));
+      worst = std::max(worst, e);
+      EXPECT_EQ(s.Evaluate(t), s.Evaluate(t, &cursor));
+    }
+    return worst;
+  };
+  const double linear = max_error(1e-3, false);
+  const double cubic = max_error(1e-3, true);
+  EXPECT_NEAR(linear, kA * std::pow(2 * kPi * kF * 1e-3, 2) / 8, 0.05 * linear);
+  EXPECT_NEAR(linear / max_error(5e-4, false), 4.0, 0.2);
+  const double ratio = cubic / max_error(5e-4, true);
+  EXPECT_GT(ratio, 12.0);
+  EXPECT_LT(ratio, 20.0);
+  EXPECT_LT(cubic, 1e-3 * linear);
+  std::cout << "max error at 1 kHz: linear " << linear << " V, cubic " << cubic
+            << " V; halving h: cubic " << ratio << "-fold\n";
+}
+
+TEST(InputSignalTest, CubicNeedsUniformSamples) {
+  InputSignal s;
+  s.kind = InputSignal::Kind::kTable;
+  s.times = {0.0, 0.001, 0.002, 0.0035, 0.004, 0.005};
+  s.values = {0, 1, 2, 3, 4, 5};
+  EXPECT_THROW(MakeCubic(&s), std::invalid_argument);
+  s.times = {0.0, 0.001, 0.002};
+  s.values = {0, 1, 2};
+  EXPECT_THROW(MakeCubic(&s), std::invalid_argument);
+  InputSignal step;
+  step.kind = InputSignal::Kind::kStep;
+  EXPECT_THROW(MakeCubic(&step), std::invalid_argument);
+}
+
 TEST(MakePrbsTest, ValuesAreAmplitudePlusOffset) {
   const double amplitude = 0.7, offset = 0.1, bit_time = 0.02;
   const InputSignal s = MakePrbs(amplitude, offset, bit_time, 7, 0x5Au, 3.0);
