@@ -259,8 +259,10 @@ TEST(DiscoveryTest, EffectAtItsOffValueIsDropped) {
 
 // When the library runs out the verdict says so (issue 10): the Coulomb
 // data with the candidates restricted to effects that cannot express a
-// velocity-sign step (cogging, payload, spring). Whatever the loop adds
-// leaves a residual far above the noise that depends on the velocity:
+// velocity-sign step (cogging, payload, spring), one step (measured with
+// three: cogging kept, then payload and spring rejected, s² = 21.8).
+// Whatever the loop adds leaves a residual far above the noise that depends
+// on the velocity:
 // `incomplete`, s² far above 1, a binned-v structure named, and the
 // selected effects flagged as possible stand-ins.
 TEST(DiscoveryTest, LibraryRunsOutVerdictIsIncomplete) {
@@ -268,6 +270,7 @@ TEST(DiscoveryTest, LibraryRunsOutVerdictIsIncomplete) {
   job.solver.progress = false;
   job.validate.clear();
   job.discover.candidates = {"cogging", "payload", "spring"};
+  job.discover.max_effects = 1;  // one step shows it (each step refits all three)
   FitResult result = FitParameters(job);
   const DiscoveryReport report = Discover(job.discover, &job, &result, nullptr);
   EXPECT_EQ(report.verdict.verdict, "incomplete");
