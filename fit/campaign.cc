@@ -34,6 +34,24 @@ namespace {
 using Range = YamlMap::Range;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// A folder of its own under the system's temporary directory, removed with
+// everything in it when the object goes.
+struct ScopedTempDir {
+  explicit ScopedTempDir(const std::string& tag)
+      : path((std::filesystem::temp_directory_path() /
+              ("fit-campaign-" + std::to_string(::getpid()) + "-" + tag))
+                 .string()) {
+    std::filesystem::create_directories(path);
+  }
+  ~ScopedTempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  ScopedTempDir(const ScopedTempDir&) = delete;
+  ScopedTempDir& operator=(const ScopedTempDir&) = delete;
+  const std::string path;
+};
+
 // The names of the job's experiments (fitted and validation) in its YAML.
 std::vector<std::pair<std::string, YAML::Node>> JobExperiments(YAML::Node root) {
   std::vector<std::pair<std::string, YAML::Node>> out;
@@ -76,12 +94,9 @@ SeedOutcome RunSeed(const CampaignConfig& c, int seed, int solver_threads) {
   o.ci95_low = o.value;
   o.ci95_high = o.value;
   const auto start = std::chrono::steady_clock::now();
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() /
-      ("fit-campaign-" + std::to_string(::getpid()) + "-" + std::to_string(seed));
-  std::filesystem::create_directories(dir);
   try {
-    FitJob job = JobForSeed(c, seed, dir.string());
+    const ScopedTempDir dir(std::to_string(seed));
+    FitJob job = JobForSeed(c, seed, dir.path);
     job.solver.progress = false;
     job.solver.threads = solver_threads;
     FitResult result = FitParameters(job);
@@ -112,8 +127,6 @@ SeedOutcome RunSeed(const CampaignConfig& c, int seed, int solver_threads) {
   } catch (const std::exception& e) {
     o.error = e.what();
   }
-  std::error_code ec;
-  std::filesystem::remove_all(dir, ec);
   o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return o;
 }
@@ -237,23 +250,11 @@ CampaignConfig LoadCampaign(const std::string& path) {
       ThrowConfigError(path, generate[name], "generate." + name,
                        "the name of an experiment of " + c.job_path, "'" + name + "'");
     }
-    (void)LoadExperiment(file);
   }
-  // The job with the first seed's data (its `data:` paths are replaced, so
-  // they need not exist).
-  const std::filesystem::path tmp =
-      std::filesystem::temp_directory_path() /
-      ("fit-campaign-" + std::to_string(::getpid()) + "-check");
-  std::filesystem::create_directories(tmp);
-  try {
-    (void)JobForSeed(c, c.first_seed, tmp.string());
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove_all(tmp, ec);
-    throw;
-  }
-  std::error_code ec;
-  std::filesystem::remove_all(tmp, ec);
+  // Every generating config and the job with the first seed's data (its
+  // `data:` paths are replaced, so they need not exist).
+  const ScopedTempDir check("check");
+  (void)JobForSeed(c, c.first_seed, check.path);
   return c;
 }
 

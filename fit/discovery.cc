@@ -5,7 +5,6 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -258,16 +257,13 @@ Candidate CandidateNamed(const std::string& name) {
   Candidate c;
   c.name = name;
   c.effect = name.substr(0, dot);
-  const std::string channel = dot == std::string::npos ? "" : name.substr(dot + 1);
-  const std::optional<Channel> parsed = ParseChannel(channel);
-  if (parsed) c.channel = *parsed;
-  const bool sensor = c.effect == "sensor_delay" || c.effect == "sensor_bias";
-  c.columns = ColumnsOf(c.effect, channel);
-  if (c.columns.empty() || sensor != parsed.has_value()) {
-    throw std::invalid_argument(
-        "expected an effect of MODEL.md section 7 (e.g. coulomb, sensor_delay.a), got '" +
-        name + "'");
+  if (!IsEffectName(name)) {
+    throw std::invalid_argument("expected an effect of MODEL.md section 7 (" +
+                                EffectNameList() + "), got '" + name + "'");
   }
+  const std::string channel = dot == std::string::npos ? "" : name.substr(dot + 1);
+  if (!channel.empty()) c.channel = *ParseChannel(channel);
+  c.columns = ColumnsOf(c.effect, channel);
   return c;
 }
 
@@ -300,6 +296,24 @@ std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
   record.kept = refit.bic < result.bic;
   record.channels = Changes(result, refit);
   return {record, refit};
+}
+
+// The estimate of `name` in `fit`, or nullptr.
+const ParameterEstimate* FindEstimate(const FitResult& fit, const std::string& name) {
+  for (const ParameterEstimate& e : fit.parameters) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
+}
+
+// Drops `name` from the selected effects (to report->removed) and adopts
+// the model without it (`without`, fitted as `refit`).
+void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, FitJob* job,
+                FitResult* result, DiscoveryReport* report) {
+  report->removed.push_back(name);
+  report->selected.erase(std::find(report->selected.begin(), report->selected.end(), name));
+  *job = std::move(without);
+  *result = std::move(refit);
 }
 
 }  // namespace
@@ -433,7 +447,6 @@ Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidat
 DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                          FitResult* result, std::ostream* progress) {
   DiscoveryReport report;
-  std::vector<std::pair<Candidate, std::vector<std::string>>> added_effects;
   for (int step = 0; step < settings.max_effects; ++step) {
     ApplyEstimates(*result, job);
     const std::vector<Candidate> candidates = ListCandidates(*job, settings.candidates);
@@ -488,7 +501,6 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       Candidate candidate;
       FitJob job;
       FitResult fit;
-      std::vector<std::string> names;
     };
     std::vector<Trial> improved;
     int tries = 0;
@@ -556,8 +568,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
         rejected += (rejected.empty() ? "" : ", ") + chosen.name;
         continue;
       }
-      improved.push_back({report.steps.size() - 1, chosen, std::move(next), std::move(refit),
-                          names});
+      improved.push_back({report.steps.size() - 1, chosen, std::move(next), std::move(refit)});
     }
     if (improved.empty()) {
       if (report.stop_reason.empty()) {
@@ -581,29 +592,27 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     Trial& winner = improved[lowest];
     if (progress) *progress << "  kept " << winner.candidate.name << "\n";
     report.selected.push_back(winner.candidate.name);
-    added_effects.emplace_back(winner.candidate, winner.names);
     *job = std::move(winner.job);
     *result = std::move(winner.fit);
   }
   if (report.stop_reason.empty()) report.stop_reason = "maximum number of effects reached";
   // Backward pass: without each added effect but the last.
-  for (size_t k = 0; k + 1 < added_effects.size(); ++k) {
-    const auto& [candidate, params] = added_effects[k];
+  const std::vector<std::string> added = report.selected;
+  for (size_t k = 0; k + 1 < added.size(); ++k) {
+    const Candidate candidate = CandidateNamed(added[k]);
     if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
     FitJob without;
-    auto [record, refit] = RefitWithout(candidate, params, job, *result, &without);
+    auto [record, refit] =
+        RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);
     report.steps.push_back(record);
     if (progress) {
       *progress << "  refit without " << candidate.name << ": BIC " << record.bic_before
                 << " -> " << record.bic_after
                 << (record.kept ? " (removed)" : " (stays)") << "\n";
     }
-    if (!record.kept) continue;
-    report.removed.push_back(candidate.name);
-    report.selected.erase(
-        std::find(report.selected.begin(), report.selected.end(), candidate.name));
-    *job = std::move(without);
-    *result = std::move(refit);
+    if (record.kept) {
+      DropEffect(candidate.name, std::move(without), std::move(refit), job, result, &report);
+    }
   }
   report.level = settings.alpha / std::max<size_t>(1, report.ranking.scores.size());
   DropInsignificant(report.level, job, result, &report, progress);
@@ -641,11 +650,7 @@ void DropInsignificant(double level, FitJob* job, FitResult* result,
                 << "; BIC " << record.bic_before << " -> " << record.bic_after
                 << " (removed)\n";
     }
-    report->removed.push_back(candidate.name);
-    report->selected.erase(
-        std::find(report->selected.begin(), report->selected.end(), candidate.name));
-    *job = std::move(without);
-    *result = std::move(refit);
+    DropEffect(candidate.name, std::move(without), std::move(refit), job, result, report);
   }
   ApplyEstimates(*result, job);
   report->significance.clear();
@@ -668,12 +673,7 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
     }
     return -1;
   };
-  const auto estimate = [&](const std::string& name) -> const ParameterEstimate* {
-    for (const ParameterEstimate& e : fit.parameters) {
-      if (e.name == name) return &e;
-    }
-    return nullptr;
-  };
+  const auto estimate = [&](const std::string& name) { return FindEstimate(fit, name); };
   const auto covariance = [&](const std::string& a, const std::string& b) {
     const int i = index(a), j = index(b);
     if (i < 0 || j < 0) return 0.0;
@@ -709,10 +709,8 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
 std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
                              const FitJob& job) {
   const auto value = [&](const std::string& name) {
-    for (const ParameterEstimate& p : fit.parameters) {
-      if (p.name == name) return p.value;
-    }
-    return std::numeric_limits<double>::quiet_NaN();
+    const ParameterEstimate* e = FindEstimate(fit, name);
+    return e ? e->value : std::numeric_limits<double>::quiet_NaN();
   };
   std::ostringstream why;
   if (effect == "payload") {
