@@ -233,8 +233,8 @@ CampaignConfig LoadCampaign(const std::string& path) {
   // fail on input after hours of fitting.
   YAML::Node job_root = LoadYamlFile(c.job_path);
   const auto experiments = JobExperiments(job_root);
-  for (const auto& [name, node] : experiments) {
-    (void)node;
+  for (const auto& experiment : experiments) {
+    const std::string& name = experiment.first;
     const bool has = std::any_of(c.generate.begin(), c.generate.end(),
                                  [&](const auto& g) { return g.first == name; });
     if (!has) {
@@ -243,7 +243,8 @@ CampaignConfig LoadCampaign(const std::string& path) {
                        "none");
     }
   }
-  for (const auto& [name, file] : c.generate) {
+  for (const auto& generating : c.generate) {
+    const std::string& name = generating.first;
     const bool in_job = std::any_of(experiments.begin(), experiments.end(),
                                     [&](const auto& e) { return e.first == name; });
     if (!in_job) {
