@@ -122,6 +122,7 @@ struct DiscoveryStep {
   std::string rule;
   std::string outranked;
   std::vector<ChannelChange> channels;
+  double seconds = 0.0;  // s, wall time of the step's refit
 };
 
 // Wald test of one effect of a fitted model against the value that
@@ -158,6 +159,12 @@ struct DiscoveryReport {
   std::vector<DiscoveryStep> steps;
   Ranking ranking;                    // at the first step
   std::string stop_reason;
+  // s, wall time: the base fit (set by the caller, RunFitParams), all the
+  // score tests (RankCandidates at every step), and the final residual
+  // diagnostics; each refit's own time is DiscoveryStep::seconds.
+  double base_fit_seconds = 0.0;
+  double score_seconds = 0.0;
+  int score_rankings = 0;
 };
 
 // The stand-in rule of Discover (issue 10), on its own: each effect of

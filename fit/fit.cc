@@ -1,9 +1,11 @@
 #include "fit/fit.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
@@ -11,6 +13,7 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include <ceres/ceres.h>
 
@@ -922,6 +925,46 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   return result;
 }
 
+void AsWarmRefit(FitJob* job) {
+  job->solver.starts = 0;
+  job->solver.probe_rounds = 0;
+  job->solver.first_horizon = 0.0;
+  job->uncertainty.method = UncertaintySettings::Method::kGaussNewton;
+}
+
+std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int threads,
+                                       std::vector<double>* seconds) {
+  const size_t n = jobs.size();
+  std::vector<FitResult> out(n);
+  std::vector<double> wall(n, 0.0);
+  std::vector<std::exception_ptr> errors(n);
+  const int at_once = static_cast<int>(std::min<size_t>(std::max(1, threads), std::max<size_t>(1, n)));
+  const int inner = std::max(1, std::max(1, threads) / at_once);
+  std::atomic<size_t> next{0};
+  const auto worker = [&]() {
+    for (size_t k = next++; k < n; k = next++) {
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        FitJob job = jobs[k];
+        job.solver.threads = inner;
+        out[k] = FitParameters(job, nullptr);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+      wall[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < at_once; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+  if (seconds != nullptr) *seconds = wall;
+  return out;
+}
+
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                        std::ostream& err) {
   FitJob job;
@@ -958,7 +1001,10 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
     }
   }
   if (options.discover) job.discover.enabled = true;
+  const auto base_start = std::chrono::steady_clock::now();
   FitResult result = FitParameters(job, &out);
+  const double base_fit_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - base_start).count();
   const bool discover = job.discover.enabled;
   DiscoveryReport discovery;
   std::vector<ChannelDiagnostics> diagnostics;
@@ -975,6 +1021,7 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
     DiscoverySettings settings = job.discover;
     settings.enabled = true;
     discovery = Discover(settings, &job, &result, &out);
+    discovery.base_fit_seconds = base_fit_seconds;
     out << "\nFinal model:\n" << FormatDiagnostics(discovery.final_diagnostics) << "\n"
         << FormatDiscovery(discovery) << "\nAfter discovery:";
   }

@@ -314,11 +314,8 @@ void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress
     base.free[k].initial = std::clamp(fit->parameters[k].value, base.free[k].lower,
                                       base.free[k].upper);
   }
-  base.solver.starts = 0;
-  base.solver.probe_rounds = 0;
-  base.solver.first_horizon = 0.0;
+  AsWarmRefit(&base);
   base.solver.progress = false;
-  base.uncertainty.method = UncertaintySettings::Method::kGaussNewton;
   base.uncertainty.bootstrap = 0;
   base.validate.clear();
   RandomEngine rng(job.uncertainty.seed);
