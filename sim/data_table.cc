@@ -1,6 +1,7 @@
 #include "sim/data_table.h"
 
 #include <cctype>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -67,14 +68,9 @@ bool DataTable::HasColumn(const std::string& name) const {
 }
 
 DataTable ReadDataTable(const std::string& path, const std::string& time_column) {
-  constexpr char kMat[] = ".mat";
-  constexpr size_t kMatLength = sizeof(kMat) - 1;
-  bool mat = path.size() >= kMatLength;
-  for (size_t i = 0; mat && i < kMatLength; ++i) {
-    const char c = path[path.size() - kMatLength + i];
-    mat = std::tolower(static_cast<unsigned char>(c)) == kMat[i];
-  }
-  return mat ? ReadMatFile(path, time_column) : ReadCsv(path);
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".mat" ? ReadMatFile(path, time_column) : ReadCsv(path);
 }
 
 }  // namespace axis

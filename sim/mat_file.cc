@@ -178,35 +178,39 @@ bool ToDoubles(const matvar_t& v, size_t count, std::vector<double>* out) {
   }
 }
 
-// One variable of the file: its values if it is a real numeric vector of
-// finite values, else what it is.
+// Deflate's largest compression ratio: no variable of a MAT file holds more
+// bytes of data than this many times the size of the file.
+constexpr double kMaxExpansion = 1032.0;
+
+// Bytes of one element of a numeric class.
+size_t ElementBytes(matio_classes class_type) {
+  switch (class_type) {
+    case MAT_C_DOUBLE:
+    case MAT_C_INT64:
+    case MAT_C_UINT64: return 8;
+    case MAT_C_SINGLE:
+    case MAT_C_INT32:
+    case MAT_C_UINT32: return 4;
+    case MAT_C_INT16:
+    case MAT_C_UINT16: return 2;
+    default: return 1;
+  }
+}
+
+// One variable of the file: what its header says and, once read, its values.
 struct Variable {
   std::string name;
-  std::string what;            // Describe(), plus the first non-finite value
-  bool vector = false;         // a real numeric vector of finite values
+  std::string what;        // Describe(), plus the first non-finite value once read
+  bool candidate = false;  // real numeric, at most one dimension above 1, not empty
+  size_t count = 0;        // elements, for a candidate
+  bool vector = false;     // read: a real numeric vector of finite values
   std::vector<double> values;  // if `vector`
 };
 
-// Reads `v`; returns false if its data are unusable (damaged file).
-bool ReadVariable(const matvar_t& v, Variable* out) {
-  out->name = v.name != nullptr ? v.name : "";
-  out->what = Describe(v);
-  size_t count = 0;
-  if (!IsNumeric(v) || v.isComplex || !CountElements(v, &count) || count == 0 ||
-      LongDimensions(v) > 1) {
-    return true;
-  }
-  if (!ToDoubles(v, count, &out->values)) return false;
-  for (size_t i = 0; i < count; ++i) {
-    if (!std::isfinite(out->values[i])) {
-      out->what += std::string(" with ") + (std::isnan(out->values[i]) ? "NaN" : "an infinite value") +
-                   " at sample " + std::to_string(i + 1);
-      out->values.clear();
-      return true;
-    }
-  }
-  out->vector = true;
-  return true;
+[[noreturn]] void ThrowDamaged(const std::string& path, const std::string& detail) {
+  throw std::invalid_argument(path +
+                              ": expected a complete MAT file, got a truncated or damaged "
+                              "one (" + detail + ")");
 }
 
 std::string NameList(const std::vector<Variable>& variables) {
@@ -215,26 +219,30 @@ std::string NameList(const std::vector<Variable>& variables) {
   return list.empty() ? "(none)" : list;
 }
 
-// The variables of the open file, in file order. Throws std::invalid_argument
-// if matio reports a problem or delivers unusable data.
-std::vector<Variable> ReadVariables(const std::string& path, mat_t* mat,
-                                    const std::string& problem) {
+// Pass 1: the header of every variable of the open file, in matio's order,
+// without their data (a header claiming more data than the file can hold is
+// never allocated). Throws std::invalid_argument if matio reports a problem,
+// a candidate claims more data than the file can hold, or a name repeats.
+std::vector<Variable> ReadHeaders(const std::string& path, mat_t* mat,
+                                  const std::string& problem, std::uintmax_t file_size) {
   std::vector<Variable> variables;
-  bool damaged = false;
-  while (problem.empty() && !damaged) {
-    const std::unique_ptr<matvar_t, VarFreer> var(Mat_VarReadNext(mat));
+  while (problem.empty()) {
+    const std::unique_ptr<matvar_t, VarFreer> var(Mat_VarReadNextInfo(mat));
     if (!var) break;
-    Variable variable;
-    damaged = !ReadVariable(*var, &variable);
-    if (!variable.name.empty()) variables.push_back(std::move(variable));
+    if (var->name == nullptr || var->name[0] == '\0') continue;
+    Variable v;
+    v.name = var->name;
+    v.what = Describe(*var);
+    v.candidate = IsNumeric(*var) && !var->isComplex && CountElements(*var, &v.count) &&
+                  v.count > 0 && LongDimensions(*var) <= 1;
+    if (v.candidate && static_cast<double>(v.count) * ElementBytes(var->class_type) >
+                           kMaxExpansion * static_cast<double>(file_size)) {
+      ThrowDamaged(path, "variable '" + v.name + "' claims " + std::to_string(v.count) +
+                             " elements in a file of " + std::to_string(file_size) + " bytes");
+    }
+    variables.push_back(std::move(v));
   }
-  if (!problem.empty() || damaged) {
-    throw std::invalid_argument(
-        path + ": expected a complete MAT file, got a truncated or damaged one (" +
-        (damaged ? std::string("a numeric variable without its data")
-                 : "matio: " + problem) +
-        ")");
-  }
+  if (!problem.empty()) ThrowDamaged(path, "matio: " + problem);
   for (size_t i = 0; i < variables.size(); ++i) {
     for (size_t j = 0; j < i; ++j) {
       if (variables[i].name == variables[j].name) {
@@ -246,23 +254,49 @@ std::vector<Variable> ReadVariables(const std::string& path, mat_t* mat,
   return variables;
 }
 
+// Pass 2: the values of candidate `v` as doubles; `vector` unless one is not
+// finite (then `what` says where). Throws std::invalid_argument if matio
+// reports a problem or delivers other data than the header announced.
+void ReadValues(const std::string& path, mat_t* mat, const std::string& problem,
+                Variable* v) {
+  const std::unique_ptr<matvar_t, VarFreer> var(Mat_VarRead(mat, v->name.c_str()));
+  if (!problem.empty()) ThrowDamaged(path, "matio: " + problem);
+  size_t count = 0;
+  if (!var || !IsNumeric(*var) || var->isComplex || !CountElements(*var, &count) ||
+      count != v->count || !ToDoubles(*var, count, &v->values)) {
+    ThrowDamaged(path, "variable '" + v->name + "' without the data its header announces");
+  }
+  for (size_t i = 0; i < count; ++i) {
+    if (!std::isfinite(v->values[i])) {
+      v->what += std::string(" with ") +
+                 (std::isnan(v->values[i]) ? "NaN" : "an infinite value") + " at sample " +
+                 std::to_string(i + 1);
+      v->values.clear();
+      return;
+    }
+  }
+  v->vector = true;
+}
+
 }  // namespace
 
 DataTable ReadMatFile(const std::string& path, const std::string& time_variable) {
+  std::uintmax_t file_size = 0;
   {
     std::ifstream probe(path, std::ios::binary);
     std::error_code error;
-    const std::uintmax_t size = std::filesystem::file_size(path, error);
+    file_size = std::filesystem::file_size(path, error);
     if (!probe || error) {
       throw std::invalid_argument(
           path + ": cannot open for reading: " +
           (error ? error.message() : std::generic_category().message(errno)));
     }
-    if (size == 0) {
+    if (file_size == 0) {
       throw std::invalid_argument(path + ": expected a MAT file, got an empty file");
     }
   }
   std::vector<Variable> variables;
+  const Variable* time = nullptr;
   {
     const std::lock_guard<std::mutex> lock(MatioMutex());
     std::string problem;
@@ -274,16 +308,21 @@ DataTable ReadMatFile(const std::string& path, const std::string& time_variable)
                  "matio cannot open as one" +
           (problem.empty() ? "" : " (matio: " + problem + ")"));
     }
-    variables = ReadVariables(path, mat.get(), problem);
-  }
-
-  const Variable* time = nullptr;
-  for (const Variable& v : variables) {
-    if (v.name == time_variable) time = &v;
-  }
-  if (time == nullptr) {
-    throw std::invalid_argument(path + ": expected a time variable '" + time_variable +
-                                "', got none; the variables are: " + NameList(variables));
+    variables = ReadHeaders(path, mat.get(), problem, file_size);
+    for (const Variable& v : variables) {
+      if (v.name == time_variable) time = &v;
+    }
+    if (time == nullptr) {
+      throw std::invalid_argument(path + ": expected a time variable '" + time_variable +
+                                  "', got none; the variables are: " + NameList(variables));
+    }
+    // The values of the time variable and of every vector as long as it.
+    if (time->candidate) {
+      const size_t rows = time->count;
+      for (Variable& v : variables) {
+        if (v.candidate && v.count == rows) ReadValues(path, mat.get(), problem, &v);
+      }
+    }
   }
   if (!time->vector) {
     throw std::invalid_argument(path + ": variable '" + time_variable +
@@ -294,7 +333,7 @@ DataTable ReadMatFile(const std::string& path, const std::string& time_variable)
   DataTable table;
   table.path = path;
   table.format = DataTable::Format::kMat;
-  const size_t rows = time->values.size();
+  const size_t rows = time->count;
   table.column_rule = "a real numeric vector of " + std::to_string(rows) +
                       " finite values (as long as the time variable '" +
                       time_variable + "')";

@@ -28,12 +28,16 @@ namespace axis {
 // says what was expected and what was got, for: a file that cannot be
 // opened; an empty file; a file matio cannot open as a MAT file; a truncated
 // or damaged file (anything matio warns about while reading the variables,
-// its message quoted); a variable name twice; no variable `time_variable`
+// its message quoted; a numeric vector whose header claims more data than
+// 1032 times the file's size, deflate's largest ratio, is refused before
+// anything is allocated for it); a variable name twice; no variable `time_variable`
 // ("expected a time variable 't', got none; the variables are: …"); a time
 // variable that is not a real numeric vector of finite values, at least
 // one ("variable 't' (the time): expected …, got a 3x4 double matrix").
-// Never crashes on a bad file as far as matio does not. Serialised by a
-// mutex (matio's log function and HDF5 are process-wide).
+// Reads the headers of all variables first and then the data of the time
+// variable and of the vectors as long as it only. Never crashes on a bad
+// file as far as matio does not. Serialised by a mutex (matio's log
+// function and HDF5 are process-wide).
 DataTable ReadMatFile(const std::string& path, const std::string& time_variable);
 
 }  // namespace axis
