@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   axis::FitParamsOptions options;
   app.add_option("job", options.job_path, "fit job YAML file");
   app.add_option("--model", options.model_path, "model config (quick form)");
-  app.add_option("--data", options.data_path, "data CSV (quick form)");
+  app.add_option("--data", options.data_path, "data CSV, or MAT file *.mat (quick form)");
   app.add_option("--input", options.input_column, "input column (quick form)");
   app.add_option("--fit", options.fit_channels, "fitted channels (quick form)")
       ->delimiter(',');

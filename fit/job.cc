@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "sim/csv.h"
+#include "sim/data_table.h"
 #include "sim/preflight.h"
 
 namespace axis {
@@ -47,7 +48,7 @@ std::pair<size_t, size_t> WindowRows(const std::vector<double>& time,
 // shifted so that the window starts at t = 0.
 // Its times are those of the simulation, k·period: the recorded clock's
 // jitter (EMPS: 3e-8 s) must not move a held sample to the next grid point.
-InputSignal ColumnSignal(const CsvTable& data, const std::string& column,
+InputSignal ColumnSignal(const DataTable& data, const std::string& column,
                          double scale, double offset, bool hold, size_t first,
                          size_t count, double period) {
   InputSignal s;
@@ -87,7 +88,7 @@ Levels CountLevels(const std::vector<double>& values, size_t first, size_t count
 // A sampled smooth signal changes at every sample; reading a held one
 // linearly puts a ramp one sample early at every switch, which the
 // discovery loop then explains with friction or sensor delays (issue 10).
-InputSignal ParseDriveSignal(YamlMap& map, const CsvTable& data,
+InputSignal ParseDriveSignal(YamlMap& map, const DataTable& data,
                              double period, size_t first,
                              size_t count, const std::string& base_dir,
                              double duration, std::string* note) {
@@ -129,7 +130,7 @@ struct ChannelSpec {
 };
 
 ChannelSpec ParseChannelSpec(YamlMap& channels, const std::string& name,
-                             const CsvTable& data) {
+                             const DataTable& data) {
   ChannelSpec spec;
   const YAML::Node value = channels.Optional(name);
   if (value.IsScalar()) {
@@ -210,11 +211,12 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     }
   }
   e.data_path = ResolvePath(base_dir, map.String("data"));
-  const CsvTable data = ReadCsv(e.data_path);
   const std::string time_column = map.String("time", "t");
+  const DataTable data = ReadDataTable(e.data_path, time_column);
   if (!data.HasColumn(time_column)) {
     ThrowConfigError(map.file(), map.node(), map.KeyPath("time"),
-                     "a time column of " + e.data_path, "'" + time_column + "'");
+                     "a time " + data.ColumnWord() + " of " + e.data_path,
+                     data.DescribeName(time_column));
   }
   CheckStrictlyIncreasing(data, time_column);
   const std::vector<double>& time = data.Column(time_column);
@@ -294,8 +296,7 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     const double dt = time[k] - time[k - 1];
     if (std::abs(dt - period) > 1e-3 * period) {
       throw std::invalid_argument(
-          e.data_path + ":" + std::to_string(k + 2) +
-          ": expected uniform sampling (period " + Num(period) +
+          data.RowLocation(k) + ": expected uniform sampling (period " + Num(period) +
           " s within 0.1 %), got a step of " + Num(dt) + " s");
     }
   }
@@ -635,7 +636,7 @@ FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
   YAML::Node job;
   job["title"] = "fit-params quick form: " + data_path;
   job["model"] = model_path;
-  const CsvTable data = ReadCsv(data_path);
+  const DataTable data = ReadDataTable(data_path, "t");
   YAML::Node experiment;
   experiment["name"] = "data";
   experiment["data"] = data_path;
@@ -648,8 +649,8 @@ FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
   experiment["input"]["column"] = input_column;
   for (const std::string& name : fit_channels) {
     if (!data.HasColumn(name)) {
-      throw std::invalid_argument("--fit: expected a column of " + data_path +
-                                  ", got '" + name + "'");
+      throw std::invalid_argument("--fit: expected " + data.ColumnExpectation() +
+                                  ", got " + data.DescribeName(name));
     }
     const std::vector<double>& y = data.Column(name);
     double mean = 0.0, var = 0.0;

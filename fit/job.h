@@ -122,9 +122,12 @@ struct FitJob {
 };
 
 // Loads and checks a job: all files, columns and names are resolved here, so
-// that fitting cannot fail on input. Throws std::invalid_argument naming the
-// file, line and key (YAML) or file and line (CSV): unknown keys, a missing
-// column, NaN or empty cells, time not strictly increasing, an empty file, a
+// that fitting cannot fail on input. An experiment's `data:` is a CSV file,
+// or a MAT file if its name ends in .mat (ReadDataTable, sim/data_table.h:
+// variables are columns). Throws std::invalid_argument naming the file, line
+// and key (YAML), file and line (CSV) or file and variable (MAT): unknown
+// keys, a missing column, NaN or empty cells, time not strictly increasing,
+// an empty file, a MAT variable that is not a vector as long as the time, a
 // free parameter the model does not have, reversed bounds, an initial value
 // outside its bounds, a fitted channel that is not measured.
 FitJob LoadFitJob(const std::string& path);
@@ -134,8 +137,9 @@ FitJob LoadFitJob(const std::string& path);
 FitJob ParseFitJob(const YAML::Node& root, const std::string& path,
                    const std::string& base_dir);
 
-// The quick form of fit-params: one experiment from `data_path` (time column
-// "t", every other column whose name is a channel is measured), open loop
+// The quick form of fit-params: one experiment from `data_path` (CSV, or MAT
+// if named *.mat; time column "t", every other column whose name is a
+// channel is measured), open loop
 // with input column `input_column`, fitting `fit_channels` each with σ set
 // to the standard deviation of its measured signal (equal weight per
 // channel; the covariance is rescaled by the residual variance), freeing `free_names` with initial values from the

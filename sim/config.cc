@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "sim/csv.h"
+#include "sim/data_table.h"
 #include "sim/preflight.h"
 
 namespace axis {
@@ -370,9 +371,8 @@ void RequireColumn(const YamlMap& map, const YAML::Node& node,
                    const std::string& key, const CsvTable& table,
                    const std::string& column) {
   if (table.HasColumn(column)) return;
-  ThrowConfigError(map.file(), node, key,
-                   "a column of " + table.path + " (" + table.NameList() + ")",
-                   "'" + column + "'");
+  ThrowConfigError(map.file(), node, key, table.ColumnExpectation(),
+                   table.DescribeName(column));
 }
 
 void MakeCubicOrThrow(YamlMap& map, InputSignal* s) {
@@ -395,7 +395,7 @@ InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir) {
   s.offset = map.Number("offset", 0.0);
   const std::string mode = map.Choice("interpolation", {"linear", "hold", "cubic"}, "linear");
   s.hold = mode == "hold";
-  const CsvTable table = ReadCsv(file);
+  const DataTable table = ReadDataTable(file, time_col);
   RequireColumn(map, map.node(), map.KeyPath("time"), table, time_col);
   RequireColumn(map, map.node(), map.KeyPath("column"), table, value_col);
   CheckStrictlyIncreasing(table, time_col);

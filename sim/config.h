@@ -14,7 +14,7 @@
 #include "sim/axis_model.h"
 #include "sim/axis_params.h"
 #include "sim/controller.h"
-#include "sim/csv.h"
+#include "sim/data_table.h"
 #include "sim/input_signal.h"
 #include "sim/simulate.h"
 #include "sim/yaml_util.h"
@@ -98,16 +98,19 @@ InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
 void MakeCubicOrThrow(YamlMap& map, InputSignal* s);
 
 // Throws the config error "<file>:<line>: key '<key>': expected a column of
-// <data file> (<its columns>), got '<column>'" unless `table` has `column`;
-// `node` locates the line.
+// <data file> (<its columns>), got '<column>'" unless `table` has `column`
+// (for a MAT file "expected a variable of <file> that is a real numeric
+// vector of N finite values ... (<its columns>), got 'kp' (a 1x1 double)",
+// DataTable::ColumnExpectation and DescribeName); `node` locates the line.
 void RequireColumn(const YamlMap& map, const YAML::Node& node,
-                   const std::string& key, const CsvTable& table,
+                   const std::string& key, const DataTable& table,
                    const std::string& column);
 
 // A column of a data file (keys file, time, column, scale, offset,
-// interpolation) as a table signal; does not call Finish(). Throws
-// std::invalid_argument naming the key if a column does not exist, and the
-// CSV errors of ReadCsv (file, line).
+// interpolation; a CSV or, named *.mat, a MAT file: ReadDataTable) as a
+// table signal; does not call Finish(). Throws std::invalid_argument naming
+// the key if a column does not exist, and the errors of ReadCsv (file, line)
+// or ReadMatFile (file, variable).
 InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir);
 
 // A controller reference (MODEL.md §5): `type: trapezoid` (distance,

@@ -285,39 +285,6 @@ void AppendName(const std::string& name, std::string* out) {
   out->push_back('"');
 }
 
-}  // namespace
-
-size_t CsvTable::num_rows() const {
-  return columns.empty() ? 0 : columns.front().size();
-}
-
-std::string CsvTable::NameList() const {
-  std::string list;
-  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-  return list.empty() ? "(no columns)" : list;
-}
-
-size_t CsvTable::ColumnIndex(const std::string& name) const {
-  for (size_t j = 0; j < names.size(); ++j) {
-    if (names[j] == name) return j;
-  }
-  throw std::invalid_argument(path + ": no column '" + name +
-                              "'; expected one of: " + NameList());
-}
-
-const std::vector<double>& CsvTable::Column(const std::string& name) const {
-  return columns.at(ColumnIndex(name));
-}
-
-bool CsvTable::HasColumn(const std::string& name) const {
-  for (const std::string& n : names) {
-    if (n == name) return true;
-  }
-  return false;
-}
-
-namespace {
-
 // Parses the CSV delivered by `read_chunk(buffer, capacity)` (the bytes
 // read, 0 at the end; throws on a read error) as ReadCsv describes; `path`
 // names it in messages.
@@ -399,7 +366,7 @@ void CheckStrictlyIncreasing(const CsvTable& table, const std::string& column) {
   for (size_t i = 1; i < values.size(); ++i) {
     if (!(values[i] > values[i - 1])) {
       throw std::invalid_argument(
-          table.path + ":" + std::to_string(i + 2) + ": expected column '" +
+          table.RowLocation(i) + ": expected " + table.ColumnWord() + " '" +
           column + "' strictly increasing, got " + ShortestText(values[i]) +
           " after " + ShortestText(values[i - 1]));
     }

@@ -14,32 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "sim/data_table.h"
+
 namespace axis {
 
-// A numeric table read from a CSV file with one header row.
-struct CsvTable {
-  std::string path;                          // file it was read from
-  std::vector<std::string> names;            // header, in file order
-  std::vector<std::vector<double>> columns;  // columns[j][row], all the same length
-
-  // Number of data rows (the length of every column); 0 without columns.
-  size_t num_rows() const;
-
-  // Index j (0-based, into `names` and `columns`) of the column called
-  // `name`; names are compared exactly (case-sensitive). Throws
-  // std::invalid_argument "<path>: no column 'q'; expected one of: t_s,
-  // qm_m, ..." listing every column name.
-  size_t ColumnIndex(const std::string& name) const;
-
-  // The values of column `name`, one per data row (length num_rows()). Throws
-  // as ColumnIndex.
-  const std::vector<double>& Column(const std::string& name) const;
-
-  // Whether a column is called `name`. Never throws.
-  bool HasColumn(const std::string& name) const;
-  // "t_s, qm_m, ..." (or "(no columns)"), for messages.
-  std::string NameList() const;
-};
+// The table ReadCsv returns (sim/data_table.h): format kCsv, one column per
+// header field.
+using CsvTable = DataTable;
 
 // Reads a CSV with a header row followed by numeric rows: fields separated by
 // commas, optionally in double quotes (inner quotes doubled), rows ended by
@@ -66,13 +47,15 @@ CsvTable ReadCsv(const std::string& path);
 // the path in messages and in CsvTable::path (fuzz/csv_fuzz.cc).
 CsvTable ParseCsv(const std::string& text, const std::string& name);
 
-// Checks that column `column` of `table` is strictly increasing (e.g. a time
-// axis). Throws std::invalid_argument
+// Checks that column `column` of `table` (CSV or MAT) is strictly increasing
+// (e.g. a time axis). Throws std::invalid_argument
 //   "<path>:<line>: expected column 't' strictly increasing, got 0.002 after
 //   0.002"
 // at the first row that is not greater than the one before (or is NaN), where
 // <line> is the file line of that row (row index + 2, as laid out by
-// ReadCsv). Throws as CsvTable::ColumnIndex if there is no such column.
+// ReadCsv); for a MAT file "<path>: sample <row + 1>: expected variable 't'
+// ..." (DataTable::RowLocation). Throws as DataTable::ColumnIndex if there
+// is no such column.
 void CheckStrictlyIncreasing(const CsvTable& table, const std::string& column);
 
 // Writes `contents` to `path` atomically: to a temporary file

@@ -1,0 +1,76 @@
+#include "sim/data_table.h"
+
+#include <cctype>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "sim/csv.h"
+#include "sim/mat_file.h"
+
+namespace axis {
+
+size_t DataTable::num_rows() const {
+  return columns.empty() ? 0 : columns.front().size();
+}
+
+std::string DataTable::NameList() const {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list.empty() ? "(no " + ColumnWord() + "s)" : list;
+}
+
+std::string DataTable::ColumnWord() const {
+  return format == Format::kMat ? "variable" : "column";
+}
+
+std::string DataTable::RowLocation(size_t row) const {
+  if (format == Format::kMat) return path + ": sample " + std::to_string(row + 1);
+  return path + ":" + std::to_string(row + 2);
+}
+
+std::string DataTable::ColumnExpectation() const {
+  return "a " + ColumnWord() + " of " + path +
+         (column_rule.empty() ? "" : " that is " + column_rule) + " (" +
+         NameList() + ")";
+}
+
+std::string DataTable::DescribeName(const std::string& name) const {
+  for (const auto& [other, what] : not_columns) {
+    if (other == name) return "'" + name + "' (" + what + ")";
+  }
+  return "'" + name + "'";
+}
+
+size_t DataTable::ColumnIndex(const std::string& name) const {
+  for (size_t j = 0; j < names.size(); ++j) {
+    if (names[j] == name) return j;
+  }
+  for (const auto& [other, what] : not_columns) {
+    if (other == name) {
+      throw std::invalid_argument(path + ": " + ColumnWord() + " '" + name +
+                                  "': expected " + column_rule + ", got " + what);
+    }
+  }
+  throw std::invalid_argument(path + ": no " + ColumnWord() + " '" + name +
+                              "'; expected one of: " + NameList());
+}
+
+const std::vector<double>& DataTable::Column(const std::string& name) const {
+  return columns.at(ColumnIndex(name));
+}
+
+bool DataTable::HasColumn(const std::string& name) const {
+  for (const std::string& n : names) {
+    if (n == name) return true;
+  }
+  return false;
+}
+
+DataTable ReadDataTable(const std::string& path, const std::string& time_column) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".mat" ? ReadMatFile(path, time_column) : ReadCsv(path);
+}
+
+}  // namespace axis
