@@ -23,17 +23,15 @@ namespace axis {
 FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
 
 // Turns `job` into a warm refit: a fit that starts next to its optimum (the
-// discovery loop's refits with one effect added at the score step; the
 // residual bootstrap's refits of resampled data at the estimate) and only
 // needs that optimum and its Gauss–Newton covariance. One start, no optimum
 // check (solver.probe_rounds 0), the whole record at once
 // (solver.first_horizon 0: the horizon continuation exists to bring a far
 // start through the gear resonance's phase minima) and Gauss–Newton
-// intervals. On the coulomb discovery case the refits took 36 instead of
-// 108 simulations, every estimate within 0.01 standard errors of the
-// continuation's (issue 11). A caller whose start may be far (a large
-// effect removed, a score step far from a model that explains the data)
-// restores first_horizon or checks the result (Discover does both).
+// intervals. The discovery loop's refits use these settings but restore
+// first_horizon: with an effect added at its score step or removed, the
+// start is not near enough (issue 11: on EMPS the whole record at once
+// ended the Stribeck refit in a minimum 100 BIC higher).
 void AsWarmRefit(FitJob* job);
 
 // Fits jobs[k] (FitParameters, no progress) for every k, up to `threads`
