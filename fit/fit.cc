@@ -965,6 +965,116 @@ std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int thre
   return out;
 }
 
+JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
+  JobRun run;
+  // Columns read in a way the job did not state (e.g. held inputs).
+  nlohmann::json input_notes = nlohmann::json::array();
+  std::string input_markdown;
+  for (const std::vector<FitExperiment>* list : {&job.experiments, &job.validate}) {
+    for (const FitExperiment& e : *list) {
+      for (const std::string& note : e.input_notes) {
+        out << "  " << e.name << ": " << note << "\n";
+        input_markdown += "- " + e.name + ": " + note + "\n";
+        input_notes.push_back({{"experiment", e.name}, {"note", note}});
+      }
+    }
+  }
+  if (discover) job.discover.enabled = true;
+  const auto base_start = std::chrono::steady_clock::now();
+  FitResult result = FitParameters(job, &out);
+  const double base_fit_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - base_start).count();
+  run.discovered = job.discover.enabled;
+  if (run.discovered) {
+    out << "\nBefore discovery:\n" << FormatParameterTable(result) << "\n"
+        << FormatFitTable(result);
+    // Diagnose the residual of the model as declared, before adding anything.
+    FitJob declared = job;
+    for (const ParameterEstimate& e : result.parameters) {
+      if (e.free) *FindParam(&declared.model.params, e.name) = e.value;
+    }
+    run.diagnostics = DiagnoseResiduals(declared);
+    out << "\n" << FormatDiagnostics(run.diagnostics);
+    DiscoverySettings settings = job.discover;
+    settings.enabled = true;
+    run.discovery = Discover(settings, &job, &result, &out);
+    run.discovery.base_fit_seconds = base_fit_seconds;
+    out << "\nFinal model:\n" << FormatDiagnostics(run.discovery.final_diagnostics) << "\n"
+        << FormatDiscovery(run.discovery) << "\nAfter discovery:";
+  }
+  ResidualBootstrap(job, &result, &out);
+  out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
+  out << "cost " << result.initial_cost << " -> " << result.final_cost
+      << (result.converged ? " (converged)" : " (NOT converged)") << ", "
+      << result.simulations << " simulations, " << result.jacobian_evaluations
+      << " Jacobian evaluations\n";
+  out << FormatPhases(result) << "\n";
+  out << result.optimum_check << "\n";
+  out << "uncertainty: " << result.uncertainty_note << "\n";
+  if (job.uncertainty.bootstrap > 0) out << FormatBootstrap(result);
+  ReportSections& extra = run.sections;
+  if (!input_markdown.empty()) {
+    extra.markdown += "\n## Inputs\n\n" + input_markdown;
+    extra.json["input_notes"] = input_notes;
+  }
+  if (job.published.present) {
+    run.has_published = true;
+    run.published = ComparePublished(job, result);
+    const std::string table = FormatPublished(run.published);
+    out << "\n" << table;
+    extra.markdown += "\n## Published reference\n\n```\n" + table + "```\n";
+    extra.json["published"] = PublishedToJson(run.published);
+  }
+  if (run.discovered) {
+    extra.markdown += "\n## Residual diagnostics (model as declared)\n\n```\n" +
+                      FormatDiagnostics(run.diagnostics) +
+                      "```\n\n## Model discovery\n\n```\n" +
+                      FormatDiscovery(run.discovery) + "```\n" +
+                      "\n## Residual diagnostics (final model)\n\n```\n" +
+                      FormatDiagnostics(run.discovery.final_diagnostics) + "```\n";
+    extra.json["discovery"] = DiscoveryToJson(run.discovery);
+  }
+  run.job = std::move(job);
+  run.result = std::move(result);
+  return run;
+}
+
+std::vector<std::string> WriteJobRun(const JobRun& run, const std::string& dir) {
+  std::vector<std::string> warnings;
+  // Everything goes to a staging folder first and is moved into place at
+  // the end; an interrupt meanwhile is held (sim/interrupt.h).
+  DeferInterrupts defer;
+  const std::string staging = MakeStagingDirectory(dir);
+  try {
+    WriteFitOutputs(staging, run.result, run.job.title, &warnings, run.sections);
+    if (run.discovered) {
+      WriteDiagnostics(staging, run.diagnostics, &warnings);
+      AxisConfig discovered = run.job.model;
+      discovered.name = run.job.model.name + "_discovered";
+      discovered.source = "fit-params --discover on " + run.job.title;
+      WriteFileAtomic(staging + "/model_discovered.yaml",
+                      "# Written by fit-params --discover: the fitted model with the\n"
+                      "# effects the data asked for. Loadable by simulate-axis and\n"
+                      "# fit-params as a model config.\n" +
+                          AxisConfigToYaml(discovered));
+    }
+    CommitStagingDirectory(staging, dir);
+    // Warnings name the files where they end up, not the staging folder.
+    for (std::string& w : warnings) {
+      for (size_t at = w.find(staging); at != std::string::npos;
+           at = w.find(staging, at + dir.size())) {
+        w.replace(at, staging.size(), dir);
+      }
+    }
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove_all(staging, ec);
+    throw;
+  }
+  defer.Committed();
+  return warnings;
+}
+
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                        std::ostream& err) {
   FitJob job;
@@ -988,111 +1098,13 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
       << job.validate.size() << " validation experiment(s), "
       << job.free.size() << " free parameter(s), " << job.solver.starts + 1
       << " start(s)\n";
-  // Columns read in a way the job did not state (e.g. held inputs).
-  nlohmann::json input_notes = nlohmann::json::array();
-  std::string input_markdown;
-  for (const std::vector<FitExperiment>* list : {&job.experiments, &job.validate}) {
-    for (const FitExperiment& e : *list) {
-      for (const std::string& note : e.input_notes) {
-        out << "  " << e.name << ": " << note << "\n";
-        input_markdown += "- " + e.name + ": " + note + "\n";
-        input_notes.push_back({{"experiment", e.name}, {"note", note}});
-      }
-    }
+  JobRun run = RunJob(std::move(job), options.discover, out);
+  for (const std::string& w : WriteJobRun(run, run.job.out_dir)) {
+    err << "fit-params: warning: " << w << "\n";
   }
-  if (options.discover) job.discover.enabled = true;
-  const auto base_start = std::chrono::steady_clock::now();
-  FitResult result = FitParameters(job, &out);
-  const double base_fit_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - base_start).count();
-  const bool discover = job.discover.enabled;
-  DiscoveryReport discovery;
-  std::vector<ChannelDiagnostics> diagnostics;
-  if (discover) {
-    out << "\nBefore discovery:\n" << FormatParameterTable(result) << "\n"
-        << FormatFitTable(result);
-    // Diagnose the residual of the model as declared, before adding anything.
-    FitJob declared = job;
-    for (const ParameterEstimate& e : result.parameters) {
-      if (e.free) *FindParam(&declared.model.params, e.name) = e.value;
-    }
-    diagnostics = DiagnoseResiduals(declared);
-    out << "\n" << FormatDiagnostics(diagnostics);
-    DiscoverySettings settings = job.discover;
-    settings.enabled = true;
-    discovery = Discover(settings, &job, &result, &out);
-    discovery.base_fit_seconds = base_fit_seconds;
-    out << "\nFinal model:\n" << FormatDiagnostics(discovery.final_diagnostics) << "\n"
-        << FormatDiscovery(discovery) << "\nAfter discovery:";
-  }
-  ResidualBootstrap(job, &result, &out);
-  out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
-  out << "cost " << result.initial_cost << " -> " << result.final_cost
-      << (result.converged ? " (converged)" : " (NOT converged)") << ", "
-      << result.simulations << " simulations, " << result.jacobian_evaluations
-      << " Jacobian evaluations\n";
-  out << FormatPhases(result) << "\n";
-  out << result.optimum_check << "\n";
-  out << "uncertainty: " << result.uncertainty_note << "\n";
-  if (job.uncertainty.bootstrap > 0) out << FormatBootstrap(result);
-  std::vector<std::string> warnings;
-  ReportSections extra;
-  if (!input_markdown.empty()) {
-    extra.markdown += "\n## Inputs\n\n" + input_markdown;
-    extra.json["input_notes"] = input_notes;
-  }
-  if (job.published.present) {
-    const PublishedComparison comparison = ComparePublished(job, result);
-    const std::string table = FormatPublished(comparison);
-    out << "\n" << table;
-    extra.markdown += "\n## Published reference\n\n```\n" + table + "```\n";
-    extra.json["published"] = PublishedToJson(comparison);
-  }
-  if (discover) {
-    extra.markdown += "\n## Residual diagnostics (model as declared)\n\n```\n" +
-                     FormatDiagnostics(diagnostics) +
-                     "```\n\n## Model discovery\n\n```\n" +
-                     FormatDiscovery(discovery) + "```\n" +
-                     "\n## Residual diagnostics (final model)\n\n```\n" +
-                     FormatDiagnostics(discovery.final_diagnostics) + "```\n";
-    extra.json["discovery"] = DiscoveryToJson(discovery);
-  }
-  // Everything goes to a staging folder first and is moved into place at
-  // the end; an interrupt meanwhile is held (sim/interrupt.h).
-  {
-    DeferInterrupts defer;
-    const std::string staging = MakeStagingDirectory(job.out_dir);
-    try {
-      WriteFitOutputs(staging, result, job.title, &warnings, extra);
-      if (discover) {
-        WriteDiagnostics(staging, diagnostics, &warnings);
-        AxisConfig discovered = job.model;
-        discovered.name = job.model.name + "_discovered";
-        discovered.source = "fit-params --discover on " + job.title;
-        WriteFileAtomic(staging + "/model_discovered.yaml",
-                        "# Written by fit-params --discover: the fitted model with the\n"
-                        "# effects the data asked for. Loadable by simulate-axis and\n"
-                        "# fit-params as a model config.\n" +
-                            AxisConfigToYaml(discovered));
-      }
-      CommitStagingDirectory(staging, job.out_dir);
-      // Warnings name the files where they end up, not the staging folder.
-      for (std::string& w : warnings) {
-        for (size_t at = w.find(staging); at != std::string::npos;
-             at = w.find(staging, at + job.out_dir.size())) {
-          w.replace(at, staging.size(), job.out_dir);
-        }
-      }
-    } catch (...) {
-      std::error_code ec;
-      std::filesystem::remove_all(staging, ec);
-      throw;
-    }
-    defer.Committed();
-  }
-  for (const std::string& w : warnings) err << "fit-params: warning: " << w << "\n";
-  out << "wrote " << job.out_dir << "/{params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";
-  return result;
+  out << "wrote " << run.job.out_dir
+      << "/{params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";
+  return std::move(run.result);
 }
 
 }  // namespace axis

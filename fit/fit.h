@@ -9,8 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "fit/diagnostics.h"
+#include "fit/discovery.h"
 #include "fit/fit_result.h"
 #include "fit/job.h"
+#include "fit/published.h"
+#include "fit/report.h"
 
 namespace axis {
 
@@ -52,6 +56,48 @@ ExperimentFit EvaluateExperiment(const AxisStructure& structure,
                                  const AxisParams<double>& params,
                                  const FitExperiment& experiment);
 
+// A job run as fit-params runs it, before anything is written (RunJob).
+struct JobRun {
+  // The job; after discovery its model holds the selected effects with
+  // their fitted values.
+  FitJob job;
+  // The final fit: after discovery, of the augmented model; with
+  // uncertainty.bootstrap > 0, with the bootstrap's figures.
+  FitResult result;
+  bool discovered = false;  // the discovery loop ran
+  // If discovered: the loop's report, and the residual diagnostics of the
+  // model as declared at the base fit.
+  DiscoveryReport discovery;
+  std::vector<ChannelDiagnostics> diagnostics;
+  bool has_published = false;     // the job has `published:`
+  PublishedComparison published;  // if has_published
+  // What params.md and report.json add to the fit's own tables: how input
+  // columns were read, the published comparison, the discovery loop.
+  ReportSections sections;
+};
+
+// Runs `job` as fit-params does, writing no file: FitParameters; with
+// `discover` or the job's `discover:`, the residual diagnostics and the
+// discovery loop (Discover); the residual bootstrap if
+// uncertainty.bootstrap > 0; the published comparison if the job has one.
+// Prints to `out` what fit-params prints between its two header lines and
+// its "wrote" line: notes on input columns, the solver's progress (if
+// job.solver.progress; from the calling thread only), the discovery tables,
+// the parameter and fit tables, the cost, time, optimum-check and
+// uncertainty lines, the published table. Throws std::invalid_argument for
+// an inconsistent job (LoadFitJob has checked) and std::runtime_error if a
+// diagnostic simulation fails.
+JobRun RunJob(FitJob job, bool discover, std::ostream& out);
+
+// Writes the outputs of `run` into `dir` (created with its parents if
+// missing): WriteFitOutputs' files and, if run.discovered, the
+// diag_*.csv/.png of the declared model and model_discovered.yaml. They go
+// to a staging folder moved into place when complete (MakeStagingDirectory,
+// CommitStagingDirectory; interrupts held meanwhile). Returns the warnings
+// (plots not drawn), naming the final paths. Throws std::runtime_error
+// naming what cannot be written (nothing is left in `dir` then).
+std::vector<std::string> WriteJobRun(const JobRun& run, const std::string& dir);
+
 // Options of the fit-params command.
 struct FitParamsOptions {
   std::string job_path;               // a job file, or the quick form below
@@ -61,9 +107,10 @@ struct FitParamsOptions {
   bool discover = false;              // run the discovery loop (fit/discovery.h)
 };
 
-// Loads the job, fits, prints the parameter and fit tables to `out` and
-// writes params.md, params.csv, report.json and fit_<experiment>.csv/.png
-// into the output directory. Throws std::invalid_argument on bad input
+// Loads the job, fits (RunJob), prints the parameter and fit tables to
+// `out` and writes params.md, params.csv, report.json and
+// fit_<experiment>.csv/.png into the output directory (WriteJobRun);
+// warnings go to `err`. Throws std::invalid_argument on bad input
 // (before anything is written) and std::runtime_error on output failures.
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                        std::ostream& err);

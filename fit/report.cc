@@ -592,8 +592,7 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
   WriteFileAtomic(path, out);
 }
 
-void WriteReportJson(const std::string& path, const FitResult& result,
-                     const ReportSections& extra) {
+nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections& extra) {
   Json j = Json::object();
   Json parameters = Json::array();
   for (size_t k : ParameterOrder(result)) {
@@ -696,8 +695,13 @@ void WriteReportJson(const std::string& path, const FitResult& result,
   j["correlation"] = {{"names", names}, {"matrix", matrix}};
   j["undetermined"] = result.undetermined;
   for (const auto& [key, value] : extra.json.items()) j[key] = value;
+  return j;
+}
 
-  WriteFileAtomic(path, j.dump(2, ' ', false, Json::error_handler_t::replace) +
+void WriteReportJson(const std::string& path, const FitResult& result,
+                     const ReportSections& extra) {
+  WriteFileAtomic(path, ReportJson(result, extra).dump(2, ' ', false,
+                                                       Json::error_handler_t::replace) +
                             "\n");
 }
 

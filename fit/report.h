@@ -113,6 +113,11 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
 void WriteReportJson(const std::string& path, const FitResult& result,
                      const ReportSections& extra = {});
 
+// The document WriteReportJson writes, in memory (key order kept; NaN and
+// infinite numbers are null). Never throws (except std::bad_alloc).
+nlohmann::ordered_json ReportJson(const FitResult& result,
+                                  const ReportSections& extra = {});
+
 // Writes the traces of one experiment as CSV: the column "t" (s), then for
 // each channel c, in order, "<c>_measured", "<c>_simulated" and
 // "<c>_residual" (= simulated − measured), in the channel unit; one row per

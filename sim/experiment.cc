@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include "sim/csv.h"
 #include "sim/interrupt.h"
@@ -36,9 +37,7 @@ void WriteTraceCsv(const std::string& path, const Trace<double>& trace,
   WriteCsvAtomic(path, names, columns, 12);
 }
 
-void SimulateAxis(const SimulateAxisOptions& options) {
-  SetInterruptTarget(options.out_path);
-  ExperimentConfig e = LoadExperiment(options.experiment_path);
+Trace<double> SimulateExperiment(ExperimentConfig e, const SimulateAxisOptions& options) {
   for (const std::string& set : options.sets) ApplySetArgument(&e.model, set);
   e.initial_state = ConsistentInitialState(e.model, e.initial_state);
   if (options.has_seed) e.seed = options.seed;
@@ -52,13 +51,21 @@ void SimulateAxis(const SimulateAxisOptions& options) {
   if (options.show_progress) std::fprintf(stderr, "\rsimulating 100 %%\n");
   if (!trace.finite) {
     throw std::runtime_error(
-        options.experiment_path +
+        e.path +
         ": the simulation left the finite numbers (unstable: try a smaller "
         "step or check the parameters); nothing written");
   }
   if (!options.no_noise) AddNoise(e.noise_sigma, e.seed, &trace);
+  return trace;
+}
+
+void SimulateAxis(const SimulateAxisOptions& options) {
+  SetInterruptTarget(options.out_path);
+  ExperimentConfig e = LoadExperiment(options.experiment_path);
+  const std::vector<Channel> channels = e.options.channels;
+  const Trace<double> trace = SimulateExperiment(std::move(e), options);
   DeferInterrupts defer;  // no temporary file left behind (sim/interrupt.h)
-  WriteTraceCsv(options.out_path, trace, e.options.channels);
+  WriteTraceCsv(options.out_path, trace, channels);
   defer.Committed();
 }
 

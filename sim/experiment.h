@@ -42,8 +42,18 @@ struct SimulateAxisOptions {
   bool show_progress = false;       // progress bar on stderr
 };
 
+// The trace simulate-axis writes for the loaded experiment `e`: the
+// options' `sets` applied (ApplySetArgument, in order), the initial state
+// made consistent (ConsistentInitialState), simulated (RunExperiment; a
+// progress bar on stderr if show_progress) and, unless no_noise, the
+// experiment's noise added with its seed (or options.seed if has_seed).
+// The paths of `options` are not used. Throws std::invalid_argument for a
+// bad set or grid and std::runtime_error "<e.path>: the simulation left the
+// finite numbers …" if it diverges.
+Trace<double> SimulateExperiment(ExperimentConfig e, const SimulateAxisOptions& options);
+
 // Loads the experiment, applies the overrides, simulates, adds noise and
-// writes the CSV. Throws std::invalid_argument on bad input (nothing is
+// writes the CSV (SimulateExperiment, WriteTraceCsv). Throws std::invalid_argument on bad input (nothing is
 // written then) and std::runtime_error if the output cannot be written or
 // the simulation leaves the finite numbers.
 void SimulateAxis(const SimulateAxisOptions& options);
