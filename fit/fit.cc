@@ -20,6 +20,8 @@
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/experiment_cost.h"
+#include "fit/html_report.h"
+#include "fit/progress.h"
 #include "fit/published.h"
 #include "fit/report.h"
 #include "fit/statistics.h"
@@ -31,14 +33,22 @@
 namespace axis {
 namespace {
 
-// Prints iteration, cost, relative decrease and step norm.
+// Prints iteration, cost, relative decrease and step norm: one line per
+// iteration, or on a terminal (ProgressStream) the detail of its status
+// line. `plain_lines` false: nothing but that detail (the refits of the
+// profile, which printed nothing before issue 14).
 class ProgressPrinter : public ceres::IterationCallback {
  public:
-  ProgressPrinter(std::ostream* out, int start, double horizon)
-      : out_(out), start_(start), horizon_(horizon) {}
+  ProgressPrinter(std::ostream* out, int start, double horizon, bool plain_lines = true)
+      : out_(out), progress_(AsProgressStream(out)), start_(start), horizon_(horizon),
+        plain_lines_(plain_lines) {}
   ceres::CallbackReturnType operator()(
       const ceres::IterationSummary& s) override {
-    if (out_ != nullptr) {
+    if (progress_ != nullptr && progress_->terminal()) {
+      std::ostringstream detail;
+      detail << "iter " << s.iteration << ", cost " << std::setprecision(6) << s.cost;
+      progress_->Detail(detail.str());
+    } else if (out_ != nullptr && plain_lines_) {
       *out_ << "start " << std::setw(2) << start_ << "  horizon "
             << std::fixed << std::setprecision(3) << horizon_ << " s  iter "
             << std::setw(3) << s.iteration << "  cost " << std::scientific
@@ -52,8 +62,10 @@ class ProgressPrinter : public ceres::IterationCallback {
 
  private:
   std::ostream* out_;
+  ProgressStream* progress_;
   int start_;
   double horizon_;
+  bool plain_lines_;
 };
 
 // Adds the wall time and evaluations between construction and destruction
@@ -476,6 +488,12 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   std::vector<double> best = p.theta;
   std::vector<double> best_step(theta_size, 0.0);  // the last stage's step
   ceres::Solver::Summary best_summary;
+  // Progress (fit/progress.h): the starts' share done, each stage weighted
+  // by its horizon (a stage's simulations are as long as its horizon).
+  ProgressStream* status = job.solver.progress ? AsProgressStream(progress) : nullptr;
+  double horizon_sum = 0.0;
+  for (const Stage& stage : stages) horizon_sum += stage.horizon;
+  if (status != nullptr) status->BeginPhase("starts");
   for (size_t s = 0; s < starts.size(); ++s) {
     PhaseTimer timer("starts", p.counter, &result);
     std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
@@ -488,6 +506,15 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     for (size_t i = 0; i < stages.size(); ++i) {
       Stage& stage = stages[i];
       const std::vector<double> stage_start = p.theta;
+      if (status != nullptr) {
+        double before = static_cast<double>(s) * horizon_sum;
+        for (size_t j = 0; j < i; ++j) before += stages[j].horizon;
+        std::ostringstream what;
+        what << "fit: start " << s + 1 << " of " << starts.size() << ", horizon "
+             << std::fixed << std::setprecision(3) << stage.horizon << " s (stage " << i + 1
+             << " of " << stages.size() << ")";
+        status->Status(what.str(), before / (horizon_sum * static_cast<double>(starts.size())));
+      }
       ProgressPrinter printer(job.solver.progress ? progress : nullptr,
                               static_cast<int>(s), stage.horizon);
       ceres::Solver::Options o = options;
@@ -577,7 +604,13 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     if (std::isfinite(best_cost) && probe_rounds > 0) {
       PhaseTimer timer("optimum check", p.counter, &result);
       ceres::Problem& last = *stages.back().problem;
+      if (status != nullptr) status->BeginPhase("optimum check");
       for (int round = 0;; ++round) {
+        if (status != nullptr) {
+          status->Status("fit: optimum check, probe round " + std::to_string(round + 1) +
+                             " (at most " + std::to_string(probe_rounds) + ")",
+                         std::numeric_limits<double>::quiet_NaN());
+        }
         std::vector<double> lowest;
         double lowest_cost = best_cost;
         ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.counter, &p.theta,
@@ -675,10 +708,18 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       o.callbacks.push_back(&stop);
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov_theta *
                                                          result.residual_variance);
+      if (status != nullptr) status->BeginPhase("local restarts");
       for (int e = 0; e < theta_size; ++e) {
         const double l = eig.eigenvalues()[e];
         if (!(l > 0.0)) continue;
         for (double sign : {-1.0, 1.0}) {
+          if (status != nullptr) {
+            const int index = 2 * e + (sign > 0.0 ? 1 : 0);
+            status->Status("fit: local restart " + std::to_string(index + 1) + " of " +
+                               std::to_string(2 * theta_size) + " (pass " +
+                               std::to_string(local_passes) + ")",
+                           index / (2.0 * theta_size));
+          }
           for (int k = 0; k < theta_size; ++k) {
             p.theta[k] = std::clamp(centre[k] + sign * local_starts *
                                                     std::sqrt(l) * eig.eigenvectors()(k, e),
@@ -725,13 +766,29 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       o.initial_trust_region_radius = 1e4;
       AbsoluteDecreaseStop stop(0.01 * threshold);
       o.callbacks.push_back(&stop);
+      ProgressPrinter printer(status, 0, longest, false);
+      if (status != nullptr) {
+        o.callbacks.push_back(&printer);
+        status->BeginPhase("profile intervals");
+      }
+      const auto on_parameter = [&](int k) {
+        if (status == nullptr) return;
+        status->Status("fit: profile-likelihood interval of " + job.free[k].name + " (" +
+                           std::to_string(k + 1) + " of " + std::to_string(n_free) + ")",
+                       static_cast<double>(k) / n_free);
+      };
       profile = ProfileLikelihoodIntervals(&full_problem, o, p.lower, p.upper,
                                            cov_theta * result.residual_variance, n_free, t975,
                                            result.residual_variance, lower_than_best,
-                                           may_restart, &p.theta);
+                                           may_restart, &p.theta, on_parameter);
       met_cost = profile.lowest_cost;
       met_point = &profile.lowest_point;
     } else if (run_scan) {
+      if (status != nullptr) {
+        status->BeginPhase("likelihood-ratio scan");
+        status->Status("fit: likelihood-ratio scan of the intervals",
+                       std::numeric_limits<double>::quiet_NaN());
+      }
       scan = LikelihoodRatioIntervals(&full_problem, p.lower, p.upper,
                                       cov_theta * result.residual_variance, n_free, t975,
                                       result.residual_variance, kRatioSteps, &p.theta);
@@ -965,8 +1022,11 @@ std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int thre
   return out;
 }
 
-FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
+FitResult RunFitParams(const FitParamsOptions& options, std::ostream& terminal,
                        std::ostream& err) {
+  // Everything printed goes through the progress stream, so that on a
+  // terminal the status line is erased before other text (fit/progress.h).
+  ProgressStream out(terminal, options.progress_columns);
   FitJob job;
   if (!options.job_path.empty()) {
     job = LoadFitJob(options.job_path);
@@ -991,16 +1051,22 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
   // Columns read in a way the job did not state (e.g. held inputs).
   nlohmann::json input_notes = nlohmann::json::array();
   std::string input_markdown;
+  std::vector<std::string> input_lines;  // for report.html
   for (const std::vector<FitExperiment>* list : {&job.experiments, &job.validate}) {
     for (const FitExperiment& e : *list) {
       for (const std::string& note : e.input_notes) {
         out << "  " << e.name << ": " << note << "\n";
         input_markdown += "- " + e.name + ": " + note + "\n";
+        input_lines.push_back(e.name + ": " + note);
         input_notes.push_back({{"experiment", e.name}, {"note", note}});
       }
     }
   }
   if (options.discover) job.discover.enabled = true;
+  // A stage of the run after the fit, on the progress line.
+  const auto stage = [&](const char* what) {
+    if (job.solver.progress) out.Status(what, std::numeric_limits<double>::quiet_NaN());
+  };
   const auto base_start = std::chrono::steady_clock::now();
   FitResult result = FitParameters(job, &out);
   const double base_fit_seconds =
@@ -1025,6 +1091,20 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
     out << "\nFinal model:\n" << FormatDiagnostics(discovery.final_diagnostics) << "\n"
         << FormatDiscovery(discovery) << "\nAfter discovery:";
   }
+  if (!discover) {
+    // The residual diagnostics of the fitted model, for report.html (with
+    // discovery they are those of the declared model, above).
+    stage("diagnosing the residuals");
+    FitJob fitted = job;
+    for (const ParameterEstimate& e : result.parameters) {
+      if (e.free) *FindParam(&fitted.model.params, e.name) = e.value;
+    }
+    try {
+      diagnostics = DiagnoseResiduals(fitted);
+    } catch (const std::runtime_error&) {
+      diagnostics.clear();  // the fitted model does not simulate: no diagnostics
+    }
+  }
   ResidualBootstrap(job, &result, &out);
   out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
   out << "cost " << result.initial_cost << " -> " << result.final_cost
@@ -1041,8 +1121,10 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
     extra.markdown += "\n## Inputs\n\n" + input_markdown;
     extra.json["input_notes"] = input_notes;
   }
+  PublishedComparison comparison;
   if (job.published.present) {
-    const PublishedComparison comparison = ComparePublished(job, result);
+    stage("simulating the published model");
+    comparison = ComparePublished(job, result);
     const std::string table = FormatPublished(comparison);
     out << "\n" << table;
     extra.markdown += "\n## Published reference\n\n```\n" + table + "```\n";
@@ -1059,11 +1141,33 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
   }
   // Everything goes to a staging folder first and is moved into place at
   // the end; an interrupt meanwhile is held (sim/interrupt.h).
+  stage("writing the outputs");
   {
     DeferInterrupts defer;
     const std::string staging = MakeStagingDirectory(job.out_dir);
     try {
       WriteFitOutputs(staging, result, job.title, &warnings, extra);
+      HtmlReportInput html;
+      html.title = job.title;
+      html.result = &result;
+      html.job = &job;
+      html.diagnostics = &diagnostics;
+      html.discovery = discover ? &discovery : nullptr;
+      html.published = job.published.present ? &comparison : nullptr;
+      html.input_notes = input_lines;
+      html.files = {"params.md", "params.csv", "report.json"};
+      for (const std::string& stem : ExperimentFileStems(result)) {
+        html.files.push_back(stem + ".csv");
+        html.files.push_back(stem + ".png");
+      }
+      if (discover) {
+        for (const ChannelDiagnostics& d : diagnostics) {
+          html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".csv");
+          html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".png");
+        }
+        html.files.push_back("model_discovered.yaml");
+      }
+      WriteHtmlReport(staging + "/report.html", html, &warnings);
       if (discover) {
         WriteDiagnostics(staging, diagnostics, &warnings);
         AxisConfig discovered = job.model;
@@ -1091,7 +1195,8 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
     defer.Committed();
   }
   for (const std::string& w : warnings) err << "fit-params: warning: " << w << "\n";
-  out << "wrote " << job.out_dir << "/{params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";
+  out << "wrote " << job.out_dir
+      << "/{report.html, params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";
   return result;
 }
 

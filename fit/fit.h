@@ -61,11 +61,17 @@ struct FitParamsOptions {
   std::vector<std::string> fit_channels, free_names;
   std::string out_dir;                // overrides the job's output.dir
   bool discover = false;              // run the discovery loop (fit/discovery.h)
+  // > 0: the output stream is a terminal this many columns wide, and the
+  // progress shows as one updating status line; 0: plain progress lines
+  // (fit/progress.h). fit-params sets it from isatty(stdout).
+  int progress_columns = 0;
 };
 
-// Loads the job, fits, prints the parameter and fit tables to `out` and
-// writes params.md, params.csv, report.json and fit_<experiment>.csv/.png
-// into the output directory. Throws std::invalid_argument on bad input
+// Loads the job, fits, prints the progress (fit/progress.h) and the
+// parameter and fit tables to `out` and writes report.html
+// (fit/html_report.h), params.md, params.csv, report.json and
+// fit_<experiment>.csv/.png into the output directory (all into a staging
+// folder first, moved into place when complete). Throws std::invalid_argument on bad input
 // (before anything is written) and std::runtime_error on output failures.
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                        std::ostream& err);
