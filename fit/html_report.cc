@@ -104,8 +104,9 @@ struct Table {
 std::string Render(const Table& table) {
   std::string classes = table.css_class;
   if (table.sortable) classes += (classes.empty() ? "" : " ") + std::string("sortable");
-  std::string out = "<table" + (classes.empty() ? "" : " class=\"" + classes + "\"") +
-                    ">\n<thead><tr>";
+  // In a box of the page's width that scrolls sideways if the table is wider.
+  std::string out = "<div class=\"scroll\"><table" +
+                    (classes.empty() ? "" : " class=\"" + classes + "\"") + ">\n<thead><tr>";
   for (const std::string& h : table.headers) {
     out += table.sortable ? Tag("th", h, "title=\"sort by this column\"") : Tag("th", h);
   }
@@ -120,7 +121,7 @@ std::string Render(const Table& table) {
     }
     out += "</tr>\n";
   }
-  return out + "</tbody></table>\n";
+  return out + "</tbody></table></div>\n";
 }
 
 // ------------------------------------------------------------- plots
@@ -262,6 +263,7 @@ nav { background: #f3f5f8; border: 1px solid #d9dee5; padding: 0.5em 1em; border
 nav a { margin-right: 1.1em; white-space: nowrap; }
 a { color: #1a56a8; }
 table { border-collapse: collapse; margin: 0.6em 0 1em; font-size: 0.92em; }
+div.scroll { max-width: 100%; overflow-x: auto; }
 th, td { border: 1px solid #d4d8de; padding: 0.25em 0.6em; text-align: left; vertical-align: top; }
 th { background: #eef1f5; font-weight: 600; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
@@ -435,7 +437,7 @@ std::string DiagnosticsTable(const std::vector<ChannelDiagnostics>& diagnostics)
       double largest = 0.0;
       for (double m : b.mean) largest = std::max(largest, std::abs(m));
       row.push_back(b.dof > 0 ? PValue(b.p_value) : Text("—"));
-      row.push_back(NumUnit(largest, 3, d.unit));
+      row.push_back(Num(largest, 3));
     }
     t.rows.push_back(row);
   }
@@ -443,7 +445,8 @@ std::string DiagnosticsTable(const std::vector<ChannelDiagnostics>& diagnostics)
          "<p class=\"note\">Ljung–Box: whiteness of the residual (20 lags); xcorr u: peak "
          "normalised cross-correlation of the residual with the input, at its lag in "
          "samples; vs v, x, a, θ mod rev: χ² test that the mean residual does not depend on "
-         "the variable (12 bins), and the largest bin mean. p-values below 0.001 in bold.</p>\n";
+         "the variable (12 bins), and the largest bin mean (the unit of the RMS). p-values "
+         "below 0.001 in bold.</p>\n";
 }
 
 std::string VerdictHtml(const DiscoveryReport& d) {

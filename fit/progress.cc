@@ -102,16 +102,20 @@ double ProgressStream::Elapsed() const {
 void ProgressStream::BeginPhase(const std::string& name) {
   phase_ = name;
   phase_start_ = std::chrono::steady_clock::now();
-  done_ = 0.0;
+  phase_total_ = 0.0;
+}
+
+double ProgressStream::InPhase() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - phase_start_).count();
 }
 
 std::string ProgressStream::Line() const {
   std::string line = FormatDuration(Elapsed()) + " elapsed; " + status_;
-  const double in_phase =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - phase_start_).count();
-  if (done_ > 0.0 && done_ < 1.0 && in_phase >= 1.0) {
+  // Counts down between status reports; dropped once overdue.
+  const double left = phase_total_ - InPhase();
+  if (phase_total_ > 0.0 && left > 0.0) {
     line += "; " + (phase_.empty() ? std::string("phase") : phase_) + " ~" +
-            FormatDuration(in_phase * (1.0 - done_) / done_) + " left";
+            FormatDuration(left) + " left";
   }
   return line;
 }
@@ -141,7 +145,11 @@ void ProgressStream::Redraw(bool force) {
 void ProgressStream::Status(const std::string& what, double done) {
   status_ = what;
   detail_.clear();
-  done_ = std::isfinite(done) ? done : 0.0;
+  // The phase's whole time extrapolated from the share done so far.
+  const double in_phase = InPhase();
+  phase_total_ = std::isfinite(done) && done > 0.0 && done < 1.0 && in_phase >= 1.0
+                     ? in_phase / done
+                     : 0.0;
   if (terminal()) {
     Redraw(true);
   } else {

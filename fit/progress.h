@@ -56,9 +56,11 @@ class ProgressStream : public std::ostream {
   // The current stage, e.g. "start 1 of 4, horizon 0.200 s (stage 3 of 5)".
   // `done` in [0, 1] is the part of the current phase finished (NaN:
   // unknown); with done > 0 and at least 1 s spent in the phase the line
-  // adds "<phase> ~<time> left", the phase's time so far scaled by
-  // (1 − done)/done: an extrapolation, hence the "~". Clears the detail.
-  // Terminal: redraws the status line; plain: prints one line.
+  // adds "<phase> ~<time> left": the phase's time so far scaled by
+  // (1 − done)/done, an extrapolation, hence the "~". On a terminal it
+  // counts down until the next status and disappears once overdue.
+  // Clears the detail. Terminal: redraws the status line; plain: prints
+  // one line.
   void Status(const std::string& what, double done);
 
   // A detail of the current stage that changes often (the solver's
@@ -74,6 +76,7 @@ class ProgressStream : public std::ostream {
   class Buffer;
   void Redraw(bool force);
   std::string Line() const;
+  double InPhase() const;  // s since BeginPhase
 
   std::unique_ptr<Buffer> buffer_;
   int columns_;
@@ -83,7 +86,7 @@ class ProgressStream : public std::ostream {
   std::string phase_;
   std::string status_;
   std::string detail_;
-  double done_ = 0.0;
+  double phase_total_ = 0.0;  // s, the phase's extrapolated length (0: no basis)
 };
 
 // The ProgressStream behind `out`, or nullptr if `out` is null or another
