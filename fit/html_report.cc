@@ -338,29 +338,24 @@ const FreeParameter* FindFree(const FitJob* job, const std::string& name) {
   return nullptr;
 }
 
+// The free (`free`) or the fixed parameters, in result order: value,
+// standard error, 95 % interval, initial value, bounds (from the job),
+// free/fixed ("—" where a fixed parameter has no such figure).
 Table ParameterTable(const FitResult& result, const FitJob* job, bool free) {
   Table t;
   t.sortable = true;
-  t.headers = {"name", "unit", "value", "std error", "95 % interval", "initial"};
-  if (free) t.headers.insert(t.headers.end(), {"lower bound", "upper bound", "note"});
+  t.headers = {"name",    "unit",        "value",       "std error", "95 % interval",
+               "initial", "lower bound", "upper bound", "free/fixed"};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const ParameterEstimate& p : result.parameters) {
     if (p.free != free) continue;
-    std::vector<Cell> row = {Text(p.name), Text(p.unit), Num(p.value)};
-    if (free) {
-      row.push_back(Num(p.std_error));
-      row.push_back(Text(Interval(p.ci95_low, p.ci95_high)));
-      row.push_back(Num(p.initial));
-      const FreeParameter* f = FindFree(job, p.name);
-      const double nan = std::numeric_limits<double>::quiet_NaN();
-      row.push_back(Num(f != nullptr ? f->lower : nan));
-      row.push_back(Num(f != nullptr ? f->upper : nan));
-      row.push_back(Text(p.determined ? "" : "not determined by the data"));
-    } else {
-      row.push_back(Text("fixed"));
-      row.push_back(Text("—"));
-      row.push_back(Num(p.initial));
-    }
-    t.rows.push_back(row);
+    const FreeParameter* f = free ? FindFree(job, p.name) : nullptr;
+    std::string status = free ? "free" : "fixed";
+    if (!p.determined) status += " (not determined by the data)";
+    t.rows.push_back({Text(p.name), Text(p.unit), Num(p.value), Num(free ? p.std_error : nan),
+                      Text(free ? Interval(p.ci95_low, p.ci95_high) : "—"), Num(p.initial),
+                      Num(f != nullptr ? f->lower : nan), Num(f != nullptr ? f->upper : nan),
+                      Text(status)});
   }
   return t;
 }
