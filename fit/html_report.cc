@@ -655,7 +655,11 @@ std::string SummaryHtml(const HtmlReportInput& input) {
   item("optimum", HtmlEscape(r.optimum_check.empty() ? "not checked" : r.optimum_check));
   item("uncertainty", HtmlEscape((r.uncertainty_method.empty() ? "-" : r.uncertainty_method) +
                                  ": " + r.uncertainty_note));
-  item("time", HtmlEscape(FormatPhases(r)));
+  // FormatPhases: "time: 41.2 s (…)". With discovery the result is the
+  // last refit's; the loop's own times are in its section.
+  std::string phases = FormatPhases(r);
+  if (phases.rfind("time: ", 0) == 0) phases.erase(0, 6);
+  item(input.discovery != nullptr ? "time (final refit)" : "time", HtmlEscape(phases));
   return out + "</dl>\n";
 }
 
