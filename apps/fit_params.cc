@@ -5,6 +5,8 @@
 // Estimates the free parameters of a model from recorded traces (fit/fit.h).
 // Exit codes: 0 success, 2 bad input (command line, job, data), 1 other,
 // 130/143 interrupted by SIGINT/SIGTERM (nothing written; sim/interrupt.h).
+#include <unistd.h>
+
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -14,6 +16,7 @@
 #include <glog/logging.h>
 
 #include "fit/fit.h"
+#include "fit/progress.h"
 #include "sim/interrupt.h"
 
 int main(int argc, char** argv) {
@@ -52,6 +55,9 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
+  // On a terminal the progress is one updating line; in a pipe or a file,
+  // plain lines (fit/progress.h).
+  options.progress_columns = axis::TerminalColumns(STDOUT_FILENO);
   try {
     axis::RunFitParams(options, std::cout, std::cerr);
   } catch (const std::invalid_argument& e) {

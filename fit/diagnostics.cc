@@ -148,35 +148,51 @@ std::string FormatDiagnostics(const std::vector<ChannelDiagnostics>& diags) {
   return out.str();
 }
 
+void WriteDiagnosticsCsv(const std::string& path, const ChannelDiagnostics& d) {
+  std::ostringstream csv;
+  csv << "variable,center,mean,std_error,count\n" << std::setprecision(12);
+  for (const BinnedResidual& b : d.bins) {
+    for (size_t j = 0; j < b.center.size(); ++j) {
+      csv << '"' << b.variable << "\"," << b.center[j] << "," << b.mean[j] << ","
+          << b.std_error[j] << "," << b.count[j] << "\n";
+    }
+  }
+  WriteFileAtomic(path, csv.str());
+}
+
+std::string DiagnosticsPlotScript(const ChannelDiagnostics& d, const std::string& csv_path,
+                                  const std::string& output, bool svg) {
+  std::ostringstream s;
+  if (svg) {
+    s << "set terminal svg size 1000,640 dynamic noenhanced font 'sans,12' background rgb "
+         "'white'; ";
+  } else {
+    s << "set terminal pngcairo size 1200,800 noenhanced; ";
+  }
+  s << "set output '" << output
+    << "'; set datafile separator ','; set grid; " << (svg ? "set key below; " : "")
+    << "set multiplot layout 2,2 title 'mean "
+    << d.channel << " residual (" << d.unit << "), " << d.experiment << "';";
+  for (const BinnedResidual& b : d.bins) {
+    s << "set title 'vs " << b.variable << "'; set xlabel '" << b.variable << " ("
+      << b.unit << ")'; set ylabel 'residual (" << d.unit << ")';"
+      << "plot '" << csv_path << "' using (strcol(1) eq '" << b.variable
+      << "' ? $2 : 1/0):3:4 with yerrorbars " << (svg ? "title 'bin mean, ±1 std error'" : "notitle")
+      << ", 0 with lines lc rgb 'gray' notitle;";
+  }
+  s << "unset multiplot";
+  return s.str();
+}
+
 void WriteDiagnostics(const std::string& dir,
                       const std::vector<ChannelDiagnostics>& diags,
                       std::vector<std::string>* warnings) {
   for (const ChannelDiagnostics& d : diags) {
     const std::string stem = dir + "/diag_" + d.experiment + "_" + d.channel;
-    std::ostringstream csv;
-    csv << "variable,center,mean,std_error,count\n" << std::setprecision(12);
-    for (const BinnedResidual& b : d.bins) {
-      for (size_t j = 0; j < b.center.size(); ++j) {
-        csv << '"' << b.variable << "\"," << b.center[j] << "," << b.mean[j] << ","
-            << b.std_error[j] << "," << b.count[j] << "\n";
-      }
-    }
-    WriteFileAtomic(stem + ".csv", csv.str());
+    WriteDiagnosticsCsv(stem + ".csv", d);
     std::string warning;
     const auto script = [&](const std::string& png) {
-      std::ostringstream s;
-      s << "set terminal pngcairo size 1200,800 noenhanced; set output '" << png
-        << "'; set datafile separator ','; set multiplot layout 2,2 title 'mean "
-        << d.channel << " residual (" << d.unit << "), " << d.experiment << "';";
-      for (const BinnedResidual& b : d.bins) {
-        s << "set title 'vs " << b.variable << "'; set xlabel '" << b.variable
-          << " (" << b.unit << ")'; set ylabel 'residual (" << d.unit << ")';"
-          << "plot '" << stem << ".csv' using (strcol(1) eq '" << b.variable
-          << "' ? $2 : 1/0):3:4 with yerrorbars notitle, 0 with lines lc rgb "
-             "'gray' notitle;";
-      }
-      s << "unset multiplot";
-      return s.str();
+      return DiagnosticsPlotScript(d, stem + ".csv", png, false);
     };
     if (!RenderGnuplotPng(stem + ".png", script, d.experiment + " " + d.channel, &warning)) {
       if (warnings) warnings->push_back(warning);

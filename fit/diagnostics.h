@@ -51,6 +51,20 @@ std::vector<ChannelDiagnostics> DiagnoseResiduals(const FitJob& job);
 // and lag, and per variable the χ² p-value and the largest |bin mean|.
 std::string FormatDiagnostics(const std::vector<ChannelDiagnostics>& d);
 
+// Writes the bins of `d` as CSV (variable, center, mean, std_error, count;
+// one row per bin). Throws std::runtime_error naming `path` if it cannot
+// be written.
+void WriteDiagnosticsCsv(const std::string& path, const ChannelDiagnostics& d);
+
+// The gnuplot commands that plot the bins of `d` from `csv_path` (written
+// by WriteDiagnosticsCsv) into `output`: one panel per variable, the bin
+// means with ±1 standard error bars against the variable (units on the
+// axes) and the zero line. `svg`: gnuplot's svg terminal, scalable
+// (RenderGnuplotSvg, fit/report.h), with a legend; else a 1200×800 PNG.
+// Paths must not contain a quote or a line break.
+std::string DiagnosticsPlotScript(const ChannelDiagnostics& d, const std::string& csv_path,
+                                  const std::string& output, bool svg);
+
 // Writes diag_<experiment>_<channel>.csv (variable, center, mean, std_error,
 // count) and .png (one panel per variable, gnuplot) into `dir`; gnuplot
 // problems are appended to `warnings`. Throws std::runtime_error if a file

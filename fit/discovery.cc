@@ -14,6 +14,7 @@
 #include "fit/diagnostics.h"
 #include "fit/experiment_cost.h"
 #include "fit/fit.h"
+#include "fit/progress.h"
 #include "fit/report.h"
 #include "fit/statistics.h"
 #include "sim/config.h"
@@ -463,12 +464,25 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
   // The job's continuation, kept by the loop's refits (AsWarmRefit
   // switches it off).
   const double first_horizon = job->solver.first_horizon;
+  // Progress (fit/progress.h): the stage only. How many refits a step
+  // takes, and how many steps the loop makes, is known only as it goes, so
+  // no remaining time is estimated here.
+  ProgressStream* status = AsProgressStream(progress);
+  const double unknown = std::numeric_limits<double>::quiet_NaN();
+  if (status != nullptr) status->BeginPhase("discovery");
   for (int step = 0; step < settings.max_effects; ++step) {
     ApplyEstimates(*result, job);
     const std::vector<Candidate> candidates = ListCandidates(*job, settings.candidates);
     if (candidates.empty()) {
       report.stop_reason = "no candidate left";
       break;
+    }
+    const std::string step_name = "discovery step " + std::to_string(step + 1) +
+                                  " (at most " + std::to_string(settings.max_effects) + ")";
+    if (status != nullptr) {
+      status->Status(step_name + ": score tests of " + std::to_string(candidates.size()) +
+                         " candidates",
+                     unknown);
     }
     const Clock::time_point ranking_start = Clock::now();
     const Ranking ranking = RankCandidates(*job, candidates, settings.alpha);
@@ -536,7 +550,20 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     std::vector<Pending> batch;
     const auto run_batch = [&]() {
       std::vector<FitJob> jobs;
-      for (const Pending& q : batch) jobs.push_back(q.job);
+      std::string names;
+      for (const Pending& q : batch) {
+        jobs.push_back(q.job);
+        names += (names.empty() ? "" : ", ") + q.candidate.name;
+      }
+      if (status != nullptr && !batch.empty()) {
+        status->Status(step_name + ": " +
+                           (batch.size() == 1
+                                ? "candidate refit " + std::to_string(tries) + " of at most " +
+                                      std::to_string(settings.tries) + " (" + names + ")"
+                                : "refitting " + std::to_string(batch.size()) +
+                                      " candidates at once (" + names + ")"),
+                       unknown);
+      }
       std::vector<double> seconds;
       std::vector<FitResult> fits = FitConcurrently(jobs, job->solver.threads, &seconds);
       for (size_t b = 0; b < batch.size(); ++b) {
@@ -646,9 +673,16 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
   if (report.stop_reason.empty()) report.stop_reason = "maximum number of effects reached";
   // Backward pass: without each added effect but the last.
   const std::vector<std::string> added = report.selected;
+  if (status != nullptr) status->BeginPhase("backward pass");
   for (size_t k = 0; k + 1 < added.size(); ++k) {
     const Candidate candidate = CandidateNamed(added[k]);
     if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
+    if (status != nullptr) {
+      status->Status("discovery backward pass: refit without " + candidate.name + " (" +
+                         std::to_string(k + 1) + " of " + std::to_string(added.size() - 1) +
+                         ")",
+                     static_cast<double>(k) / static_cast<double>(added.size() - 1));
+    }
     FitJob without;
     auto [record, refit] =
         RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);
@@ -664,6 +698,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
   }
   report.level = settings.alpha / std::max<size_t>(1, report.ranking.scores.size());
   DropInsignificant(report.level, job, result, &report, progress);
+  if (status != nullptr) status->Status("discovery: diagnosing the final model", unknown);
   report.final_diagnostics = DiagnoseResiduals(*job);
   report.verdict = JudgeResiduals(report.final_diagnostics, *result, settings.alpha);
   return report;
@@ -684,6 +719,11 @@ void DropInsignificant(double level, FitJob* job, FitResult* result,
     ApplyEstimates(*result, job);
     const EffectSignificance w = EffectWald(candidate.name, *result);
     if (w.p_value < level) continue;
+    if (ProgressStream* status = AsProgressStream(progress)) {
+      status->Status("discovery significance: refit without " + candidate.name +
+                         " (not significant)",
+                     std::numeric_limits<double>::quiet_NaN());
+    }
     FitJob without;
     auto [record, refit] =
         RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);

@@ -20,6 +20,8 @@
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/experiment_cost.h"
+#include "fit/html_report.h"
+#include "fit/progress.h"
 #include "fit/published.h"
 #include "fit/report.h"
 #include "fit/statistics.h"
@@ -31,14 +33,22 @@
 namespace axis {
 namespace {
 
-// Prints iteration, cost, relative decrease and step norm.
+// Prints iteration, cost, relative decrease and step norm: one line per
+// iteration, or on a terminal (ProgressStream) the detail of its status
+// line. `plain_lines` false: nothing but that detail (the refits of the
+// profile, which printed nothing before issue 14).
 class ProgressPrinter : public ceres::IterationCallback {
  public:
-  ProgressPrinter(std::ostream* out, int start, double horizon)
-      : out_(out), start_(start), horizon_(horizon) {}
+  ProgressPrinter(std::ostream* out, int start, double horizon, bool plain_lines = true)
+      : out_(out), progress_(AsProgressStream(out)), start_(start), horizon_(horizon),
+        plain_lines_(plain_lines) {}
   ceres::CallbackReturnType operator()(
       const ceres::IterationSummary& s) override {
-    if (out_ != nullptr) {
+    if (progress_ != nullptr && progress_->terminal()) {
+      std::ostringstream detail;
+      detail << "iter " << s.iteration << ", cost " << std::setprecision(6) << s.cost;
+      progress_->Detail(detail.str());
+    } else if (out_ != nullptr && plain_lines_) {
       *out_ << "start " << std::setw(2) << start_ << "  horizon "
             << std::fixed << std::setprecision(3) << horizon_ << " s  iter "
             << std::setw(3) << s.iteration << "  cost " << std::scientific
@@ -52,8 +62,10 @@ class ProgressPrinter : public ceres::IterationCallback {
 
  private:
   std::ostream* out_;
+  ProgressStream* progress_;
   int start_;
   double horizon_;
+  bool plain_lines_;
 };
 
 // Adds the wall time and evaluations between construction and destruction
@@ -476,6 +488,12 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   std::vector<double> best = p.theta;
   std::vector<double> best_step(theta_size, 0.0);  // the last stage's step
   ceres::Solver::Summary best_summary;
+  // Progress (fit/progress.h): the starts' share done, each stage weighted
+  // by its horizon (a stage's simulations are as long as its horizon).
+  ProgressStream* status = job.solver.progress ? AsProgressStream(progress) : nullptr;
+  double horizon_sum = 0.0;
+  for (const Stage& stage : stages) horizon_sum += stage.horizon;
+  if (status != nullptr) status->BeginPhase("starts");
   for (size_t s = 0; s < starts.size(); ++s) {
     PhaseTimer timer("starts", p.counter, &result);
     std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
@@ -488,6 +506,15 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     for (size_t i = 0; i < stages.size(); ++i) {
       Stage& stage = stages[i];
       const std::vector<double> stage_start = p.theta;
+      if (status != nullptr) {
+        double before = static_cast<double>(s) * horizon_sum;
+        for (size_t j = 0; j < i; ++j) before += stages[j].horizon;
+        std::ostringstream what;
+        what << "fit: start " << s + 1 << " of " << starts.size() << ", horizon "
+             << std::fixed << std::setprecision(3) << stage.horizon << " s (stage " << i + 1
+             << " of " << stages.size() << ")";
+        status->Status(what.str(), before / (horizon_sum * static_cast<double>(starts.size())));
+      }
       ProgressPrinter printer(job.solver.progress ? progress : nullptr,
                               static_cast<int>(s), stage.horizon);
       ceres::Solver::Options o = options;
@@ -577,7 +604,13 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     if (std::isfinite(best_cost) && probe_rounds > 0) {
       PhaseTimer timer("optimum check", p.counter, &result);
       ceres::Problem& last = *stages.back().problem;
+      if (status != nullptr) status->BeginPhase("optimum check");
       for (int round = 0;; ++round) {
+        if (status != nullptr) {
+          status->Status("fit: optimum check, probe round " + std::to_string(round + 1) +
+                             " (at most " + std::to_string(probe_rounds) + ")",
+                         std::numeric_limits<double>::quiet_NaN());
+        }
         std::vector<double> lowest;
         double lowest_cost = best_cost;
         ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.counter, &p.theta,
@@ -675,10 +708,18 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       o.callbacks.push_back(&stop);
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov_theta *
                                                          result.residual_variance);
+      if (status != nullptr) status->BeginPhase("local restarts");
       for (int e = 0; e < theta_size; ++e) {
         const double l = eig.eigenvalues()[e];
         if (!(l > 0.0)) continue;
         for (double sign : {-1.0, 1.0}) {
+          if (status != nullptr) {
+            const int index = 2 * e + (sign > 0.0 ? 1 : 0);
+            status->Status("fit: local restart " + std::to_string(index + 1) + " of " +
+                               std::to_string(2 * theta_size) + " (pass " +
+                               std::to_string(local_passes) + ")",
+                           index / (2.0 * theta_size));
+          }
           for (int k = 0; k < theta_size; ++k) {
             p.theta[k] = std::clamp(centre[k] + sign * local_starts *
                                                     std::sqrt(l) * eig.eigenvectors()(k, e),
@@ -725,13 +766,29 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       o.initial_trust_region_radius = 1e4;
       AbsoluteDecreaseStop stop(0.01 * threshold);
       o.callbacks.push_back(&stop);
+      ProgressPrinter printer(status, 0, longest, false);
+      if (status != nullptr) {
+        o.callbacks.push_back(&printer);
+        status->BeginPhase("profile intervals");
+      }
+      const auto on_parameter = [&](int k) {
+        if (status == nullptr) return;
+        status->Status("fit: profile-likelihood interval of " + job.free[k].name + " (" +
+                           std::to_string(k + 1) + " of " + std::to_string(n_free) + ")",
+                       static_cast<double>(k) / n_free);
+      };
       profile = ProfileLikelihoodIntervals(&full_problem, o, p.lower, p.upper,
                                            cov_theta * result.residual_variance, n_free, t975,
                                            result.residual_variance, lower_than_best,
-                                           may_restart, &p.theta);
+                                           may_restart, &p.theta, on_parameter);
       met_cost = profile.lowest_cost;
       met_point = &profile.lowest_point;
     } else if (run_scan) {
+      if (status != nullptr) {
+        status->BeginPhase("likelihood-ratio scan");
+        status->Status("fit: likelihood-ratio scan of the intervals",
+                       std::numeric_limits<double>::quiet_NaN());
+      }
       scan = LikelihoodRatioIntervals(&full_problem, p.lower, p.upper,
                                       cov_theta * result.residual_variance, n_free, t975,
                                       result.residual_variance, kRatioSteps, &p.theta);
@@ -975,11 +1032,20 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
       for (const std::string& note : e.input_notes) {
         out << "  " << e.name << ": " << note << "\n";
         input_markdown += "- " + e.name + ": " + note + "\n";
+        run.input_lines.push_back(e.name + ": " + note);
         input_notes.push_back({{"experiment", e.name}, {"note", note}});
       }
     }
   }
   if (discover) job.discover.enabled = true;
+  // A stage of the run after the fit, on the progress line when `out` is
+  // fit-params' progress stream (fit/progress.h).
+  ProgressStream* progress_line = dynamic_cast<ProgressStream*>(&out);
+  const auto stage = [&](const char* what) {
+    if (job.solver.progress && progress_line != nullptr) {
+      progress_line->Status(what, std::numeric_limits<double>::quiet_NaN());
+    }
+  };
   const auto base_start = std::chrono::steady_clock::now();
   FitResult result = FitParameters(job, &out);
   const double base_fit_seconds =
@@ -1001,6 +1067,19 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     run.discovery.base_fit_seconds = base_fit_seconds;
     out << "\nFinal model:\n" << FormatDiagnostics(run.discovery.final_diagnostics) << "\n"
         << FormatDiscovery(run.discovery) << "\nAfter discovery:";
+  } else {
+    // The residual diagnostics of the fitted model, for report.html (with
+    // discovery they are those of the declared model, above).
+    stage("diagnosing the residuals");
+    FitJob fitted = job;
+    for (const ParameterEstimate& e : result.parameters) {
+      if (e.free) *FindParam(&fitted.model.params, e.name) = e.value;
+    }
+    try {
+      run.diagnostics = DiagnoseResiduals(fitted);
+    } catch (const std::runtime_error&) {
+      run.diagnostics.clear();  // the fitted model does not simulate: no diagnostics
+    }
   }
   ResidualBootstrap(job, &result, &out);
   out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
@@ -1018,6 +1097,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     extra.json["input_notes"] = input_notes;
   }
   if (job.published.present) {
+    stage("simulating the published model");
     run.has_published = true;
     run.published = ComparePublished(job, result);
     const std::string table = FormatPublished(run.published);
@@ -1047,6 +1127,27 @@ std::vector<std::string> WriteJobRun(const JobRun& run, const std::string& dir) 
   const std::string staging = MakeStagingDirectory(dir);
   try {
     WriteFitOutputs(staging, run.result, run.job.title, &warnings, run.sections);
+    HtmlReportInput html;
+    html.title = run.job.title;
+    html.result = &run.result;
+    html.job = &run.job;
+    html.diagnostics = &run.diagnostics;
+    html.discovery = run.discovered ? &run.discovery : nullptr;
+    html.published = run.has_published ? &run.published : nullptr;
+    html.input_notes = run.input_lines;
+    html.files = {"params.md", "params.csv", "report.json"};
+    for (const std::string& stem : ExperimentFileStems(run.result)) {
+      html.files.push_back(stem + ".csv");
+      html.files.push_back(stem + ".png");
+    }
+    if (run.discovered) {
+      for (const ChannelDiagnostics& d : run.diagnostics) {
+        html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".csv");
+        html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".png");
+      }
+      html.files.push_back("model_discovered.yaml");
+    }
+    WriteHtmlReport(staging + "/report.html", html, &warnings);
     if (run.discovered) {
       WriteDiagnostics(staging, run.diagnostics, &warnings);
       AxisConfig discovered = run.job.model;
@@ -1075,8 +1176,11 @@ std::vector<std::string> WriteJobRun(const JobRun& run, const std::string& dir) 
   return warnings;
 }
 
-FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
+FitResult RunFitParams(const FitParamsOptions& options, std::ostream& terminal,
                        std::ostream& err) {
+  // Everything printed goes through the progress stream, so that on a
+  // terminal the status line is erased before other text (fit/progress.h).
+  ProgressStream out(terminal, options.progress_columns);
   FitJob job;
   if (!options.job_path.empty()) {
     job = LoadFitJob(options.job_path);
@@ -1099,11 +1203,14 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
       << job.free.size() << " free parameter(s), " << job.solver.starts + 1
       << " start(s)\n";
   JobRun run = RunJob(std::move(job), options.discover, out);
+  if (run.job.solver.progress) {
+    out.Status("writing the outputs", std::numeric_limits<double>::quiet_NaN());
+  }
   for (const std::string& w : WriteJobRun(run, run.job.out_dir)) {
     err << "fit-params: warning: " << w << "\n";
   }
   out << "wrote " << run.job.out_dir
-      << "/{params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";
+      << "/{report.html, params.md, params.csv, report.json, fit_*.csv, fit_*.png}\n";
   return std::move(run.result);
 }
 

@@ -74,6 +74,9 @@ struct JobRun {
   // What params.md and report.json add to the fit's own tables: how input
   // columns were read, the published comparison, the discovery loop.
   ReportSections sections;
+  // How input columns were read, one line each ("<experiment>: <note>"),
+  // for report.html.
+  std::vector<std::string> input_lines;
 };
 
 // Runs `job` as fit-params does, writing no file: FitParameters; with
@@ -105,12 +108,18 @@ struct FitParamsOptions {
   std::vector<std::string> fit_channels, free_names;
   std::string out_dir;                // overrides the job's output.dir
   bool discover = false;              // run the discovery loop (fit/discovery.h)
+  // > 0: the output stream is a terminal this many columns wide, and the
+  // progress shows as one updating status line; 0: plain progress lines
+  // (fit/progress.h). fit-params sets it from isatty(stdout).
+  int progress_columns = 0;
 };
 
-// Loads the job, fits (RunJob), prints the parameter and fit tables to
-// `out` and writes params.md, params.csv, report.json and
-// fit_<experiment>.csv/.png into the output directory (WriteJobRun);
-// warnings go to `err`. Throws std::invalid_argument on bad input
+// Loads the job, fits (RunJob, with the progress of fit/progress.h),
+// prints the parameter and fit tables to `out` and writes report.html
+// (fit/html_report.h), params.md, params.csv, report.json and
+// fit_<experiment>.csv/.png into the output directory (WriteJobRun: all into
+// a staging folder first, moved into place when complete); warnings go to
+// `err`. Throws std::invalid_argument on bad input
 // (before anything is written) and std::runtime_error on output failures.
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                        std::ostream& err);

@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <iomanip>
 #include <set>
 #include <sstream>
@@ -282,22 +284,31 @@ bool AnyFiniteDifference(const ChannelFit& c) {
 // `csv_path` into the PNG `output`. A series with no finite value is left
 // out (gnuplot refuses to plot it); a panel with none is drawn empty with
 // the note "no finite values".
+// `svg`: gnuplot's svg terminal (scalable, no fixed size: `dynamic`; no
+// `mouse`, which would load gnuplot_svg.js), else PNG.
 std::string PlotScript(const std::string& output, const std::string& csv_path,
-                       const ExperimentFit& fit) {
+                       const ExperimentFit& fit, bool svg = false) {
   const size_t n = fit.channels.size();
-  const int width = 1400;
-  const int height = static_cast<int>(std::max<size_t>(400, 300 * n));
-  const std::string size = " size " + std::to_string(width) + "," +
-                           std::to_string(height);
   std::vector<std::string> cmd;
-  cmd.push_back(
-      "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) { set terminal pngcairo "
-      "noenhanced" + size + " font ',9' } else { set terminal png noenhanced" +
-      size + " }");
+  if (svg) {
+    const int height = static_cast<int>(std::max<size_t>(320, 270 * n + 40));
+    cmd.push_back("set terminal svg size 1000," + std::to_string(height) +
+                  " dynamic noenhanced font 'sans,12' background rgb 'white'");
+  } else {
+    const int width = 1400;
+    const int height = static_cast<int>(std::max<size_t>(400, 300 * n));
+    const std::string size = " size " + std::to_string(width) + "," +
+                             std::to_string(height);
+    cmd.push_back(
+        "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) { set terminal pngcairo "
+        "noenhanced" + size + " font ',9' } else { set terminal png noenhanced" +
+        size + " }");
+  }
   cmd.push_back("set output " + GnuplotString(output));
   cmd.push_back("set datafile separator ','");
   cmd.push_back("set grid");
-  cmd.push_back("set key top right");
+  // SVG: the key below the panel, where it hides no trace.
+  cmd.push_back(svg ? "set key below" : "set key top right");
   cmd.push_back("set multiplot layout " + std::to_string(n) + ",2 title " +
                 GnuplotString(fit.name + " (" + fit.role + ")"));
   const std::string data = GnuplotString(csv_path) + " skip 1";
@@ -305,7 +316,7 @@ std::string PlotScript(const std::string& output, const std::string& csv_path,
   struct Series {
     size_t column;
     const char* title;
-    const char* width;
+    const char* style;  // line width and colour
     bool finite;
   };
   auto panel = [&](const std::vector<Series>& series) {
@@ -313,7 +324,7 @@ std::string PlotScript(const std::string& output, const std::string& csv_path,
     for (const Series& s : series) {
       if (!s.finite) continue;
       plot += (plot.empty() ? "plot " : ", ") + data + " using 1:" +
-              std::to_string(s.column) + " with lines lw " + s.width +
+              std::to_string(s.column) + " with lines " + s.style +
               " title '" + s.title + "'";
     }
     if (plot.empty()) {
@@ -330,13 +341,15 @@ std::string PlotScript(const std::string& output, const std::string& csv_path,
     cmd.push_back(j + 1 == n ? "set xlabel 't [s]'" : "unset xlabel");
     cmd.push_back("set title " + GnuplotString(name + ", measured and simulated"));
     cmd.push_back("set ylabel " + GnuplotString(WithUnit(c.channel, c.unit)));
-    panel({{2 + 3 * j, "measured", "1.5", AnyFinite(c.measured)},
-           {3 + 3 * j, "simulated", "1.5", AnyFinite(c.simulated)}});
+    // Measured broad and light underneath, simulated narrow and dark on
+    // top: both stay visible where they agree.
+    panel({{2 + 3 * j, "measured", "lw 2.5 lc rgb '#8fb8de'", AnyFinite(c.measured)},
+           {3 + 3 * j, "simulated", "lw 1.2 lc rgb '#c0392b'", AnyFinite(c.simulated)}});
     cmd.push_back("set title " +
                   GnuplotString(name + ", residual (simulated - measured)"));
     cmd.push_back("set ylabel " +
                   GnuplotString(WithUnit(c.channel + " residual", c.unit)));
-    panel({{4 + 3 * j, "residual", "1", AnyFiniteDifference(c)}});
+    panel({{4 + 3 * j, "residual", "lw 1 lc rgb '#4d4d4d'", AnyFiniteDifference(c)}});
   }
   cmd.push_back("unset multiplot");
   cmd.push_back("unset output");
@@ -420,6 +433,8 @@ bool HasLineBreak(const std::string& s) {
 std::atomic<unsigned> plot_counter{0};
 
 }  // namespace
+
+std::string FindExecutable(const std::string& name) { return FindOnPath(name); }
 
 std::string FormatBootstrap(const FitResult& result) {
   if (result.bootstrap_replicates <= 0) return "";
@@ -736,48 +751,74 @@ void WriteExperimentCsv(const std::string& path, const ExperimentFit& fit) {
   WriteFileAtomic(path, out);
 }
 
-bool RenderGnuplotPng(const std::string& png_path,
-                      const std::function<std::string(const std::string&)>& script,
-                      const std::string& what, std::string* warning) {
-  std::string ignored;
-  if (warning == nullptr) warning = &ignored;
-  warning->clear();
+namespace {
+
+// Runs gnuplot on script(temp) so that it draws into `temp`; true if it
+// exited 0 and left a non-empty file there. Else removes `temp`, sets
+// *warning (naming `what` and `target`) and returns false.
+bool RunGnuplot(const std::string& temp, const std::string& target,
+                const std::function<std::string(const std::string&)>& script,
+                const std::string& what, std::string* warning) {
   const std::string gnuplot = FindOnPath("gnuplot");
   if (gnuplot.empty()) {
     *warning = "gnuplot not found: no plot written for " + what;
     return false;
   }
-  if (HasLineBreak(png_path)) {
+  if (HasLineBreak(temp)) {
     *warning = "a path contains a line break: no plot written for " + what;
     return false;
   }
-  const std::string temp = png_path + ".tmp." +
-                           std::to_string(static_cast<long>(::getpid())) + "." +
-                           std::to_string(plot_counter++) + ".png";
   std::string errors;
   int err = 0;
   const int status = Run(gnuplot, {"-e", script(temp)}, &errors, &err);
   std::error_code ec;
   const bool written = fs::is_regular_file(temp, ec) && fs::file_size(temp, ec) > 0;
   const bool ok = status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
-  if (!ok || !written) {
-    ::unlink(temp.c_str());
-    std::string why;
-    if (status < 0) {
-      why = "cannot run " + gnuplot + ": " + std::generic_category().message(err);
-    } else if (WIFEXITED(status)) {
-      why = "gnuplot exited with status " + std::to_string(WEXITSTATUS(status));
-    } else if (WIFSIGNALED(status)) {
-      why = "gnuplot killed by signal " + std::to_string(WTERMSIG(status));
-    } else {
-      why = "gnuplot failed";
-    }
-    if (ok) why = "gnuplot wrote no image";
-    const std::string last = LastLine(errors);
-    *warning = why + (last.empty() ? "" : " (" + last + ")") +
-               ": no plot written for " + what + " (" + png_path + ")";
+  if (ok && written) return true;
+  ::unlink(temp.c_str());
+  std::string why;
+  if (status < 0) {
+    why = "cannot run " + gnuplot + ": " + std::generic_category().message(err);
+  } else if (WIFEXITED(status)) {
+    why = "gnuplot exited with status " + std::to_string(WEXITSTATUS(status));
+  } else if (WIFSIGNALED(status)) {
+    why = "gnuplot killed by signal " + std::to_string(WTERMSIG(status));
+  } else {
+    why = "gnuplot failed";
+  }
+  if (ok) why = "gnuplot wrote no image";
+  const std::string last = LastLine(errors);
+  *warning = why + (last.empty() ? "" : " (" + last + ")") +
+             ": no plot written for " + what + " (" + target + ")";
+  return false;
+}
+
+// A temporary file name beside `path` for gnuplot's output.
+std::string GnuplotTemp(const std::string& path, const char* extension) {
+  return path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
+         std::to_string(plot_counter++) + extension;
+}
+
+void ReplaceAll(std::string* s, const std::string& from, const std::string& to) {
+  for (size_t at = s->find(from); at != std::string::npos; at = s->find(from, at + to.size())) {
+    s->replace(at, from.size(), to);
+  }
+}
+
+}  // namespace
+
+bool RenderGnuplotPng(const std::string& png_path,
+                      const std::function<std::string(const std::string&)>& script,
+                      const std::string& what, std::string* warning) {
+  std::string ignored;
+  if (warning == nullptr) warning = &ignored;
+  warning->clear();
+  if (HasLineBreak(png_path)) {
+    *warning = "a path contains a line break: no plot written for " + what;
     return false;
   }
+  const std::string temp = GnuplotTemp(png_path, ".png");
+  if (!RunGnuplot(temp, png_path, script, what, warning)) return false;
   if (std::rename(temp.c_str(), png_path.c_str()) != 0) {
     const int e = errno;
     ::unlink(temp.c_str());
@@ -785,6 +826,83 @@ bool RenderGnuplotPng(const std::string& png_path,
                              "' over it: " + std::generic_category().message(e));
   }
   return true;
+}
+
+bool RenderGnuplotSvg(const std::string& scratch_dir,
+                      const std::function<std::string(const std::string&)>& script,
+                      const std::string& what, const std::string& id_prefix,
+                      std::string* svg, std::string* warning) {
+  std::string ignored;
+  if (warning == nullptr) warning = &ignored;
+  warning->clear();
+  svg->clear();
+  const std::string temp = GnuplotTemp((fs::path(scratch_dir) / "plot").string(), ".svg");
+  if (!RunGnuplot(temp, "inline SVG", script, what, warning)) return false;
+  std::ifstream in(temp, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  ::unlink(temp.c_str());
+  const size_t begin = text.find("<svg");
+  const size_t end = text.rfind("</svg>");
+  if (begin == std::string::npos || end == std::string::npos || end < begin) {
+    *warning = "gnuplot wrote no SVG document: no plot for " + what;
+    return false;
+  }
+  text = text.substr(begin, end + 6 - begin);
+  // Inline in HTML: the namespaces are implied, SVG 2 `href` needs no xlink,
+  // and every id gets the plot's prefix (ids are per document).
+  ReplaceAll(&text, "xmlns=\"http://www.w3.org/2000/svg\"", "");
+  ReplaceAll(&text, "xmlns:xlink=\"http://www.w3.org/1999/xlink\"", "");
+  ReplaceAll(&text, "xlink:href=", "href=");
+  ReplaceAll(&text, "<title>Gnuplot</title>", "");  // the page's caption says what it is
+  // gnuplot names each plot's group for its mouse script, the same names
+  // in every panel of a multiplot: ids that nothing here refers to, and
+  // titles that a browser would show as the tooltip of a trace.
+  for (const std::string& from : {std::string(" id=\"gnuplot_plot_"),
+                                  std::string("<title>gnuplot_plot_")}) {
+    const char end = from[0] == ' ' ? '"' : '>';
+    for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at)) {
+      const size_t close = text.find(end, at + from.size());
+      if (close == std::string::npos) break;
+      text.erase(at, close + 1 - at);
+    }
+  }
+  for (const char* quote : {"'", "\""}) {
+    ReplaceAll(&text, std::string("id=") + quote, std::string("id=") + quote + id_prefix);
+    ReplaceAll(&text, std::string("href=") + quote + "#",
+               std::string("href=") + quote + "#" + id_prefix);
+  }
+  ReplaceAll(&text, "url(#", "url(#" + id_prefix);
+  // Nothing may be loaded from elsewhere (gnuplot's `mouse` option would
+  // add a script, an `image` would refer to a file).
+  for (const char* external : {"http:", "https:", "<script", "<image", "@import", "src="}) {
+    if (text.find(external) != std::string::npos) {
+      *warning = std::string("gnuplot's SVG refers to something outside it ('") + external +
+                 "'): no plot for " + what;
+      return false;
+    }
+  }
+  *svg = std::move(text);
+  return true;
+}
+
+bool RenderExperimentSvg(const std::string& csv_path, const ExperimentFit& fit,
+                         const std::string& id_prefix, std::string* svg,
+                         std::string* warning) {
+  std::string ignored;
+  if (warning == nullptr) warning = &ignored;
+  if (fit.channels.empty() || fit.t.empty()) {
+    *warning = "nothing to plot (no channels or no samples): no plot for " + fit.name;
+    return false;
+  }
+  if (HasLineBreak(csv_path)) {
+    *warning = "a path contains a line break: no plot for " + fit.name;
+    return false;
+  }
+  return RenderGnuplotSvg(
+      fs::path(csv_path).parent_path().string(),
+      [&](const std::string& temp) { return PlotScript(temp, csv_path, fit, true); },
+      fit.name, id_prefix, svg, warning);
 }
 
 bool WriteExperimentPlot(const std::string& png_path,

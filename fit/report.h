@@ -150,6 +150,10 @@ bool WriteExperimentPlot(const std::string& png_path,
                          const std::string& csv_path, const ExperimentFit& fit,
                          std::string* warning);
 
+// The path of the executable `name` in the first directory of $PATH that
+// has one (a regular file with execute permission), or "" if none.
+std::string FindExecutable(const std::string& name);
+
 // Runs gnuplot on script(temporary_png_path) and renames the image to
 // png_path. Returns false with *warning set ("gnuplot not found: no plot
 // written for <what>", or gnuplot's failure) instead of throwing; throws
@@ -157,6 +161,32 @@ bool WriteExperimentPlot(const std::string& png_path,
 bool RenderGnuplotPng(const std::string& png_path,
                       const std::function<std::string(const std::string&)>& script,
                       const std::string& what, std::string* warning);
+
+// Runs gnuplot on script(temporary_svg_path) (the script sets gnuplot's
+// `svg` terminal, best with `dynamic` so that the picture scales, and never
+// `mouse`, which loads a script) in `scratch_dir` and returns in *svg the
+// picture ready to be inlined into an HTML page (fit/html_report.h): the
+// XML prolog and DOCTYPE dropped, the namespace declarations removed
+// (implied in HTML), xlink:href written href, every id and every reference
+// to one (href="#…", url(#…)) prefixed with `id_prefix` so that several
+// plots can share a page. The temporary file is removed. Returns false
+// with *warning set (gnuplot missing or failing, as RenderGnuplotPng; or
+// the SVG refers to anything outside itself: http:, https:, a script, an
+// image, @import, src=) and *svg empty; never throws.
+bool RenderGnuplotSvg(const std::string& scratch_dir,
+                      const std::function<std::string(const std::string&)>& script,
+                      const std::string& what, const std::string& id_prefix,
+                      std::string* svg, std::string* warning);
+
+// The panels of WriteExperimentPlot (measured and simulated against t, the
+// residual beside them, units on the axes, a legend per panel) as inline
+// SVG (RenderGnuplotSvg), from `csv_path` written by WriteExperimentCsv for
+// `fit` (or for a copy of `fit` with fewer samples: the plot reads the
+// file). Temporary files go beside csv_path. Returns false with *warning
+// set as RenderGnuplotSvg, or if there is nothing to plot.
+bool RenderExperimentSvg(const std::string& csv_path, const ExperimentFit& fit,
+                         const std::string& id_prefix, std::string* svg,
+                         std::string* warning);
 
 // A run's outputs are written into a staging folder and moved into place
 // only when all of them are complete, so that a failure or an interrupt

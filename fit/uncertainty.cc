@@ -12,6 +12,7 @@
 #include <ceres/solver.h>
 
 #include "fit/fit.h"
+#include "fit/progress.h"
 #include "sim/random.h"
 
 namespace axis {
@@ -118,7 +119,8 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
                                        const Eigen::MatrixXd& cov_theta, int n_free,
                                        double t975, double residual_variance,
                                        double lowest_allowed, bool stop_at_lower,
-                                       std::vector<double>* theta) {
+                                       std::vector<double>* theta,
+                                       const std::function<void(int)>& on_parameter) {
   const int n = static_cast<int>(theta->size());
   const std::vector<double> centre = *theta;
   ProfileScan scan;
@@ -143,6 +145,7 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
   const auto met_lower = [&] { return stop_at_lower && scan.lowest_cost < lowest_allowed; };
   std::vector<RatioInterval> intervals;
   for (int k = 0; k < n_free && !stopped; ++k) {
+    if (on_parameter) on_parameter(k);
     RatioInterval interval;
     const double sd = std::sqrt(cov_theta(k, k));
     if (!(sd > 0.0)) {
@@ -321,7 +324,14 @@ void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress
   RandomEngine rng(job.uncertainty.seed);
   std::vector<std::vector<double>> values(n_free);
   int converged = 0;
+  ProgressStream* status = job.solver.progress ? AsProgressStream(progress) : nullptr;
+  if (status != nullptr) status->BeginPhase("bootstrap");
   for (int b = 0; b < replicates; ++b) {
+    if (status != nullptr) {
+      status->Status("bootstrap refit " + std::to_string(b + 1) + " of " +
+                         std::to_string(replicates),
+                     static_cast<double>(b) / replicates);
+    }
     FitJob replicate = base;
     for (size_t j = 0; j < job.experiments.size(); ++j) {
       FitExperiment& e = replicate.experiments[j];

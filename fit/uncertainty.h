@@ -14,6 +14,7 @@
 #ifndef FIT_UNCERTAINTY_H_
 #define FIT_UNCERTAINTY_H_
 
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -118,7 +119,9 @@ struct ProfileScan {
 // the search stops at once with no intervals, so that the caller can
 // restart the solver at lowest_point. Leaves *theta at its entry value and
 // the parameter block without a manifold. Returns no intervals if
-// cov_theta is not finite or the cost cannot be evaluated at θ*. Source:
+// cov_theta is not finite or the cost cannot be evaluated at θ*.
+// `on_parameter`, if set, is called with k before the search of parameter
+// k begins (progress, fit/progress.h). Source:
 // Venzon & Moolgavkar, "A method for computing profile-likelihood-based
 // confidence intervals", Appl. Statist. 37 (1988); Bates & Watts (1988)
 // §6.1.
@@ -129,7 +132,8 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
                                        const Eigen::MatrixXd& cov_theta, int n_free,
                                        double t975, double residual_variance,
                                        double lowest_allowed, bool stop_at_lower,
-                                       std::vector<double>* theta);
+                                       std::vector<double>* theta,
+                                       const std::function<void(int)>& on_parameter = {});
 
 // Residual bootstrap (Efron & Tibshirani, "An Introduction to the
 // Bootstrap", 1993, §9.5; moving blocks, Künsch 1989): `settings.bootstrap`

@@ -1,0 +1,85 @@
+// report.html (issue 14): one self-contained page per run that a person
+// opens, reads and sends on. Everything is inside the file: the style sheet
+// and a few lines of script (sorting a table by a click on its header) are
+// inline, the plots are inline SVG drawn by gnuplot's svg terminal
+// (RenderGnuplotSvg, fit/report.h); the page loads nothing, neither from
+// the network nor from beside it. Every text that comes from a job, a model
+// config or a data file (titles, names, paths, notes) is HTML-escaped.
+//
+// Sections, each present when the run has it: the job's title and data
+// files; a summary (cost, BIC, optimum check, the verdict); the parameter
+// table (value, standard error, 95 % interval, initial value, bounds,
+// free/fixed; the fixed ones folded); the correlations of the free
+// parameters as a coloured table (a heat map from −1 blue to +1 red); the
+// goodness of fit per experiment and channel; per experiment the measured
+// and simulated traces and the residuals (SVG); the residual diagnostics
+// (tables and SVG of the binned mean residuals); the discovery loop (first
+// ranking, every step with its before/after table, significance, the final
+// model's diagnostics, the verdict with what remains); the validation
+// experiments; the published comparison; the solver's account.
+#ifndef FIT_HTML_REPORT_H_
+#define FIT_HTML_REPORT_H_
+
+#include <string>
+#include <vector>
+
+#include "fit/diagnostics.h"
+#include "fit/discovery.h"
+#include "fit/fit_result.h"
+#include "fit/job.h"
+#include "fit/published.h"
+
+namespace axis {
+
+// What the page shows. `result` is required; a null pointer leaves its
+// section out. The pointed-to objects must outlive the call.
+struct HtmlReportInput {
+  std::string title;                  // the job's title ("Fit report" if empty)
+  const FitResult* result = nullptr;  // the final fit
+  // The job of the final model (after discovery: with its effects): data
+  // files, windows, fitted channels with σ, bounds of the free parameters.
+  const FitJob* job = nullptr;
+  // Residual diagnostics of the model as declared (with discovery: before
+  // the loop; without: of the fitted model).
+  const std::vector<ChannelDiagnostics>* diagnostics = nullptr;
+  const DiscoveryReport* discovery = nullptr;  // the loop ran
+  const PublishedComparison* published = nullptr;  // the job has `published:`
+  // How drive columns were read where the job did not say, one line each
+  // ("<experiment>: <note>").
+  std::vector<std::string> input_notes;
+  // The run's other output files, listed on the page (names, no links).
+  std::vector<std::string> files;
+};
+
+// The number of inline SVG plots RenderHtmlReport draws when gnuplot works:
+// one per experiment of the result, one per channel of `diagnostics`, one
+// per channel of the discovery's final diagnostics.
+int HtmlReportPlotCount(const HtmlReportInput& input);
+
+// The page as text. Plots are drawn by gnuplot with temporary files in
+// `scratch_dir` (removed again); traces longer than about 2000 samples are
+// thinned for the plot, keeping each series' minimum and maximum in every
+// stretch of samples so that spikes stay visible (the fit_*.csv files keep
+// every sample). A plot that cannot be drawn (gnuplot missing or failing)
+// is replaced by a note on the page and its message appended to *warnings
+// (if not null). Throws std::invalid_argument "expected a fit result, got
+// none" if input.result is null, std::runtime_error if a temporary file
+// cannot be written.
+std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& scratch_dir,
+                             std::vector<std::string>* warnings);
+
+// Writes RenderHtmlReport(input) to `path` atomically (WriteFileAtomic,
+// sim/csv.h), with its temporary files in path's folder. Throws as
+// RenderHtmlReport, and std::runtime_error naming `path` if it cannot be
+// written.
+void WriteHtmlReport(const std::string& path, const HtmlReportInput& input,
+                     std::vector<std::string>* warnings);
+
+// `text` with &, <, >, " and ' replaced by character references, and bytes
+// that are not valid UTF-8 by U+FFFD, so that it reads as the same text in
+// HTML content and in quoted attribute values.
+std::string HtmlEscape(const std::string& text);
+
+}  // namespace axis
+
+#endif  // FIT_HTML_REPORT_H_
