@@ -29,11 +29,7 @@ constexpr double kBoldP = 1e-3;
 
 // "%.*g"; "—" for NaN (not applicable or not computed), "inf"/"-inf".
 std::string Number(double value, int digits = 6) {
-  if (std::isnan(value)) return "—";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
-  return buf;
+  return FormatNumber(value, digits, "—");
 }
 
 std::string Interval(double low, double high) {

@@ -32,6 +32,14 @@
 extern char** environ;
 
 namespace axis {
+std::string FormatNumber(double value, int digits, const char* nan_text) {
+  if (std::isnan(value)) return nan_text;
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
+  return buf;
+}
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -40,13 +48,7 @@ using Json = nlohmann::ordered_json;
 // ---------------------------------------------------------------- numbers
 
 // "%.*g" of `digits` significant digits; "nan", "inf", "-inf" if not finite.
-std::string Num(double value, int digits = 6) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
-  return buf;
-}
+std::string Num(double value, int digits = 6) { return FormatNumber(value, digits, "nan"); }
 
 // The shortest "%.*g" text that reads back as `value` (non-finite as Num).
 std::string Exact(double value) {

@@ -22,6 +22,11 @@ namespace axis {
 
 // Sections a caller adds to the report (the discovery loop): Markdown
 // appended to params.md, and keys merged into report.json's top level.
+// "%.*g" of `digits` significant digits (1–17); `nan_text` for NaN,
+// "inf"/"-inf" for infinities. The number format of every text report
+// (params.md, the tables on stdout, report.html). Never throws.
+std::string FormatNumber(double value, int digits = 6, const char* nan_text = "nan");
+
 // A JSON number, or null if not finite (JSON has no NaN or infinity).
 // JsonT: nlohmann::json or nlohmann::ordered_json.
 template <typename JsonT = nlohmann::json>
