@@ -85,7 +85,13 @@ struct FitResult {
   double initial_cost = 0.0;   // Ceres cost ½Σr² at the initial point
   double final_cost = 0.0;     // at the estimate
   bool converged = false;
-  std::vector<double> start_costs;  // final cost of every start (initial point first)
+  // Final cost of every start (initial point first); NaN for a start not
+  // continued to the whole record (solver.finalists), +inf for an abandoned one.
+  std::vector<double> start_costs;
+  // Each start's cost at the end of the longest shorter horizon
+  // (screen_horizon, s) that ranked them; NaN without continuation stages.
+  std::vector<double> start_screen_costs;
+  double screen_horizon = 0.0;
   int num_residuals = 0;
   double residual_variance = 0.0;  // 2·final_cost/(m − n)
   double aic = 0.0;   // Σr² + 2n (Gaussian, σ known up to the weights)

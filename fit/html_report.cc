@@ -661,9 +661,7 @@ std::string SummaryHtml(const HtmlReportInput& input) {
 
 std::string SolverHtml(const FitResult& r) {
   std::string out = "<ul>\n";
-  std::string starts;
-  for (double c : r.start_costs) starts += (starts.empty() ? "" : ", ") + Number(c, 10);
-  out += Tag("li", "final cost of each start: " + (starts.empty() ? "none" : starts));
+  out += Tag("li", "final cost of each start: " + HtmlEscape(FormatStartCosts(r)));
   out += Tag("li", "iterations " + std::to_string(r.iterations) + ", simulations " +
                        std::to_string(r.simulations) + ", Jacobian evaluations " +
                        std::to_string(r.jacobian_evaluations));

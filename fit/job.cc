@@ -541,6 +541,7 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     s.parameter_tolerance = map.Number("parameter_tolerance", s.parameter_tolerance, Range::kNonNegative);
     s.gradient_tolerance = map.Number("gradient_tolerance", s.gradient_tolerance, Range::kNonNegative);
     s.starts = static_cast<int>(map.Integer("starts", s.starts, 0, 10000));
+    s.finalists = static_cast<int>(map.Integer("finalists", s.finalists, 1, 10001));
     s.first_horizon = map.Number("first_horizon", s.first_horizon,
                                  Range::kNonNegative);
     s.initial_trust_region_radius = map.Number(

@@ -65,6 +65,10 @@ struct SolverSettings {
   double parameter_tolerance = 1e-8;  // relative step to stop
   double gradient_tolerance = 1e-10;
   int starts = 0;               // extra random starts (log-uniform in bounds)
+  // Starts that fit the whole record: after the shorter horizons of the
+  // continuation (every start), the `finalists` lowest there continue
+  // (fit/fit.cc FitParameters); ≥ 1.
+  int finalists = 2;
   double initial_trust_region_radius = 1.0;  // LM damping at the start (1/μ)
   // Horizon continuation (fit/fit.h): first window in s, doubled per stage
   // up to the whole record; 0 fits the whole record at once.

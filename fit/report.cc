@@ -460,6 +460,21 @@ std::string FormatFitTable(const FitResult& result) {
   return RenderText(FitTable(result));
 }
 
+std::string FormatStartCosts(const FitResult& result) {
+  if (result.start_costs.empty()) return "none";
+  std::string out;
+  for (size_t k = 0; k < result.start_costs.size(); ++k) {
+    if (k > 0) out += ", ";
+    if (std::isnan(result.start_costs[k]) && k < result.start_screen_costs.size()) {
+      out += "not continued (" + Num(result.start_screen_costs[k], 10) + " on the first " +
+             Num(result.screen_horizon, 4) + " s)";
+    } else {
+      out += Num(result.start_costs[k], 10);
+    }
+  }
+  return out;
+}
+
 std::string FormatPhases(const FitResult& result) {
   double total = 0.0;
   for (const FitPhase& f : result.phases) total += f.seconds;
@@ -579,12 +594,7 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
   out += "- cost (½Σr²): initial " + Num(result.initial_cost, 10) + ", final " +
          Num(result.final_cost, 10) + "\n";
   out += std::string("- converged: ") + (result.converged ? "yes" : "no") + "\n";
-  out += "- final cost of each start:";
-  if (result.start_costs.empty()) out += " none";
-  for (size_t k = 0; k < result.start_costs.size(); ++k) {
-    out += (k == 0 ? " " : ", ") + Num(result.start_costs[k], 10);
-  }
-  out += "\n";
+  out += "- final cost of each start: " + FormatStartCosts(result) + "\n";
   out += "- AIC: " + Num(result.aic, 10) + ", BIC: " + Num(result.bic, 10) + "\n";
   out += "- residuals: " + std::to_string(result.num_residuals) +
          ", residual variance: " + Num(result.residual_variance, 6) + "\n";
@@ -672,6 +682,10 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
   Json starts = Json::array();
   for (double c : result.start_costs) starts.push_back(JsonNumber<Json>(c));
   j["starts"] = starts;
+  Json screen = Json::array();
+  for (double c : result.start_screen_costs) screen.push_back(JsonNumber<Json>(c));
+  j["start_screen_costs"] = screen;
+  j["screen_horizon"] = JsonNumber<Json>(result.screen_horizon);
   j["aic"] = JsonNumber<Json>(result.aic);
   j["bic"] = JsonNumber<Json>(result.bic);
   j["num_residuals"] = result.num_residuals;

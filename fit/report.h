@@ -66,6 +66,11 @@ std::string FormatFitTable(const FitResult& result);
 // e.g. "time: 41.2 s (starts 2.1 s: 40 simulations, 35 Jacobians, …)".
 std::string FormatPhases(const FitResult& result);
 
+// The final cost (½Σr²) of every start, the job's first, comma-separated;
+// a start not continued to the whole record (solver.finalists) shows its
+// cost at the end of the shorter horizons instead; "none" without starts.
+std::string FormatStartCosts(const FitResult& result);
+
 // The base names "fit_<name>" of the per-experiment files, one per entry of
 // result.experiments: characters of the name other than ASCII letters,
 // digits, '.', '-' and '_' become '_', an empty name becomes

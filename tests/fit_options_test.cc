@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -124,6 +125,54 @@ TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
   EXPECT_EQ(names[0], "starts");
   EXPECT_EQ(names[1], "optimum check");
   EXPECT_NE(std::find(names.begin(), names.end(), "evaluation"), names.end());
+}
+
+// Multi-start with screening (solver.finalists): every start runs the
+// shorter horizons (0.05, 0.1, 0.2 s of a 0.3 s window), and only the
+// lowest there fits the whole window; with finalists ≥ the number of starts
+// all of them do, and the winner is the same start. No start ends above the
+// job's initial point on the whole record (the stage guard of FitParameters).
+TEST(FitOptionsTest, FinalistsAreTheLowestAfterTheShorterHorizons) {
+  const auto job_with = [&](int finalists) {
+    return Write("finalists_" + std::to_string(finalists) + ".yaml",
+        "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+        "free:\n"
+        "  B_a: {initial: 300, lower: 10, upper: 2000}\n"
+        "  k_g: {initial: 3.0e6, lower: 5.0e5, upper: 5.0e7}\n"
+        "experiments:\n"
+        "  - name: step\n"
+        "    data: " + kRoot + "/testdata/x_step_10V.csv\n"
+        "    window: [0, 0.3]\n"
+        "    channels: {u: u, a: a, tach: tach}\n"
+        "    input: {column: u}\n"
+        "    fit: {a: 0.02, tach: 0.005}\n"
+        "solver: {starts: 3, finalists: " + std::to_string(finalists) +
+        ", probe_rounds: 0, seed: 7}\n"
+        "uncertainty: {method: gauss_newton}\n");
+  };
+  const FitResult one = Fit(job_with(1));
+  ASSERT_EQ(one.start_costs.size(), 4u);
+  ASSERT_EQ(one.start_screen_costs.size(), 4u);
+  EXPECT_DOUBLE_EQ(one.screen_horizon, 0.2);
+  size_t lowest = 0;
+  for (size_t s = 0; s < 4; ++s) {
+    ASSERT_TRUE(std::isfinite(one.start_screen_costs[s])) << s;
+    if (one.start_screen_costs[s] < one.start_screen_costs[lowest]) lowest = s;
+  }
+  for (size_t s = 0; s < 4; ++s) {
+    EXPECT_EQ(std::isnan(one.start_costs[s]), s != lowest) << s;
+  }
+  EXPECT_DOUBLE_EQ(one.final_cost, one.start_costs[lowest]);
+
+  const FitResult all = Fit(job_with(4));
+  size_t best = 0;
+  for (size_t s = 0; s < 4; ++s) {
+    ASSERT_TRUE(std::isfinite(all.start_costs[s])) << s;
+    if (all.start_costs[s] < all.start_costs[best]) best = s;
+  }
+  EXPECT_EQ(best, lowest);
+  EXPECT_DOUBLE_EQ(all.start_costs[lowest], one.start_costs[lowest]);
+  EXPECT_LE(all.start_costs[0], all.initial_cost);
 }
 
 TEST(FitOptionsTest, QuickFormWritesTheReport) {
