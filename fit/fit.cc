@@ -535,13 +535,17 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     }
     ProgressPrinter printer(job.solver.progress ? progress : nullptr, static_cast<int>(s),
                             stage.horizon);
-    if (i > 0 && p.theta != starts[s]) {
+    if (i > 0 && i + 1 == stages.size() && p.theta != starts[s]) {
       // The chain of shorter horizons may have led away from a start that
-      // is better on this one (a warm refit starts next to the nested
-      // model's optimum, while the short horizons can pull it into a
-      // higher minimum: the load_offset case's cogging refit ended at BIC
-      // 9.0e6 against the base fit's 2.45e6). The stage starts from the
-      // lower of the two.
+      // is better on the whole record (a warm refit starts next to the
+      // nested model's optimum, while the short horizons can pull it into
+      // a higher minimum: the load_offset case's cogging refit ended at BIC
+      // 9.0e6 against the base fit's 2.45e6). The last stage starts from
+      // the lower of the two. Only the last: on a shorter horizon the start
+      // can be lower than a chain point that leads to the better minimum
+      // (applied at every stage, the coulomb_load_offset case's Coulomb
+      // refit lost its way and the loop ended with cogging and motor-side
+      // Coulomb friction as stand-ins).
       const std::vector<double> chain = p.theta;
       const double chain_cost = CostAt(stage.problem.get(), chain, &p.theta);
       if (!(CostAt(stage.problem.get(), starts[s], &p.theta) < chain_cost)) {

@@ -83,9 +83,8 @@ void ExpectExplained(const Outcome& o) {
 
 // Ends with `effect` and nothing else selected, with `param` near `truth`
 // (ExpectNearTruth).
-void ExpectFound(const std::string& name, const std::string& effect,
-                 const std::string& param, double truth) {
-  const Outcome o = RunCase(name);
+void ExpectFound(const Outcome& o, const std::string& effect, const std::string& param,
+                 double truth) {
   // The final set; an effect added on the way as a stand-in and dropped by
   // the backward pass (report.removed) is allowed.
   EXPECT_EQ(o.report.selected, std::vector<std::string>{effect}) << o.report.stop_reason;
@@ -99,7 +98,47 @@ void ExpectFound(const std::string& name, const std::string& effect,
   ExpectNoiseLevel(o);
 }
 
-TEST(DiscoveryTest, Coulomb) { ExpectFound("coulomb", "coulomb", "F_c", 30.0); }
+void ExpectFound(const std::string& name, const std::string& effect,
+                 const std::string& param, double truth) {
+  ExpectFound(RunCase(name), effect, param, truth);
+}
+
+// The coulomb case as fit-params runs it (RunJob, then WriteJobRun): the
+// effect is found, and the written report's after-discovery RMS equals a
+// recomputation from fit_<experiment>.csv, and the discovered model loads
+// as a model config.
+TEST(DiscoveryTest, Coulomb) {
+  FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/coulomb.yaml");
+  job.solver.progress = false;
+  std::ostringstream sink;
+  JobRun run = RunJob(job, /*discover=*/true, sink);
+  ASSERT_TRUE(run.discovered);
+  Outcome o{run.job, run.result, run.discovery};
+  ExpectFound(o, "coulomb", "F_c", 30.0);
+
+  const std::string out = axis::testing_files::TestTempDir() + "discover_coulomb";
+  std::filesystem::remove_all(out);
+  WriteJobRun(run, out);
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json& step = report["discovery"]["steps"][0];
+  EXPECT_EQ(step["effect"], "coulomb");
+  for (const nlohmann::json& c : step["channels"]) {
+    const std::string experiment = c["experiment"];
+    const std::string channel = c["channel"];
+    const CsvTable t = ReadCsv(out + "/fit_" + experiment + ".csv");
+    const std::vector<double>& residual = t.Column(channel + "_residual");
+    double sum = 0.0;
+    for (double r : residual) sum += r * r;
+    const double rms = std::sqrt(sum / residual.size());
+    // The CSV holds 12 significant digits.
+    EXPECT_NEAR(rms, c["rms_after"].get<double>(), 1e-9 * (1 + rms))
+        << experiment << " " << channel;
+  }
+  const AxisConfig discovered = LoadAxisConfig(out + "/model_discovered.yaml");
+  EXPECT_TRUE(discovered.structure.effects.coulomb);
+  EXPECT_NEAR(discovered.params.F_c, 30.0, 3.0);
+}
 // A 60 N offset preloads the gear backlash: from the job's start the base
 // fit ends in a local minimum (T_p at its bound) where the score test ranks
 // Coulomb first; the job's 3 random starts find the better one, where the
@@ -259,8 +298,9 @@ TEST(DiscoveryTest, EffectAtItsOffValueIsDropped) {
 
 // When the library runs out the verdict says so (issue 10): the Coulomb
 // data with the candidates restricted to effects that cannot express a
-// velocity-sign step (cogging, payload, spring), one step (measured with
-// three: cogging kept, then payload and spring rejected, s² = 21.8).
+// velocity-sign step (cogging, payload, spring), one step with one refit
+// (measured with three steps: cogging kept, then payload and spring
+// rejected, s² = 21.8).
 // Whatever the loop adds leaves a residual far above the noise that depends
 // on the velocity:
 // `incomplete`, s² far above 1, a binned-v structure named, and the
@@ -270,7 +310,8 @@ TEST(DiscoveryTest, LibraryRunsOutVerdictIsIncomplete) {
   job.solver.progress = false;
   job.validate.clear();
   job.discover.candidates = {"cogging", "payload", "spring"};
-  job.discover.max_effects = 1;  // one step shows it (each step refits all three)
+  job.discover.max_effects = 1;  // one step shows it
+  job.discover.tries = 1;        // and one refit, the top-ranked candidate's
   FitResult result = FitParameters(job);
   const DiscoveryReport report = Discover(job.discover, &job, &result, nullptr);
   EXPECT_EQ(report.verdict.verdict, "incomplete");
@@ -416,38 +457,6 @@ TEST(DiscoveryTest, UnknownCandidateNameIsAnError) {
     EXPECT_NE(msg.find("discover.candidates"), std::string::npos) << msg;
     EXPECT_NE(msg.find("'magic_friction'"), std::string::npos) << msg;
   }
-}
-
-// The command end to end on the coulomb case: the report's after-discovery
-// RMS equals a recomputation from fit_<experiment>.csv, and the discovered
-// model loads as a model config.
-TEST(DiscoveryTest, ReportMatchesTheWrittenTraces) {
-  const std::string out = axis::testing_files::TestTempDir() + "discover_coulomb";
-  std::filesystem::remove_all(out);
-  FitParamsOptions options;
-  options.job_path = kRoot + "/configs/jobs/discover/coulomb.yaml";
-  options.out_dir = out;
-  std::ostringstream sink;
-  RunFitParams(options, sink, sink);
-  std::ifstream in(out + "/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
-  const nlohmann::json& step = report["discovery"]["steps"][0];
-  EXPECT_EQ(step["effect"], "coulomb");
-  for (const nlohmann::json& c : step["channels"]) {
-    const std::string experiment = c["experiment"];
-    const std::string channel = c["channel"];
-    const CsvTable t = ReadCsv(out + "/fit_" + experiment + ".csv");
-    const std::vector<double>& residual = t.Column(channel + "_residual");
-    double sum = 0.0;
-    for (double r : residual) sum += r * r;
-    const double rms = std::sqrt(sum / residual.size());
-    // The CSV holds 12 significant digits.
-    EXPECT_NEAR(rms, c["rms_after"].get<double>(), 1e-9 * (1 + rms))
-        << experiment << " " << channel;
-  }
-  const AxisConfig discovered = LoadAxisConfig(out + "/model_discovered.yaml");
-  EXPECT_TRUE(discovered.structure.effects.coulomb);
-  EXPECT_NEAR(discovered.params.F_c, 30.0, 3.0);
 }
 
 }  // namespace

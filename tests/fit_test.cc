@@ -123,11 +123,14 @@ TEST(FitTest, NoisyDataTruthWithinIntervals) {
 }
 
 // Multi-start from random points in the bounds: the fit reaches the truth
-// (1e-3 relative on noise-free data) in at least 95 % of the seeds. Each
-// seed is a random initial point plus two random starts drawn by the fit
-// (with one, 9 of 10 seeds reached the truth: not enough).
+// (1e-3 relative on noise-free data) in at least 95 % of the seeds, i.e. in
+// all 5 here. Each seed is a random initial point plus two random starts
+// drawn by the fit (with one, 9 of 10 seeds reached the truth: not enough);
+// the two lowest after the shorter horizons fit the whole record
+// (solver.finalists). Over seeds 1–10 (commit a113df5) 10 of 10 reached it;
+// larger rates are the optimum campaign's (scripts/optimum-campaign).
 TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
-  const int kSeeds = 10;
+  const int kSeeds = 5;
   int reached = 0;
   RandomEngine rng(2024);
   for (int seed = 1; seed <= kSeeds; ++seed) {
