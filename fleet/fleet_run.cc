@@ -65,6 +65,14 @@ std::vector<size_t> QueueOrder(const FleetManifest& manifest) {
 // A job on a thread of rank 0.
 class LocalJob {
  public:
+  LocalJob() = default;
+  LocalJob(const LocalJob&) = delete;
+  LocalJob& operator=(const LocalJob&) = delete;
+  // Waits for a job still running (the queue failed meanwhile).
+  ~LocalJob() {
+    if (thread_.joinable()) thread_.join();
+  }
+
   bool running() const { return thread_.joinable(); }
   bool finished() const { return done_.load(); }
 
@@ -188,8 +196,9 @@ void Work(const FleetManifest& manifest, const std::string& out_dir, int rank) {
     if (index < 0) return;
     FleetRow row = RunFleetEntry(manifest, static_cast<size_t>(index), out_dir);
     row.rank = rank;
-    const std::string text =
-        nlohmann::json{{"index", index}, {"row", FleetRowToJson(row)}}.dump();
+    // Invalid UTF-8 (an error message quoting a data file) replaced, not thrown on.
+    const std::string text = nlohmann::json{{"index", index}, {"row", FleetRowToJson(row)}}.dump(
+        -1, ' ', false, nlohmann::json::error_handler_t::replace);
     Check(MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, kTagResult,
                    MPI_COMM_WORLD),
           "MPI_Send");

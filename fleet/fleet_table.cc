@@ -568,7 +568,11 @@ void WriteFleetTable(const std::string& dir, const FleetTable& table) {
   WriteFileAtomic(dir + "/fleet.csv", FleetCsv(table));
   WriteFileAtomic(dir + "/fleet.md", FormatFleetMarkdown(table));
   WriteFileAtomic(dir + "/fleet.html", RenderFleetHtml(table));
-  WriteFileAtomic(dir + "/fleet.json", FleetTableToJson(table).dump(2) + "\n");
+  // Invalid UTF-8 (an error message quoting a data file) as U+FFFD, not an exception.
+  WriteFileAtomic(dir + "/fleet.json",
+                  FleetTableToJson(table).dump(2, ' ', false,
+                                               nlohmann::json::error_handler_t::replace) +
+                      "\n");
 }
 
 }  // namespace axis

@@ -22,7 +22,7 @@ using ::testing::HasSubstr;
 
 const std::string kFleet = std::string(PROJECT_SOURCE_DIR) + "/configs/fleet";
 
-TEST(FleetRunTest, MpiTableEqualsOneProcessAndTheAgedAxesAreFlagged) {
+TEST(FleetSyntheticTest, MpiTableEqualsOneProcessAndTheAgedAxesAreFlagged) {
   const std::string dir = testing_files::TestTempDir();
   std::string log;
   // Last month, one process (a singleton MPI process, no mpirun).

@@ -6,6 +6,7 @@
 // The whole synthetic fleet on one and two ranks is tests/fleet_run_test.cc
 // (slow).
 #include <cmath>
+#include <iterator>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
@@ -279,6 +280,26 @@ TEST(FleetTableTest, HtmlEscapesEveryText) {
   EXPECT_EQ(html.find("<section id=\"changes\">"), std::string::npos);  // no baseline
   EXPECT_NE(html.find("<a href=\"a/x/may/report.html\">a/x</a>"), std::string::npos);
   EXPECT_EQ(html.find("b/x/may/report.html"), std::string::npos);  // failed: no report
+}
+
+TEST(FleetTableTest, WritesEveryFileEvenWithBadUtf8InAnError) {
+  FleetTable t;
+  t.title = "fleet";
+  t.manifest = "m.yaml";
+  t.rows = {Row("a/x", "may", 20.0, 0.04), Row("b/x", "may", 20.0, 0.04)};
+  t.rows[1].status = "failed";
+  t.rows[1].error = "d.csv:2: expected a number, got '\xff\xfe'";  // bytes of a data file
+  t.rows[1].parameters.clear();
+  const std::string dir = testing_files::TestTempDir() + "out";
+  WriteFleetTable(dir, t);
+  const nlohmann::json j = fleet_checks::ReadJson(dir + "/fleet.json");
+  EXPECT_THAT(j["rows"][1]["error"].get<std::string>(), HasSubstr("\xEF\xBF\xBD"));  // U+FFFD
+  EXPECT_EQ(FleetRowFromJson(j["rows"][0], "row").parameters[0].value, 20.0);
+  for (const char* file : {"fleet.csv", "fleet.md", "fleet.html"}) {
+    EXPECT_TRUE(fs::exists(dir + "/" + file)) << file;
+  }
+  // Only the table's files, no temporary left beside them.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 4);
 }
 
 // Two good jobs, a malformed data file and a missing job file, on two
