@@ -56,13 +56,8 @@ std::string Anchor(const std::string& prefix, const std::string& name) {
 
 // ------------------------------------------------------------- tables
 
-// A table cell: its HTML (already escaped) and whether it is a number
-// (right-aligned; `sort` holds the value to sort by if not the text).
-struct Cell {
-  std::string html;
-  bool number = false;
-  std::string sort;
-};
+using Cell = HtmlCell;
+using Table = HtmlTable;
 
 // A cell of ready HTML.
 Cell Html(const std::string& html) {
@@ -70,13 +65,8 @@ Cell Html(const std::string& html) {
   c.html = html;
   return c;
 }
-Cell Text(const std::string& text) { return Html(HtmlEscape(text)); }
-Cell Num(double value, int digits = 6) {
-  Cell c = Html(HtmlEscape(Number(value, digits)));
-  c.number = true;
-  if (std::isfinite(value)) c.sort = Number(value, 17);
-  return c;
-}
+Cell Text(const std::string& text) { return HtmlTextCell(text); }
+Cell Num(double value, int digits = 6) { return HtmlNumberCell(value, digits); }
 // A number with its unit, right-aligned, on one line.
 Cell NumUnit(double value, int digits, const std::string& unit) {
   Cell c = Num(value, digits);
@@ -90,35 +80,7 @@ Cell PValue(double p) {
   return c;
 }
 
-struct Table {
-  std::vector<std::string> headers;
-  std::vector<std::vector<Cell>> rows;
-  bool sortable = false;
-  std::string css_class;
-};
-
-std::string Render(const Table& table) {
-  std::string classes = table.css_class;
-  if (table.sortable) classes += (classes.empty() ? "" : " ") + std::string("sortable");
-  // In a box of the page's width that scrolls sideways if the table is wider.
-  std::string out = "<div class=\"scroll\"><table" +
-                    (classes.empty() ? "" : " class=\"" + classes + "\"") + ">\n<thead><tr>";
-  for (const std::string& h : table.headers) {
-    out += table.sortable ? Tag("th", h, "title=\"sort by this column\"") : Tag("th", h);
-  }
-  out += "</tr></thead>\n<tbody>\n";
-  for (const std::vector<Cell>& row : table.rows) {
-    out += "<tr>";
-    for (const Cell& c : row) {
-      std::string attributes;
-      if (c.number) attributes += " class=\"num\"";
-      if (!c.sort.empty()) attributes += " data-v=\"" + HtmlEscape(c.sort) + "\"";
-      out += "<td" + attributes + ">" + c.html + "</td>";
-    }
-    out += "</tr>\n";
-  }
-  return out + "</tbody></table></div>\n";
-}
+std::string Render(const Table& table) { return RenderHtmlTable(table); }
 
 // ------------------------------------------------------------- plots
 
@@ -730,6 +692,61 @@ std::string HtmlEscape(const std::string& text) {
   return out;
 }
 
+std::string RenderHtmlTable(const HtmlTable& table) {
+  std::string classes = table.css_class;
+  if (table.sortable) classes += (classes.empty() ? "" : " ") + std::string("sortable");
+  // In a box of the page's width that scrolls sideways if the table is wider.
+  std::string out = "<div class=\"scroll\"><table" +
+                    (classes.empty() ? "" : " class=\"" + classes + "\"") + ">\n<thead><tr>";
+  for (const std::string& h : table.headers) {
+    out += table.sortable ? Tag("th", h, "title=\"sort by this column\"") : Tag("th", h);
+  }
+  out += "</tr></thead>\n<tbody>\n";
+  for (const std::vector<HtmlCell>& row : table.rows) {
+    out += "<tr>";
+    for (const HtmlCell& c : row) {
+      std::string attributes;
+      if (c.number) attributes += " class=\"num\"";
+      if (!c.sort.empty()) attributes += " data-v=\"" + HtmlEscape(c.sort) + "\"";
+      out += "<td" + attributes + ">" + c.html + "</td>";
+    }
+    out += "</tr>\n";
+  }
+  return out + "</tbody></table></div>\n";
+}
+
+HtmlCell HtmlTextCell(const std::string& text) {
+  HtmlCell c;
+  c.html = HtmlEscape(text);
+  return c;
+}
+
+HtmlCell HtmlNumberCell(double value, int digits) {
+  HtmlCell c = HtmlTextCell(Number(value, digits));
+  c.number = true;
+  if (std::isfinite(value)) c.sort = Number(value, 17);
+  return c;
+}
+
+std::string RenderHtmlPage(const std::string& document_title, const std::string& heading,
+                           const std::string& intro, const std::vector<HtmlSection>& sections) {
+  std::string page =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n" +
+      Tag("title", document_title) + "\n<style>" + kStyle + "</style>\n</head>\n<body>\n" +
+      Tag("h1", heading) + "\n" + Tag("p", intro, "class=\"note\"") + "\n<nav>";
+  for (const HtmlSection& s : sections) {
+    page += "\n<a href=\"#" + s.id + "\">" + HtmlEscape(s.heading) + "</a>";
+  }
+  page += "</nav>\n";
+  for (const HtmlSection& s : sections) {
+    page += "<section id=\"" + s.id + "\">\n" + Tag("h2", s.heading) + "\n" + s.body +
+            "</section>\n";
+  }
+  page += "<script>" + std::string(kScript) + "</script>\n</body>\n</html>\n";
+  return page;
+}
+
 int HtmlReportPlotCount(const HtmlReportInput& input) {
   size_t n = input.result != nullptr ? input.result->experiments.size() : 0;
   if (input.diagnostics != nullptr) n += input.diagnostics->size();
@@ -747,10 +764,7 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
   Plotter plotter(scratch_dir, warnings);
 
   // Sections in page order: id, heading, body.
-  struct Section {
-    std::string id, heading, body;
-  };
-  std::vector<Section> sections;
+  std::vector<HtmlSection> sections;
   sections.push_back({"summary", "Summary", SummaryHtml(input)});
   sections.push_back({"data", "Data", DataHtml(input)});
 
@@ -822,25 +836,10 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
   }
   sections.push_back({"solver", "Solver", solver});
 
-  std::string page =
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n" +
-      Tag("title", title + " — fit report") + "\n<style>" + kStyle + "</style>\n</head>\n<body>\n" +
-      Tag("h1", title) + "\n" +
-      Tag("p", "Written by fit-params: the fit, its uncertainty and what the residuals say. "
-               "Self-contained: no file or network resource is loaded.",
-          "class=\"note\"") +
-      "\n<nav>";
-  for (const Section& s : sections) {
-    page += "\n<a href=\"#" + s.id + "\">" + HtmlEscape(s.heading) + "</a>";
-  }
-  page += "</nav>\n";
-  for (const Section& s : sections) {
-    page += "<section id=\"" + s.id + "\">\n" + Tag("h2", s.heading) + "\n" + s.body +
-            "</section>\n";
-  }
-  page += "<script>" + std::string(kScript) + "</script>\n</body>\n</html>\n";
-  return page;
+  return RenderHtmlPage(title + " — fit report", title,
+                        "Written by fit-params: the fit, its uncertainty and what the residuals "
+                        "say. Self-contained: no file or network resource is loaded.",
+                        sections);
 }
 
 void WriteHtmlReport(const std::string& path, const HtmlReportInput& input,

@@ -80,6 +80,50 @@ void WriteHtmlReport(const std::string& path, const HtmlReportInput& input,
 // HTML content and in quoted attribute values.
 std::string HtmlEscape(const std::string& text);
 
+// Building blocks of the project's HTML pages, shared by report.html and
+// fit-fleet's fleet.html (fleet/fleet_html.h): one style sheet, tables
+// sortable by a click on a header, sections with a navigation bar.
+
+// A table cell: its HTML (already escaped), whether it is a number
+// (right-aligned) and, if not empty, the value a sortable table sorts by
+// instead of the text.
+struct HtmlCell {
+  std::string html;
+  bool number = false;
+  std::string sort;
+};
+
+// A text cell (HtmlEscape'd). Never throws (except std::bad_alloc).
+HtmlCell HtmlTextCell(const std::string& text);
+
+// A number cell: FormatNumber(value, digits) ("—" for NaN), right-aligned,
+// sorted by its full value. Never throws (except std::bad_alloc).
+HtmlCell HtmlNumberCell(double value, int digits = 6);
+
+struct HtmlTable {
+  std::vector<std::string> headers;            // plain text, escaped when rendered
+  std::vector<std::vector<HtmlCell>> rows;
+  bool sortable = false;                       // a click on a header sorts by it
+  std::string css_class;                       // extra class of the <table>
+};
+
+// The table as HTML, in a box that scrolls sideways if it is wider than the
+// page. Never throws (except std::bad_alloc).
+std::string RenderHtmlTable(const HtmlTable& table);
+
+// A section of a page: its id (the navigation bar's anchor; letters,
+// digits, '-', '_'), its heading (text) and its body (HTML).
+struct HtmlSection {
+  std::string id, heading, body;
+};
+
+// A whole self-contained page: `document_title` in <title>, `heading` as
+// <h1>, `intro` (text) below it, a navigation bar to the sections, the
+// sections in order, the project's style sheet and the sorting script
+// inline. Never throws (except std::bad_alloc).
+std::string RenderHtmlPage(const std::string& document_title, const std::string& heading,
+                           const std::string& intro, const std::vector<HtmlSection>& sections);
+
 }  // namespace axis
 
 #endif  // FIT_HTML_REPORT_H_

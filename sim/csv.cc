@@ -417,6 +417,12 @@ void WriteFileAtomic(const std::string& path, const std::string& contents) {
   }
 }
 
+std::string CsvField(const std::string& text) {
+  std::string out;
+  AppendName(text, &out);
+  return out;
+}
+
 void WriteCsvAtomic(const std::string& path,
                     const std::vector<std::string>& names,
                     const std::vector<std::vector<double>>& columns,

@@ -67,6 +67,11 @@ void CheckStrictlyIncreasing(const CsvTable& table, const std::string& column);
 // either the old file or the complete new one.
 void WriteFileAtomic(const std::string& path, const std::string& contents);
 
+// `text` as one CSV field: as is, or in double quotes (inner quotes
+// doubled) if it holds a comma, a quote or a line break; what WriteCsvAtomic
+// does with the header's names. Never throws (except std::bad_alloc).
+std::string CsvField(const std::string& text);
+
 // Formats a CSV: the header `names` (quoted only where needed, e.g. a comma
 // or a quote in a name), then one row per index, columns[j][row] printed with
 // "%.*g" of `precision` significant digits (17 reproduces every double

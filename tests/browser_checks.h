@@ -141,6 +141,52 @@ inline size_t ExpectedPlots(const nlohmann::json& report) {
   return plots;
 }
 
+// A page rendered by headless Chromium: its screenshot and its DOM after
+// loading.
+struct RenderedPage {
+  bool loaded = false;  // false: skipped (no Chromium) or failed (an ASSERT)
+  Picture picture;
+  std::string dom;
+};
+
+// Renders the page `html` (a path) with Chromium into the screenshot `png`
+// (1280 x 4000) and dumps its DOM; skips the test if Chromium is not
+// installed. The caller returns unless page->loaded.
+inline void RenderInChromium(const std::string& html, const std::string& png,
+                             RenderedPage* page) {
+  const std::string chromium = FindChromium();
+  if (chromium.empty()) {
+    GTEST_SKIP() << "chromium is not installed (scripts/install-deps installs it): "
+                 << html << " not checked in a browser";
+  }
+  ASSERT_TRUE(std::filesystem::exists(html)) << html;
+  const std::string work = testing_files::TestTempDir() + "browser";
+  std::filesystem::create_directories(work);
+  std::filesystem::remove(png);
+  ASSERT_EQ(RunChromium(chromium, html, work, "--screenshot=" + png), 0)
+      << ReadFile(work + "/chromium.log");
+  page->picture = DecodePng(png);
+  ASSERT_TRUE(page->picture.decoded) << png;
+  EXPECT_EQ(page->picture.width, 1280);
+  EXPECT_EQ(page->picture.height, 4000);
+  const std::string dom_path = work + "/dom.html";
+  ASSERT_EQ(RunChromium(chromium, html, work, "--dump-dom", dom_path), 0)
+      << ReadFile(work + "/chromium.log");
+  page->dom = ReadFile(dom_path);
+  ASSERT_GT(page->dom.size(), 1000u) << "empty DOM";
+  page->loaded = true;
+}
+
+// Nothing from outside: no URL with a scheme, no src at all, no style sheet
+// import, no frame, object or image, no url() but to the page's own ids.
+inline void ExpectNothingLoadedFromOutside(const std::string& dom) {
+  for (const char* forbidden : {"http:", "https:", "file://", "ftp:", "src=", "@import",
+                                "<link", "<iframe", "<object", "<embed", "<img"}) {
+    EXPECT_EQ(dom.find(forbidden), std::string::npos) << "'" << forbidden << "' in the page";
+  }
+  EXPECT_EQ(ReferencesOutside(dom, "url("), "") << "a url() out of the page";
+}
+
 // Renders `dir`/report.html with Chromium and checks it as a reader would
 // see it: a screenshot that is not blank, and in the loaded DOM the
 // sections, the parameter table with every free parameter of report.json,
@@ -148,33 +194,18 @@ inline size_t ExpectedPlots(const nlohmann::json& report) {
 // `sections` are the ids that must be present. The screenshot stays in
 // `dir`/report.png for a person to look at.
 inline void CheckInBrowser(const std::string& dir, const std::vector<std::string>& sections) {
-  const std::string chromium = FindChromium();
-  if (chromium.empty()) {
-    GTEST_SKIP() << "chromium is not installed (scripts/install-deps installs it): "
-                    "report.html not checked in a browser";
-  }
-  const std::string html = std::filesystem::absolute(dir + "/report.html").string();
-  ASSERT_TRUE(std::filesystem::exists(html)) << html;
-  const std::string work = testing_files::TestTempDir() + "browser";
-  std::filesystem::create_directories(work);
-  const std::string png = std::filesystem::absolute(dir + "/report.png").string();
-  std::filesystem::remove(png);
-  ASSERT_EQ(RunChromium(chromium, html, work, "--screenshot=" + png), 0)
-      << ReadFile(work + "/chromium.log");
-  const Picture picture = DecodePng(png);
-  ASSERT_TRUE(picture.decoded) << png;
-  EXPECT_EQ(picture.width, 1280);
-  EXPECT_EQ(picture.height, 4000);
+  RenderedPage page;
+  RenderInChromium(std::filesystem::absolute(dir + "/report.html").string(),
+                   std::filesystem::absolute(dir + "/report.png").string(), &page);
+  if (!page.loaded) return;
+  const Picture& picture = page.picture;
+  const std::string png = dir + "/report.png";
   // A blank page is one colour; this one has text, tables and plots.
   EXPECT_GT(picture.colours, 100u) << png;
   EXPECT_GT(picture.non_white, 0.03) << png;
   EXPECT_GT(picture.dark, 0.005) << png;
 
-  const std::string dom_path = work + "/dom.html";
-  ASSERT_EQ(RunChromium(chromium, html, work, "--dump-dom", dom_path), 0)
-      << ReadFile(work + "/chromium.log");
-  const std::string dom = ReadFile(dom_path);
-  ASSERT_GT(dom.size(), 1000u) << "empty DOM";
+  const std::string& dom = page.dom;
   for (const std::string& id : sections) {
     EXPECT_NE(dom.find("<section id=\"" + id + "\">"), std::string::npos) << "no section " << id;
   }
@@ -188,15 +219,9 @@ inline void CheckInBrowser(const std::string& dir, const std::vector<std::string
   EXPECT_GE(Count(dom, "<table"), 5u);
   EXPECT_EQ(Count(dom, "<svg"), ExpectedPlots(report)) << "plots";
   EXPECT_EQ(Count(dom, "<figure class=\"missing\""), 0u) << "a plot could not be drawn";
-  // Nothing from outside: no URL with a scheme, no src at all, no link but
-  // to the page's own anchors, no style sheet import, no url() but to the
-  // page's own ids.
-  for (const char* forbidden : {"http:", "https:", "file://", "ftp:", "src=", "@import",
-                                "<link", "<iframe", "<object", "<embed", "<img"}) {
-    EXPECT_EQ(dom.find(forbidden), std::string::npos) << "'" << forbidden << "' in the page";
-  }
+  // No link but to the page's own anchors.
+  ExpectNothingLoadedFromOutside(dom);
   EXPECT_EQ(ReferencesOutside(dom, "href="), "") << "a link out of the page";
-  EXPECT_EQ(ReferencesOutside(dom, "url("), "") << "a url() out of the page";
 }
 
 }  // namespace browser_checks
