@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <glog/logging.h>
 
+#include "apps/mpi_command_line.h"
 #include "fleet/fleet_run.h"
 
 int main(int argc, char** argv) {
@@ -26,13 +27,7 @@ int main(int argc, char** argv) {
     app.add_option("--out", options.out_dir, "output folder (default: the manifest's output.dir)");
     app.add_option("--baseline", options.baseline_path,
                    "an earlier fleet.json: flag what changed since");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      if (mpi.rank() != 0) return e.get_exit_code() == 0 ? 0 : 2;
-      const int code = app.exit(e);
-      return code == 0 ? 0 : 2;
-    }
+    if (const auto code = axis::ParseOnEveryRank(app, argc, argv, mpi.rank())) return *code;
     return axis::RunFitFleet(options, mpi, std::cout, std::cerr);
   } catch (const std::exception& e) {  // MPI could not start
     std::fprintf(stderr, "fit-fleet: error: %s\n", e.what());

@@ -87,7 +87,28 @@ FitJob JobForSeed(const CampaignConfig& c, int seed, const std::string& dir) {
   return ParseFitJob(root, c.job_path, DirectoryOf(c.job_path));
 }
 
-SeedOutcome RunSeed(const CampaignConfig& c, int seed, int solver_threads) {
+std::string Join(const std::vector<std::string>& list, const std::string& separator) {
+  std::string out;
+  for (size_t k = 0; k < list.size(); ++k) out += (k ? separator : "") + list[k];
+  return out;
+}
+
+std::string FormatRate(const Rate& r) {
+  if (r.n == 0) return "—";
+  std::ostringstream out;
+  out << r.k << "/" << r.n << " = " << std::fixed << std::setprecision(1)
+      << 100.0 * r.k / r.n << " % [" << 100.0 * r.low << ", " << 100.0 * r.high << "]";
+  return out.str();
+}
+
+nlohmann::json RateJson(const Rate& r) {
+  return {{"k", r.k}, {"n", r.n}, {"ci95_low", JsonNumber(r.low)},
+          {"ci95_high", JsonNumber(r.high)}};
+}
+
+}  // namespace
+
+SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_threads) {
   SeedOutcome o;
   o.seed = seed;
   o.value.assign(c.truth_values.size(), kNaN);
@@ -131,26 +152,92 @@ SeedOutcome RunSeed(const CampaignConfig& c, int seed, int solver_threads) {
   return o;
 }
 
-std::string Join(const std::vector<std::string>& list, const std::string& separator) {
-  std::string out;
-  for (size_t k = 0; k < list.size(); ++k) out += (k ? separator : "") + list[k];
-  return out;
-}
-
-std::string FormatRate(const Rate& r) {
-  if (r.n == 0) return "—";
+std::string FormatSeedLine(const SeedOutcome& o) {
   std::ostringstream out;
-  out << r.k << "/" << r.n << " = " << std::fixed << std::setprecision(1)
-      << 100.0 * r.k / r.n << " % [" << 100.0 * r.low << ", " << 100.0 * r.high << "]";
+  out << "seed " << o.seed << ": "
+      << (o.error.empty() ? "selected {" + Join(o.selected, ", ") + "}, verdict " + o.verdict
+                          : "failed: " + o.error)
+      << " (" << std::fixed << std::setprecision(0) << o.seconds << " s)";
   return out.str();
 }
 
-nlohmann::json RateJson(const Rate& r) {
-  return {{"k", r.k}, {"n", r.n}, {"ci95_low", JsonNumber(r.low)},
-          {"ci95_high", JsonNumber(r.high)}};
+nlohmann::json SeedOutcomeToJson(const SeedOutcome& o) {
+  const auto numbers = [](const std::vector<double>& list) {
+    nlohmann::json out = nlohmann::json::array();
+    for (double v : list) out.push_back(JsonNumber(v));
+    return out;
+  };
+  return {{"seed", o.seed},
+          {"error", o.error},
+          {"selected", o.selected},
+          {"first_added", o.first_added},
+          {"verdict", o.verdict},
+          {"s2", JsonNumber(o.s2)},
+          {"value", numbers(o.value)},
+          {"ci95_low", numbers(o.ci95_low)},
+          {"ci95_high", numbers(o.ci95_high)},
+          {"seconds", JsonNumber(o.seconds)}};
 }
 
-}  // namespace
+SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& where) {
+  const auto number = [&](const nlohmann::json& v, const std::string& key) {
+    if (v.is_null()) return kNaN;
+    if (!v.is_number()) {
+      throw std::invalid_argument(where + "." + key + ": expected a number or null, got " +
+                                  v.dump().substr(0, 60));
+    }
+    return v.get<double>();
+  };
+  const auto field = [&](const char* key, bool (nlohmann::json::*is)() const noexcept,
+                         const char* expected) -> const nlohmann::json& {
+    if (!j.is_object() || !j.contains(key)) {
+      throw std::invalid_argument(where + ": expected a key '" + key + "', got none");
+    }
+    const nlohmann::json& v = j.at(key);
+    if (!(v.*is)()) {
+      throw std::invalid_argument(where + "." + key + ": expected " + expected + ", got " +
+                                  v.dump().substr(0, 60));
+    }
+    return v;
+  };
+  const auto strings = [&](const char* key) {
+    std::vector<std::string> out;
+    for (const nlohmann::json& v : field(key, &nlohmann::json::is_array, "a list")) {
+      if (!v.is_string()) {
+        throw std::invalid_argument(where + "." + key + ": expected a list of strings, got " +
+                                    v.dump().substr(0, 60));
+      }
+      out.push_back(v.get<std::string>());
+    }
+    return out;
+  };
+  const auto doubles = [&](const char* key) {
+    std::vector<double> out;
+    for (const nlohmann::json& v : field(key, &nlohmann::json::is_array, "a list")) {
+      out.push_back(number(v, key));
+    }
+    return out;
+  };
+  SeedOutcome o;
+  o.seed = field("seed", &nlohmann::json::is_number_integer, "an integer").get<int>();
+  o.error = field("error", &nlohmann::json::is_string, "a string").get<std::string>();
+  o.selected = strings("selected");
+  o.first_added = field("first_added", &nlohmann::json::is_string, "a string").get<std::string>();
+  o.verdict = field("verdict", &nlohmann::json::is_string, "a string").get<std::string>();
+  o.s2 = number(field("s2", &nlohmann::json::is_primitive, "a number or null"), "s2");
+  o.value = doubles("value");
+  o.ci95_low = doubles("ci95_low");
+  o.ci95_high = doubles("ci95_high");
+  if (o.ci95_low.size() != o.value.size() || o.ci95_high.size() != o.value.size()) {
+    throw std::invalid_argument(where + ": expected value, ci95_low and ci95_high of one "
+                                "length, got " + std::to_string(o.value.size()) + ", " +
+                                std::to_string(o.ci95_low.size()) + ", " +
+                                std::to_string(o.ci95_high.size()));
+  }
+  o.seconds =
+      number(field("seconds", &nlohmann::json::is_primitive, "a number or null"), "seconds");
+  return o;
+}
 
 CampaignConfig LoadCampaign(const std::string& path) {
   const YAML::Node root = LoadYamlFile(path);
@@ -276,16 +363,11 @@ std::vector<SeedOutcome> RunCampaign(const CampaignConfig& config, int threads,
   int done = 0;
   const auto worker = [&]() {
     for (int k = next++; k < n; k = next++) {
-      SeedOutcome o = RunSeed(config, config.first_seed + k, solver_threads);
+      SeedOutcome o = RunCampaignSeed(config, config.first_seed + k, solver_threads);
       std::lock_guard<std::mutex> lock(mutex);
       ++done;
       if (progress) {
-        *progress << "[" << done << "/" << n << "] seed " << o.seed << ": "
-                  << (o.error.empty() ? "selected {" + Join(o.selected, ", ") + "}, verdict " +
-                                            o.verdict
-                                      : "failed: " + o.error)
-                  << " (" << std::fixed << std::setprecision(0) << o.seconds << " s)\n"
-                  << std::defaultfloat << std::flush;
+        *progress << "[" << done << "/" << n << "] " << FormatSeedLine(o) << std::endl;
       }
       outcomes[k] = std::move(o);
     }

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "fit/fit_result.h"
 
 namespace axis {
@@ -66,6 +68,26 @@ struct SeedOutcome {
   std::vector<double> value, ci95_low, ci95_high;
   double seconds = 0.0;                // wall time of simulate + fit + loop
 };
+
+// Seed `seed` of the campaign: its records simulated (into a temporary
+// folder, removed after), the job fitted with `solver_threads` Ceres
+// threads and, if config.discover, the discovery loop run. A failure (bad
+// data, a fit that throws) is recorded in SeedOutcome::error, not thrown
+// (except std::bad_alloc).
+SeedOutcome RunCampaignSeed(const CampaignConfig& config, int seed, int solver_threads);
+
+// The progress line of a finished seed, without a newline:
+// "seed 4: selected {coulomb}, verdict explained (31 s)" or
+// "seed 4: failed: <message> (2 s)".
+std::string FormatSeedLine(const SeedOutcome& outcome);
+
+// A seed's outcome as JSON and back (the messages of the MPI campaign,
+// fleet/campaign_run.h): numbers that are not finite are null (read back as
+// NaN); doubles round-trip exactly. SeedOutcomeFromJson throws
+// std::invalid_argument "<where>: expected …, got …" for a document that is
+// not such an outcome.
+nlohmann::json SeedOutcomeToJson(const SeedOutcome& outcome);
+SeedOutcome SeedOutcomeFromJson(const nlohmann::json& json, const std::string& where);
 
 // Runs seeds first..last on `threads` worker threads (each fit single
 // threaded when threads > 1), writing one line per finished seed to

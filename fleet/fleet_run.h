@@ -1,18 +1,13 @@
 // fit-fleet (issue 12): the jobs of a fleet manifest (fleet/manifest.h)
-// spread over MPI ranks by a work queue, and the fleet table
-// (fleet/fleet_table.h) written by rank 0. The only part of the project
-// that uses MPI (the plain C API of OpenMPI, Debian libopenmpi-dev); mpi.h
-// is included by fleet_run.cc only.
+// spread over MPI ranks by the work queue of fleet/mpi_queue.h, and the
+// fleet table (fleet/fleet_table.h) written by rank 0.
 //
-// The queue: every rank loads the manifest itself (the files must be
-// visible to all ranks: one machine, or a shared file system). Rank 0 hands
-// out job indices, longest expected first (FleetEntry::expected_cost), to
-// whichever rank asks, one at a time, and fits too (on a thread of its own
-// while its main thread serves the queue); every rank sends back its row as
-// JSON. Waiting ranks poll (MPI_Iprobe and 2 ms sleeps) rather than spin, so
-// that a rank idle at the end of the queue leaves its core to the fits
-// still running. Without mpirun (a singleton MPI process) the same code
-// runs every job in one process.
+// Every rank loads the manifest itself (the files must be visible to all
+// ranks: one machine, or a shared file system). Rank 0 hands out job
+// indices, longest expected first (FleetEntry::expected_cost), to whichever
+// rank asks, one at a time, and fits too; every rank sends back its row as
+// JSON. Without mpirun (a singleton MPI process) the same code runs every
+// job in one process.
 #ifndef FLEET_FLEET_RUN_H_
 #define FLEET_FLEET_RUN_H_
 
@@ -22,32 +17,9 @@
 
 #include "fleet/fleet_table.h"
 #include "fleet/manifest.h"
+#include "fleet/mpi_queue.h"
 
 namespace axis {
-
-// MPI for the life of the object: MPI_Init_thread (MPI_THREAD_FUNNELED:
-// only the main thread calls MPI) and MPI_Finalize. One per process, made
-// first thing in main (before the command line is parsed, so that only
-// rank 0 reports its errors). Throws std::runtime_error if MPI cannot start
-// or gives less than MPI_THREAD_FUNNELED.
-class MpiSession {
- public:
-  MpiSession(int* argc, char*** argv);
-  ~MpiSession();
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
-
-  int rank() const { return rank_; }
-  int size() const { return size_; }
-
-  // True on every rank if `ok` is true on every rank (MPI_Allreduce, a
-  // collective: every rank must call it).
-  bool AllTrue(bool ok) const;
-
- private:
-  int rank_ = 0;
-  int size_ = 1;
-};
 
 // Runs every job of `manifest` (RunFleetEntry, outputs below `out_dir`)
 // over the ranks of `mpi`, as described above. Every rank must call it. On

@@ -13,32 +13,13 @@
 #include <nlohmann/json.hpp>
 
 #include "fit/campaign.h"
+#include "tests/campaign_files.h"
 #include "tests/test_files.h"
 
 namespace axis {
 namespace {
 
-const std::string kRoot = PROJECT_SOURCE_DIR;
-
-// A short generating config and a job fitting B_a on it, in the test's
-// folder; the campaign file is `campaign` with the job and generator keys
-// prepended.
-std::string WriteCampaign(const std::string& campaign) {
-  testing_files::WriteTemp(
-      "sine.yaml", "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
-                   "duration: 0.4\nstep: 1.0e-5\noutput_rate: 1000\n"
-                   "channels: [u, a, tach]\nnoise: {a: 0.02, tach: 0.005}\nseed: 7\n"
-                   "input: {type: sine, amplitude: 3, frequency: 2}\n");
-  testing_files::WriteTemp(
-      "job.yaml", "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
-                  "free:\n  B_a: {initial: 150, lower: 10, upper: 2000}\n"
-                  "experiments:\n  - name: sine\n    data: replaced.csv\n"
-                  "    channels: {u: u, a: a, tach: tach}\n    input: {column: u}\n"
-                  "    fit: {a: 0.02, tach: 0.005}\n"
-                  "uncertainty: {method: gauss_newton}\n");
-  return testing_files::WriteTemp("campaign.yaml",
-                                  "job: job.yaml\ngenerate: {sine: sine.yaml}\n" + campaign);
-}
+using campaign_files::WriteCampaign;
 
 // LoadCampaign's message for the file `path` ("" if it loads).
 std::string ErrorLoading(const std::string& path) {
@@ -132,6 +113,57 @@ TEST(CampaignTest, SmallCampaignEndToEnd) {
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["coverage"]["B_a"]["k"], covered);
   EXPECT_EQ(j["seeds"]["run"], 4);
+}
+
+// The MPI campaign's messages (fleet/campaign_run.h): an outcome survives
+// JSON text exactly, NaN as null; a document that is not an outcome is
+// refused naming where and what.
+TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
+  SeedOutcome o;
+  o.seed = 17;
+  o.selected = {"coulomb", "load_offset"};
+  o.first_added = "coulomb";
+  o.verdict = "explained";
+  o.s2 = 1.0 / 3.0;
+  o.value = {0.1 + 0.2, std::nan("")};
+  o.ci95_low = {std::nextafter(0.3, 0.0), std::nan("")};
+  o.ci95_high = {1e-300, std::nan("")};
+  o.seconds = 12.345678901234567;
+  const SeedOutcome back = SeedOutcomeFromJson(
+      nlohmann::json::parse(SeedOutcomeToJson(o).dump()), "test");
+  EXPECT_EQ(back.seed, 17);
+  EXPECT_EQ(back.error, "");
+  EXPECT_EQ(back.selected, o.selected);
+  EXPECT_EQ(back.first_added, "coulomb");
+  EXPECT_EQ(back.verdict, "explained");
+  EXPECT_EQ(back.s2, o.s2);
+  ASSERT_EQ(back.value.size(), 2u);
+  for (size_t k : {size_t{0}}) {
+    EXPECT_EQ(back.value[k], o.value[k]);
+    EXPECT_EQ(back.ci95_low[k], o.ci95_low[k]);
+    EXPECT_EQ(back.ci95_high[k], o.ci95_high[k]);
+  }
+  EXPECT_TRUE(std::isnan(back.value[1]));
+  EXPECT_TRUE(std::isnan(back.ci95_high[1]));
+  EXPECT_EQ(back.seconds, o.seconds);
+  const auto error = [](const std::string& text) {
+    try {
+      SeedOutcomeFromJson(nlohmann::json::parse(text), "from rank 1");
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  nlohmann::json j = SeedOutcomeToJson(o);
+  j.erase("verdict");
+  EXPECT_EQ(error(j.dump()), "from rank 1: expected a key 'verdict', got none");
+  j = SeedOutcomeToJson(o);
+  j["value"][0] = "x";
+  EXPECT_EQ(error(j.dump()), "from rank 1.value: expected a number or null, got \"x\"");
+  j = SeedOutcomeToJson(o);
+  j["ci95_low"].erase(0);
+  EXPECT_NE(error(j.dump()).find("of one length, got 2, 1, 2"), std::string::npos);
+  EXPECT_NE(error("[1, 2]").find("expected a key 'seed'"), std::string::npos);
 }
 
 TEST(CampaignTest, CommandLineErrorsExitWithTwo) {
