@@ -6,9 +6,13 @@
 // tests/html_report_test.cc has quick versions on short windows.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "tests/browser_checks.h"
 #include "tests/test_files.h"
@@ -28,10 +32,35 @@ std::string RunJob(const std::string& job, std::string* log) {
 }
 
 // With the whole optimum check and profile intervals: their progress lines
-// too.
+// too. The same run is the paper job's statistical check (it was
+// FitTest.NoisyDataTruthWithinIntervals, which fitted the same job once
+// more): on the noisy steps (σ_a = 0.02 m/s², σ_tach = 0.005 V, white by
+// construction) every estimate lies within 3 standard errors of the truth
+// of the generating configs and its 95 % interval holds it.
 TEST(HtmlReportJobsTest, PaperJobInChromium) {
   std::string log;
   const std::string out = RunJob("configs/jobs/x_axis_paper.yaml", &log);
+  const nlohmann::json report = nlohmann::json::parse(browser_checks::ReadFile(out + "/report.json"));
+  EXPECT_TRUE(report["converged"].get<bool>()) << report["termination"];
+  EXPECT_TRUE(report["undetermined"].empty()) << report["undetermined"];
+  const std::map<std::string, double> truth = {
+      {"V_L", 2.7}, {"B_a", 200.0}, {"b_g", 1500.0}, {"k_g", 5.0e6}, {"T_p", 0.04}};
+  int checked = 0;
+  for (const nlohmann::json& p : report["parameters"]) {
+    const auto it = truth.find(p["name"].get<std::string>());
+    if (it == truth.end()) continue;
+    ++checked;
+    SCOPED_TRACE(it->first);
+    const double value = p["value"].get<double>(), se = p["std_error"].get<double>();
+    EXPECT_GT(se, 0.0);
+    EXPECT_LT(std::abs(value - it->second), 3.0 * se) << value << " ± " << se;
+    EXPECT_LE(p["ci95_low"].get<double>(), it->second);
+    EXPECT_GE(p["ci95_high"].get<double>(), it->second);
+  }
+  EXPECT_EQ(checked, 5);
+  // Weighted residuals ~ N(0, 1): residual variance near 1 (m ≈ 8000,
+  // so its sampling spread is about sqrt(2/m) ≈ 0.016).
+  EXPECT_NEAR(report["residual_variance"].get<double>(), 1.0, 0.08);
   for (const char* stage : {"; fit: start 1 of 1, horizon 0.050 s (stage 1 of 7)",
                             "; fit: optimum check, probe round 1 (at most 8)",
                             "; fit: local restart 1 of 10 (pass 1)",
