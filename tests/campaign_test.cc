@@ -4,6 +4,7 @@
 // every seed draws its own noise, the tallies match the per-seed outcomes,
 // and the files are written.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <stdexcept>
@@ -57,6 +58,31 @@ TEST(CampaignTest, StrictLoader) {
   std::ofstream(path) << "job: job.yaml\ngenerate: {other: sine.yaml}\n" << ok;
   e = ErrorLoading(path);
   EXPECT_NE(e.find("experiment 'sine'"), std::string::npos) << e;
+}
+
+// Every committed campaign (configs/campaigns/*.yaml) loads: its job, its
+// generating configs and the first seed's records (LoadCampaign checks them
+// all), and it names a truth (or none: null data).
+TEST(CampaignTest, CommittedCampaignsLoad) {
+  int loaded = 0;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::string(PROJECT_SOURCE_DIR) + "/configs/campaigns")) {
+    const std::string path = entry.path().string();
+    if (entry.path().extension() != ".yaml" || path.size() < 9 ||
+        path.compare(path.size() - 9, 9, "_job.yaml") == 0) {
+      continue;  // a campaign's own fitting job, not a campaign
+    }
+    SCOPED_TRACE(path);
+    const CampaignConfig c = LoadCampaign(path);
+    EXPECT_LE(c.first_seed, c.last_seed);
+    if (path.find("power_") != std::string::npos) {
+      EXPECT_EQ(c.truth_effects.size(), 1u);
+      EXPECT_EQ(c.truth_values.size(), 1u);
+      EXPECT_GE(c.last_seed - c.first_seed + 1, 20);  // issue 10: >= 20 seeds per effect
+    }
+    ++loaded;
+  }
+  EXPECT_GE(loaded, 8);
 }
 
 // Clopper–Pearson: k = 0 of n has upper bound 1 − 0.025^(1/n); k = n has
