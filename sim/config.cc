@@ -1,6 +1,7 @@
 #include "sim/config.h"
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -440,6 +441,14 @@ InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
     const double bit_time = map.Number("bit_time", Range::kFinitePositive);
     const int order = static_cast<int>(map.Integer("order", 10, 2, 20));
     const long seed = map.Integer("seed", 1, 1, 1L << 30);
+    const double bits = std::ceil(duration / bit_time) + 1.0;
+    if (!(bits <= kMaxPrbsBits)) {
+      std::ostringstream got;
+      got << std::setprecision(3) << bits << " bits (duration " << duration << " s / bit_time "
+          << bit_time << " s): lengthen bit_time or shorten the duration";
+      ThrowConfigError(map.file(), map.Optional("bit_time"), map.KeyPath("bit_time"),
+                       "a PRBS of at most 1e+08 bits", got.str());
+    }
     s = MakePrbs(amplitude, s.offset, bit_time, order,
                  static_cast<std::uint32_t>(seed), duration);
   } else if (type == "table") {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -130,6 +132,14 @@ InputSignal MakePrbs(double amplitude, double offset, double bit_time,
         "PRBS: expected positive bit_time and duration, got " +
         std::to_string(bit_time) + " and " + std::to_string(duration));
   }
+  const double table_bits = std::ceil(duration / bit_time) + 1.0;
+  if (!(table_bits <= kMaxPrbsBits)) {
+    std::ostringstream message;
+    message << std::setprecision(3) << "PRBS: expected at most " << kMaxPrbsBits
+            << " bits (duration / bit_time), got " << table_bits << " (duration " << duration
+            << " s, bit_time " << bit_time << " s): lengthen bit_time or shorten the duration";
+    throw std::invalid_argument(message.str());
+  }
   const std::uint32_t mask = (1u << order) - 1u;
   std::uint32_t reg = seed & mask;
   if (reg == 0) reg = 1;
@@ -137,7 +147,9 @@ InputSignal MakePrbs(double amplitude, double offset, double bit_time,
   s.kind = InputSignal::Kind::kTable;
   s.hold = true;
   s.offset = offset;
-  const long bits = static_cast<long>(std::ceil(duration / bit_time)) + 1;
+  const long bits = static_cast<long>(table_bits);
+  s.times.reserve(static_cast<size_t>(bits));
+  s.values.reserve(static_cast<size_t>(bits));
   for (long k = 0; k < bits; ++k) {
     s.times.push_back(k * bit_time);
     s.values.push_back((reg & 1u) ? amplitude : -amplitude);

@@ -58,11 +58,20 @@ struct InputSignal {
 // and not held.
 void MakeCubic(InputSignal* s);
 
+// The most bits a PRBS table may hold: 10⁸ (1.6 GB of times and values;
+// e.g. 28 h of 1 ms bits, or 1000 s of 10 µs bits, the default RK4 step).
+// A bit_time of 1e-11 s over 4 s (found by fuzzing the experiment loader)
+// asked for 4·10¹¹ bits.
+constexpr double kMaxPrbsBits = 1e8;
+
 // A maximum-length pseudo-random binary sequence of ±amplitude (plus
 // offset) switching every `bit_time` s from t = 0 to `duration`, from a
 // Fibonacci LFSR of `order` bits (2..20) seeded with `seed` (non-zero in the
-// low `order` bits; 0 is replaced by 1). Throws std::invalid_argument on an
-// order outside 2..20 or non-positive bit_time/duration.
+// low `order` bits; 0 is replaced by 1). The sequence is stored as a held
+// table of ceil(duration / bit_time) + 1 bits, at most kMaxPrbsBits. Throws
+// std::invalid_argument on an order outside 2..20, non-positive
+// bit_time/duration, or more than kMaxPrbsBits bits (checked before
+// allocating).
 InputSignal MakePrbs(double amplitude, double offset, double bit_time,
                      int order, std::uint32_t seed, double duration);
 

@@ -139,6 +139,26 @@ TEST(ConfigTest, MemoryCheckRefusesMoreThanHalfThePhysicalMemory) {
   EXPECT_NE(msg.find(": advice"), std::string::npos) << msg;
 }
 
+// Found by fuzzing the experiment loader (scripts/fuzz, 10-minute run): a
+// PRBS with bit_time 1e-11 s over 4 s asked for a table of 4·10¹¹ bits
+// (libFuzzer timeout at 3.5 GB). Refused before allocating, naming the key;
+// 10⁸ bits is kMaxPrbsBits (sim/input_signal.h).
+TEST(ConfigTest, PrbsWithTooManyBitsIsRefused) {
+  const std::string head = "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+                           "duration: 4.0\nchannels: [u]\n";
+  const std::string path = WriteTemp(
+      "prbs.yaml", head + "input: {type: prbs, amplitude: 4, bit_time: 00.00000000001, "
+                          "order: 8, seed: 1}\n");
+  const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find("prbs.yaml:4"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("input.bit_time"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected a PRBS of at most 1e+08 bits, got 4e+11 bits"), std::string::npos)
+      << msg;
+  // The same record with 0.1 ms bits (40 001 bits) loads.
+  std::ofstream(path) << head << "input: {type: prbs, amplitude: 4, bit_time: 1.0e-4, order: 8}\n";
+  EXPECT_EQ(LoadExperiment(path).drive.input.times.size(), 40001u);
+}
+
 TEST(ConfigTest, MissingKeyIsNamed) {
   const std::string path = WriteTemp(
       "missing.yaml", "model: " + kRoot + "/configs/axes/x_axis.yaml\n"

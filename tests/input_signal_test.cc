@@ -474,6 +474,14 @@ TEST(MakePrbsTest, SeedZeroIsSeedOne) {
   EXPECT_EQ(c.values, b.values);
 }
 
+TEST(MakePrbsTest, MoreThanTheMostBitsThrows) {
+  // Refused before allocating: 4e11 bits, and 1e8 + 1 bits (1 s bits over
+  // 1e8 s: one above kMaxPrbsBits).
+  EXPECT_THROW(MakePrbs(1.0, 0.0, 1e-11, 8, 1u, 4.0), std::invalid_argument);
+  EXPECT_THROW(MakePrbs(1.0, 0.0, 1.0, 8, 1u, kMaxPrbsBits), std::invalid_argument);
+  EXPECT_EQ(MakePrbs(1.0, 0.0, 1.0, 8, 1u, 1000.0).times.size(), 1001u);
+}
+
 TEST(MakePrbsTest, InvalidArgumentsThrow) {
   EXPECT_THROW(MakePrbs(1.0, 0.0, 0.01, 1, 1u, 1.0), std::invalid_argument);
   EXPECT_THROW(MakePrbs(1.0, 0.0, 0.01, 21, 1u, 1.0), std::invalid_argument);
