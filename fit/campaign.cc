@@ -22,6 +22,7 @@
 #include "fit/discovery.h"
 #include "fit/fit.h"
 #include "fit/job.h"
+#include "fit/json_fields.h"
 #include "fit/report.h"
 #include "sim/config.h"
 #include "sim/csv.h"
@@ -180,62 +181,23 @@ nlohmann::json SeedOutcomeToJson(const SeedOutcome& o) {
 }
 
 SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& where) {
-  const auto number = [&](const nlohmann::json& v, const std::string& key) {
-    if (v.is_null()) return kNaN;
-    if (!v.is_number()) {
-      throw std::invalid_argument(where + "." + key + ": expected a number or null, got " +
-                                  v.dump().substr(0, 60));
-    }
-    return v.get<double>();
-  };
-  const auto field = [&](const char* key, bool (nlohmann::json::*is)() const noexcept,
-                         const char* expected) -> const nlohmann::json& {
-    if (!j.is_object() || !j.contains(key)) {
-      throw std::invalid_argument(where + ": expected a key '" + key + "', got none");
-    }
-    const nlohmann::json& v = j.at(key);
-    if (!(v.*is)()) {
-      throw std::invalid_argument(where + "." + key + ": expected " + expected + ", got " +
-                                  v.dump().substr(0, 60));
-    }
-    return v;
-  };
-  const auto strings = [&](const char* key) {
-    std::vector<std::string> out;
-    for (const nlohmann::json& v : field(key, &nlohmann::json::is_array, "a list")) {
-      if (!v.is_string()) {
-        throw std::invalid_argument(where + "." + key + ": expected a list of strings, got " +
-                                    v.dump().substr(0, 60));
-      }
-      out.push_back(v.get<std::string>());
-    }
-    return out;
-  };
-  const auto doubles = [&](const char* key) {
-    std::vector<double> out;
-    for (const nlohmann::json& v : field(key, &nlohmann::json::is_array, "a list")) {
-      out.push_back(number(v, key));
-    }
-    return out;
-  };
   SeedOutcome o;
-  o.seed = field("seed", &nlohmann::json::is_number_integer, "an integer").get<int>();
-  o.error = field("error", &nlohmann::json::is_string, "a string").get<std::string>();
-  o.selected = strings("selected");
-  o.first_added = field("first_added", &nlohmann::json::is_string, "a string").get<std::string>();
-  o.verdict = field("verdict", &nlohmann::json::is_string, "a string").get<std::string>();
-  o.s2 = number(field("s2", &nlohmann::json::is_primitive, "a number or null"), "s2");
-  o.value = doubles("value");
-  o.ci95_low = doubles("ci95_low");
-  o.ci95_high = doubles("ci95_high");
+  o.seed = JsonIntField(j, "seed", where);
+  o.error = JsonStringField(j, "error", where);
+  o.selected = JsonStrings(j, "selected", where);
+  o.first_added = JsonStringField(j, "first_added", where);
+  o.verdict = JsonStringField(j, "verdict", where);
+  o.s2 = JsonNumberField(j, "s2", where);
+  o.value = JsonNumbers(j, "value", where);
+  o.ci95_low = JsonNumbers(j, "ci95_low", where);
+  o.ci95_high = JsonNumbers(j, "ci95_high", where);
   if (o.ci95_low.size() != o.value.size() || o.ci95_high.size() != o.value.size()) {
     throw std::invalid_argument(where + ": expected value, ci95_low and ci95_high of one "
                                 "length, got " + std::to_string(o.value.size()) + ", " +
                                 std::to_string(o.ci95_low.size()) + ", " +
                                 std::to_string(o.ci95_high.size()));
   }
-  o.seconds =
-      number(field("seconds", &nlohmann::json::is_primitive, "a number or null"), "seconds");
+  o.seconds = JsonNumberField(j, "seconds", where);
   return o;
 }
 

@@ -60,8 +60,7 @@ int RunFitCampaign(const FitCampaignOptions& options, const MpiSession& mpi, std
   const bool root = mpi.rank() == 0;
   // Input, on every rank; all must agree before the queue starts.
   CampaignConfig config;
-  std::string error;
-  try {
+  const auto load = [&]() {
     if (mpi.size() > 1 && options.jobs > 1) {
       throw std::invalid_argument("--jobs: expected 1 (or none) under mpirun, where each of "
                                   "the " + std::to_string(mpi.size()) +
@@ -77,19 +76,8 @@ int RunFitCampaign(const FitCampaignOptions& options, const MpiSession& mpi, std
                                   std::to_string(config.last_seed));
     }
     if (!options.out_dir.empty()) config.out_dir = options.out_dir;
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  if (!mpi.AllTrue(error.empty())) {
-    if (root) {
-      err << "fit-campaign: error: "
-          << (error.empty() ? "another rank could not load the campaign (are the files "
-                              "visible to every rank?)"
-                            : error)
-          << "\n";
-    }
-    return 2;
-  }
+  };
+  if (!LoadOnEveryRank(mpi, load, "fit-campaign", "the campaign", err)) return 2;
   const int jobs = options.jobs > 0
                        ? options.jobs
                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

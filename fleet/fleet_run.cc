@@ -75,8 +75,8 @@ int RunFitFleet(const FitFleetOptions& options, const MpiSession& mpi, std::ostr
   // Input, on every rank; all must agree before the queue starts.
   FleetManifest manifest;
   std::vector<FleetRow> baseline;
-  std::string out_dir, error;
-  try {
+  std::string out_dir;
+  const auto load = [&]() {
     manifest = LoadFleetManifest(options.manifest_path);
     out_dir = options.out_dir.empty() ? manifest.out_dir : options.out_dir;
     if (out_dir.empty()) {
@@ -85,17 +85,8 @@ int RunFitFleet(const FitFleetOptions& options, const MpiSession& mpi, std::ostr
                                   "the manifest), got none");
     }
     if (!options.baseline_path.empty()) baseline = LoadFleetJson(options.baseline_path);
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  if (!mpi.AllTrue(error.empty())) {
-    if (root) {
-      err << "fit-fleet: error: "
-          << (error.empty() ? "another rank could not load the manifest or the baseline "
-                              "(are the files visible to every rank?)"
-                            : error)
-          << "\n";
-    }
+  };
+  if (!LoadOnEveryRank(mpi, load, "fit-fleet", "the manifest or the baseline", err)) {
     return 2;
   }
   const auto start = std::chrono::steady_clock::now();

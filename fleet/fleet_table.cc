@@ -13,6 +13,7 @@
 
 #include "fit/diagnostics.h"
 #include "fit/fit.h"
+#include "fit/json_fields.h"
 #include "fit/report.h"
 #include "fleet/fleet_html.h"
 #include "sim/channels.h"
@@ -71,52 +72,6 @@ void FillRow(const JobRun& run, FleetRow* row) {
 // ------------------------------------------------------------- JSON
 
 Json Number(double v) { return JsonNumber<Json>(v); }
-
-// A JSON value of `json` at `key` checked to be of the expected kind.
-const nlohmann::json& Field(const nlohmann::json& json, const std::string& key,
-                            const std::string& where, nlohmann::json::value_t type,
-                            const char* expected) {
-  if (!json.is_object() || !json.contains(key)) {
-    throw std::invalid_argument(where + ": expected a key '" + key + "', got none");
-  }
-  const nlohmann::json& v = json.at(key);
-  const bool number = type == nlohmann::json::value_t::number_float;
-  const bool ok = number ? (v.is_number() || v.is_null()) : v.type() == type;
-  if (!ok) {
-    throw std::invalid_argument(where + "." + key + ": expected " + expected + ", got " +
-                                v.dump().substr(0, 60));
-  }
-  return v;
-}
-
-std::string StringField(const nlohmann::json& j, const std::string& key, const std::string& where) {
-  return Field(j, key, where, nlohmann::json::value_t::string, "a string").get<std::string>();
-}
-double NumberField(const nlohmann::json& j, const std::string& key, const std::string& where) {
-  const nlohmann::json& v =
-      Field(j, key, where, nlohmann::json::value_t::number_float, "a number or null");
-  return v.is_null() ? kNaN : v.get<double>();
-}
-bool BoolField(const nlohmann::json& j, const std::string& key, const std::string& where) {
-  return Field(j, key, where, nlohmann::json::value_t::boolean, "true or false").get<bool>();
-}
-const nlohmann::json& ArrayField(const nlohmann::json& j, const std::string& key,
-                                 const std::string& where) {
-  return Field(j, key, where, nlohmann::json::value_t::array, "a list");
-}
-std::vector<std::string> Strings(const nlohmann::json& j, const std::string& key,
-                                 const std::string& where) {
-  std::vector<std::string> out;
-  const nlohmann::json& list = ArrayField(j, key, where);
-  for (size_t k = 0; k < list.size(); ++k) {
-    if (!list[k].is_string()) {
-      throw std::invalid_argument(where + "." + key + "[" + std::to_string(k) +
-                                  "]: expected a string, got " + list[k].dump().substr(0, 60));
-    }
-    out.push_back(list[k].get<std::string>());
-  }
-  return out;
-}
 
 // ------------------------------------------------------------- comparison
 
@@ -308,41 +263,41 @@ FleetRow FleetRowFromJson(const nlohmann::json& j, const std::string& where) {
                                 j.dump().substr(0, 60));
   }
   FleetRow r;
-  r.axis = StringField(j, "axis", where);
-  r.log = StringField(j, "log", where);
-  r.job = StringField(j, "job", where);
-  r.folder = StringField(j, "folder", where);
-  r.status = StringField(j, "status", where);
+  r.axis = JsonStringField(j, "axis", where);
+  r.log = JsonStringField(j, "log", where);
+  r.job = JsonStringField(j, "job", where);
+  r.folder = JsonStringField(j, "folder", where);
+  r.status = JsonStringField(j, "status", where);
   if (r.status != "ok" && r.status != "not converged" && r.status != "failed") {
     throw std::invalid_argument(where + ".status: expected ok, not converged or failed, got '" +
                                 r.status + "'");
   }
-  r.error = StringField(j, "error", where);
-  const nlohmann::json& params = ArrayField(j, "parameters", where);
+  r.error = JsonStringField(j, "error", where);
+  const nlohmann::json& params = JsonArrayField(j, "parameters", where);
   for (size_t k = 0; k < params.size(); ++k) {
     const std::string at = where + ".parameters[" + std::to_string(k) + "]";
-    r.parameters.push_back({StringField(params[k], "name", at), StringField(params[k], "unit", at),
-                            NumberField(params[k], "value", at),
-                            NumberField(params[k], "std_error", at),
-                            NumberField(params[k], "ci95_low", at),
-                            NumberField(params[k], "ci95_high", at),
-                            BoolField(params[k], "determined", at)});
+    r.parameters.push_back(
+        {JsonStringField(params[k], "name", at), JsonStringField(params[k], "unit", at),
+         JsonNumberField(params[k], "value", at), JsonNumberField(params[k], "std_error", at),
+         JsonNumberField(params[k], "ci95_low", at), JsonNumberField(params[k], "ci95_high", at),
+         JsonBoolField(params[k], "determined", at)});
   }
-  r.effects = Strings(j, "effects", where);
-  r.discovery = BoolField(j, "discovery", where);
-  r.discovered = Strings(j, "discovered", where);
-  r.verdict = StringField(j, "verdict", where);
-  r.s2 = NumberField(j, "s2", where);
-  r.remains = Strings(j, "remains", where);
-  const nlohmann::json& fits = ArrayField(j, "fits", where);
+  r.effects = JsonStrings(j, "effects", where);
+  r.discovery = JsonBoolField(j, "discovery", where);
+  r.discovered = JsonStrings(j, "discovered", where);
+  r.verdict = JsonStringField(j, "verdict", where);
+  r.s2 = JsonNumberField(j, "s2", where);
+  r.remains = JsonStrings(j, "remains", where);
+  const nlohmann::json& fits = JsonArrayField(j, "fits", where);
   for (size_t k = 0; k < fits.size(); ++k) {
     const std::string at = where + ".fits[" + std::to_string(k) + "]";
-    r.fits.push_back({StringField(fits[k], "experiment", at), StringField(fits[k], "channel", at),
-                      BoolField(fits[k], "fitted", at), NumberField(fits[k], "fit_percent", at)});
+    r.fits.push_back({JsonStringField(fits[k], "experiment", at),
+                      JsonStringField(fits[k], "channel", at), JsonBoolField(fits[k], "fitted", at),
+                      JsonNumberField(fits[k], "fit_percent", at)});
   }
-  r.seconds = NumberField(j, "seconds", where);
-  const nlohmann::json& rank = Field(j, "rank", where, nlohmann::json::value_t::number_float,
-                                     "an integer");
+  r.seconds = JsonNumberField(j, "seconds", where);
+  const nlohmann::json& rank =
+      JsonField(j, "rank", where, nlohmann::json::value_t::number_float, "an integer");
   r.rank = rank.is_number_integer() ? rank.get<int>() : 0;
   return r;
 }
@@ -452,7 +407,7 @@ std::vector<FleetRow> LoadFleetJson(const std::string& path) {
     throw std::invalid_argument(path + ": invalid JSON: " + e.what());
   }
   std::vector<FleetRow> rows;
-  const nlohmann::json& list = ArrayField(doc, "rows", path);
+  const nlohmann::json& list = JsonArrayField(doc, "rows", path);
   for (size_t k = 0; k < list.size(); ++k) {
     rows.push_back(FleetRowFromJson(list[k], path + ": rows[" + std::to_string(k) + "]"));
   }

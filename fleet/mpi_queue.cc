@@ -217,6 +217,25 @@ void MpiSession::Abort(int code) const {
   std::abort();  // MPI_Abort does not return; in case an implementation does
 }
 
+bool LoadOnEveryRank(const MpiSession& mpi, const std::function<void()>& load,
+                     const std::string& program, const std::string& what, std::ostream& err) {
+  std::string error;
+  try {
+    load();
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (mpi.AllTrue(error.empty())) return true;
+  if (mpi.rank() == 0) {
+    err << program << ": error: "
+        << (error.empty() ? "another rank could not load " + what +
+                                " (are the files visible to every rank?)"
+                          : error)
+        << "\n";
+  }
+  return false;
+}
+
 void RunMpiQueue(const MpiSession& mpi, size_t count, const std::vector<size_t>& order,
                  const QueueTask& task, const QueueResult& result) {
   if (mpi.rank() != 0) {

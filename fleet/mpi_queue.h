@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -49,6 +50,15 @@ class MpiSession {
   int rank_ = 0;
   int size_ = 1;
 };
+
+// Loads a run's input on every rank (`load`, which throws
+// std::exception on bad input) and agrees on the outcome (AllTrue): true if
+// every rank loaded it. Otherwise false on every rank, and rank 0 writes
+// "PROGRAM: error: MESSAGE" to `err`, its own message or, where only another
+// rank failed, "another rank could not load WHAT (are the files visible to
+// every rank?)". A collective: every rank must call it.
+bool LoadOnEveryRank(const MpiSession& mpi, const std::function<void()>& load,
+                     const std::string& program, const std::string& what, std::ostream& err);
 
 // A task: runs task `index` (0 ≤ index < count) and returns its result as
 // text (e.g. JSON). Called on rank 0's worker thread or on another rank's

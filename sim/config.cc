@@ -441,7 +441,7 @@ InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
     const double bit_time = map.Number("bit_time", Range::kFinitePositive);
     const int order = static_cast<int>(map.Integer("order", 10, 2, 20));
     const long seed = map.Integer("seed", 1, 1, 1L << 30);
-    const double bits = std::ceil(duration / bit_time) + 1.0;
+    const double bits = PrbsTableBits(duration, bit_time);
     if (!(bits <= kMaxPrbsBits)) {
       std::ostringstream got;
       got << std::setprecision(3) << bits << " bits (duration " << duration << " s / bit_time "

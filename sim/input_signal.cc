@@ -110,6 +110,10 @@ void MakeCubic(InputSignal* s) {
           s->values.data(), n, s->times.front(), h)});
 }
 
+double PrbsTableBits(double duration, double bit_time) {
+  return std::ceil(duration / bit_time) + 1.0;
+}
+
 InputSignal MakePrbs(double amplitude, double offset, double bit_time,
                      int order, std::uint32_t seed, double duration) {
   // Feedback taps of maximum-length Fibonacci LFSRs (Xilinx XAPP052 table),
@@ -132,7 +136,7 @@ InputSignal MakePrbs(double amplitude, double offset, double bit_time,
         "PRBS: expected positive bit_time and duration, got " +
         std::to_string(bit_time) + " and " + std::to_string(duration));
   }
-  const double table_bits = std::ceil(duration / bit_time) + 1.0;
+  const double table_bits = PrbsTableBits(duration, bit_time);
   if (!(table_bits <= kMaxPrbsBits)) {
     std::ostringstream message;
     message << std::setprecision(3) << "PRBS: expected at most " << kMaxPrbsBits

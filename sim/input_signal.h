@@ -64,6 +64,11 @@ void MakeCubic(InputSignal* s);
 // asked for 4·10¹¹ bits.
 constexpr double kMaxPrbsBits = 1e8;
 
+// The number of bits MakePrbs stores for `duration` s of `bit_time` s bits:
+// ceil(duration / bit_time) + 1 (a double: it may exceed every integer
+// type; +inf or NaN for a zero or non-finite bit_time). Never throws.
+double PrbsTableBits(double duration, double bit_time);
+
 // A maximum-length pseudo-random binary sequence of ±amplitude (plus
 // offset) switching every `bit_time` s from t = 0 to `duration`, from a
 // Fibonacci LFSR of `order` bits (2..20) seeded with `seed` (non-zero in the

@@ -185,7 +185,7 @@ TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
   EXPECT_EQ(error(j.dump()), "from rank 1: expected a key 'verdict', got none");
   j = SeedOutcomeToJson(o);
   j["value"][0] = "x";
-  EXPECT_EQ(error(j.dump()), "from rank 1.value: expected a number or null, got \"x\"");
+  EXPECT_EQ(error(j.dump()), "from rank 1.value[0]: expected a number or null, got \"x\"");
   j = SeedOutcomeToJson(o);
   j["ci95_low"].erase(0);
   EXPECT_NE(error(j.dump()).find("of one length, got 2, 1, 2"), std::string::npos);
