@@ -28,6 +28,7 @@ namespace axis {
 //     effects: [coulomb]                # undeclared effects in the data
 //     values: {F_c: 30}                 # true values, for interval coverage
 //     verdict: explained                # expected verdict (optional)
+//     outside_library: [friction_patch] # generator-only forces in the data
 //   output: {dir: ../../build/campaigns/none}
 // Every experiment of the job (fitted and validation) needs a generating
 // config; seed s simulates each noise-free and adds noise with seed
@@ -43,6 +44,11 @@ struct CampaignConfig {
   std::vector<std::string> truth_effects;  // Candidate names, sorted
   std::vector<std::pair<std::string, double>> truth_values;  // MODEL.md name, SI unit
   std::string truth_verdict;  // "", "explained" or "incomplete"
+  // Forces outside MODEL.md §7 in the data (GeneratorOnlyEffectTable names,
+  // sorted; each switched on in a generating config). With any, no final
+  // set is exact and an effect selected is a stand-in, not a false
+  // discovery: the measure is the verdict (`incomplete`).
+  std::vector<std::string> truth_outside;
   std::string out_dir;
 };
 
@@ -52,7 +58,8 @@ struct CampaignConfig {
 // a generating config and each generating config must name a job
 // experiment. Throws std::invalid_argument naming the file, line and key
 // ("expected …, got …"): unknown keys, first > last, an unknown effect name,
-// a verdict other than explained / incomplete.
+// a verdict other than explained / incomplete, an outside_library force that
+// is not a generator-only one or that no generating config switches on.
 CampaignConfig LoadCampaign(const std::string& path);
 
 // What one seed gave.

@@ -168,7 +168,7 @@ namespace internal {
 
 inline bool AnyLoadEffect(const EffectSwitches& e) {
   return e.coulomb || e.stribeck || e.viscous_asymmetry || e.load_offset ||
-         e.spring;
+         e.spring || e.friction_patch || e.quadratic_drag;
 }
 
 }  // namespace internal
@@ -191,6 +191,7 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
                                  const AxisState<T>& y,
                     const T& u, AxisState<T>* dy, AxisAux<T>* aux = nullptr,
                     GearContact contact = GearContact::kFromState) {
+  using std::abs;
   using std::exp;
   using std::sin;
   using std::tanh;
@@ -222,6 +223,14 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
     }
     if (e.load_offset) f_load += p.F_0;
     if (e.spring) f_load += p.k_x * (x - p.x_0);
+    // Generator-only forces (outside MODEL.md §7; sim/axis_params.h). The
+    // patch's window rises from 0 to 1 over ±2·w_pt around x_pt0 and falls
+    // back around x_pt1: ½[tanh((x − x_pt0)/w_pt) − tanh((x − x_pt1)/w_pt)].
+    if (e.friction_patch) {
+      const T window = (tanh((x - p.x_pt0) / p.w_pt) - tanh((x - p.x_pt1) / p.w_pt)) * 0.5;
+      f_load += p.F_pt * window * tanh(v / p.v_eps);
+    }
+    if (e.quadratic_drag) f_load += p.C_d * v * abs(v);
   }
 
   // Motor-side torque effects.

@@ -42,6 +42,12 @@ struct EffectSwitches {
   bool payload = false;
   bool motor_coulomb = false;
   bool cogging = false;
+  // Forces outside MODEL.md §7, for generating data only (issue 10: data
+  // whose missing force the discovery loop's library cannot express must end
+  // with the verdict `incomplete`). The model config accepts them
+  // (GeneratorOnlyEffectTable in sim/config.h); the loop never proposes them.
+  bool friction_patch = false;  // F_pt·sgn_ε(v) inside x_pt0 < x < x_pt1
+  bool quadratic_drag = false;  // C_d·v·|v|
 };
 
 // Per-channel sensor effects of MODEL.md §7, indexed by Channel.
@@ -116,6 +122,12 @@ struct AxisParams {
   T T_c{0.0};
   T A_cog{0.0};
   T phi_cog{0.0};
+  // Generator-only forces (EffectSwitches::friction_patch, quadratic_drag).
+  T F_pt{0.0};    // friction inside the patch (N)
+  T x_pt0{0.0};   // patch start (m)
+  T x_pt1{0.0};   // patch end (m), above x_pt0
+  T w_pt{1e-3};   // width of the patch's smooth edges (m), positive
+  T C_d{0.0};     // quadratic drag coefficient (N*s^2/m^2)
   // Sensor effects, per channel (index Channel): tau_d.<channel>, b.<channel>.
   std::array<T, kNumChannels> tau_d{};
   std::array<T, kNumChannels> b{};
@@ -170,6 +182,11 @@ void VisitParams(Visitor&& visit, Params&... params) {
   visit("T_c", "N*m", params.T_c...);
   visit("A_cog", "N*m", params.A_cog...);
   visit("phi_cog", "rad", params.phi_cog...);
+  visit("F_pt", "N", params.F_pt...);
+  visit("x_pt0", "m", params.x_pt0...);
+  visit("x_pt1", "m", params.x_pt1...);
+  visit("w_pt", "m", params.w_pt...);
+  visit("C_d", "N*s^2/m^2", params.C_d...);
   for (int c = 0; c < kNumChannels; ++c) {
     const Channel ch = static_cast<Channel>(c);
     if (ch == Channel::kT) continue;

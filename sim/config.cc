@@ -63,6 +63,7 @@ Range ParamRange(const std::string& name) {
       "w", "v_eps", "omega_eps", "v_st"};
   static const std::set<std::string> non_negative = {
       "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
+  if (name == "w_pt") return Range::kFinitePositive;
   if (positive.count(name)) return Range::kPositive;
   if (non_negative.count(name)) return Range::kNonNegative;
   if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
@@ -148,6 +149,14 @@ const std::vector<EffectInfo>& DynamicEffectTable() {
   return effects;
 }
 
+const std::vector<EffectInfo>& GeneratorOnlyEffectTable() {
+  static const std::vector<EffectInfo> effects = {
+      {"friction_patch", {"F_pt", "x_pt0", "x_pt1", "w_pt"}, &EffectSwitches::friction_patch},
+      {"quadratic_drag", {"C_d"}, &EffectSwitches::quadratic_drag},
+  };
+  return effects;
+}
+
 bool IsEffectName(const std::string& name, bool allow_bare_sensor) {
   const size_t dot = name.find('.');
   const std::string effect = name.substr(0, dot);
@@ -178,13 +187,18 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
       continue;
     }
     const EffectInfo* spec = nullptr;
-    for (const EffectInfo& e : DynamicEffectTable()) {
-      if (name == e.name) spec = &e;
+    for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
+      for (const EffectInfo& e : *table) {
+        if (name == e.name) spec = &e;
+      }
     }
     if (spec == nullptr) {
       std::string known;
       for (const EffectInfo& e : DynamicEffectTable()) known += std::string(e.name) + ", ";
-      known += "sensor_delay, sensor_bias";
+      known += "sensor_delay, sensor_bias; or, to generate data, ";
+      for (const EffectInfo& e : GeneratorOnlyEffectTable()) {
+        known += std::string(e.name) + (&e == &GeneratorOnlyEffectTable().back() ? "" : ", ");
+      }
       ThrowConfigError(effects.file(), entry.first, effects.KeyPath(name),
                        "an effect of MODEL.md section 7 (" + known + ")",
                        "'" + name + "'");
@@ -192,6 +206,12 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
     config->structure.effects.*(spec->flag) = true;
     for (const char* p : spec->params) {
       *FindParam(&config->params, p) = body.Number(p, ParamRange(p));
+    }
+    if (name == "friction_patch" && !(config->params.x_pt1 > config->params.x_pt0)) {
+      std::ostringstream got;
+      got << config->params.x_pt1 << " (x_pt0 " << config->params.x_pt0 << ")";
+      ThrowConfigError(effects.file(), body.Optional("x_pt1"), body.KeyPath("x_pt1"),
+                       "a patch end above x_pt0", got.str());
     }
     if (name == "cogging") {
       config->structure.N_cog =
@@ -219,8 +239,10 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
   // Parameters of MODEL.md §2 and §4, and the sgn_ε widths v_eps and
   // omega_eps of §7 (effect parameters go with their effect).
   std::set<std::string> effect_params;
-  for (const EffectInfo& e : DynamicEffectTable()) {
-    for (const char* p : e.params) effect_params.insert(p);
+  for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
+    for (const EffectInfo& e : *table) {
+      for (const char* p : e.params) effect_params.insert(p);
+    }
   }
   out << YAML::Key << "parameters" << YAML::Value << YAML::BeginMap;
   AxisParams<double> params = config.params;
@@ -235,11 +257,17 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
   bool any_sensor = false;
   for (int c = 0; c < kNumChannels; ++c) any_sensor = any_sensor || sensors.delay[c] || sensors.bias[c];
   bool any = any_sensor;
-  for (const EffectInfo& e : DynamicEffectTable()) any = any || sw.*(e.flag);
+  std::vector<const EffectInfo*> switched;
+  for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
+    for (const EffectInfo& e : *table) {
+      if (sw.*(e.flag)) switched.push_back(&e);
+    }
+  }
+  any = any || !switched.empty();
   if (any) {
     out << YAML::Key << "effects" << YAML::Value << YAML::BeginMap;
-    for (const EffectInfo& e : DynamicEffectTable()) {
-      if (!(sw.*(e.flag))) continue;
+    for (const EffectInfo* effect : switched) {
+      const EffectInfo& e = *effect;
       out << YAML::Key << e.name << YAML::Value << YAML::BeginMap;
       for (const char* p : e.params) {
         out << YAML::Key << p << YAML::Value << *FindParam(&params, p);

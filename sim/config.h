@@ -50,6 +50,17 @@ struct EffectInfo {
 };
 const std::vector<EffectInfo>& DynamicEffectTable();
 
+// Forces outside MODEL.md §7 that a model config may switch on to generate
+// data (issue 10: the discovery loop's verdict on a force its library
+// lacks), under `effects:` like the §7 ones:
+//   friction_patch: {F_pt: N, x_pt0: m, x_pt1: m, w_pt: m}  F_pt·sgn_ε(v)
+//       for x_pt0 < x < x_pt1, edges smoothed over w_pt (> 0); x_pt1 > x_pt0.
+//   quadratic_drag: {C_d: N*s^2/m^2}                        C_d·v·|v|
+// Not effects in the sense of IsEffectName: never discovery candidates, and
+// a fit job cannot name them in discover.candidates (sim/axis_model.h has
+// their equations).
+const std::vector<EffectInfo>& GeneratorOnlyEffectTable();
+
 // Whether `name` names one effect the way the discovery loop does: a
 // DynamicEffectTable name ("coulomb"), or sensor_delay / sensor_bias with a
 // MODEL.md §6 channel ("sensor_delay.a"); with `allow_bare_sensor` also

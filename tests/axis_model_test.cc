@@ -262,6 +262,14 @@ AxisParams<double> EffectParams() {
   p.g_F = 35.15;
   p.v_eps = 1.3e-3;
   p.omega_eps = 0.7e-3;
+  // Generator-only forces: the first EffectStates point (x = 0.3 m) is on
+  // the patch's falling edge (window 0.86), the second (x = -0.1 m) far
+  // outside (window 6e-6).
+  p.F_pt = 45.0;
+  p.x_pt0 = 0.2;
+  p.x_pt1 = 0.35;
+  p.w_pt = 0.05;
+  p.C_d = 800.0;
   return p;
 }
 constexpr int kNCog = 7;
@@ -296,6 +304,15 @@ std::vector<EffectCase> Effects(const AxisParams<double>& p) {
        [p](double, double, double theta, double) {
          return p.A_cog * std::sin(kNCog * theta + p.phi_cog);
        }},
+      // Outside §7 (sim/config.h, GeneratorOnlyEffectTable).
+      {"friction_patch", [](EffectSwitches* e) { e->friction_patch = true; }, false,
+       [p, sgn](double x, double v, double, double) {
+         const double window =
+             (std::tanh((x - p.x_pt0) / p.w_pt) - std::tanh((x - p.x_pt1) / p.w_pt)) / 2.0;
+         return p.F_pt * window * sgn(v);
+       }},
+      {"quadratic_drag", [](EffectSwitches* e) { e->quadratic_drag = true; }, false,
+       [p](double, double v, double, double) { return p.C_d * v * std::abs(v); }},
   };
 }
 
@@ -387,7 +404,7 @@ TEST(AxisEffectsTest, EachEffectAddsExactlyItsTerm) {
 TEST(AxisEffectsTest, EnabledAtZeroEqualsDisabled) {
   AxisParams<double> p = EffectParams();
   // The "strength" of every effect at zero; the shape parameters (v_st,
-  // x_0, φ_cog, v_ε, ω_ε) stay non-zero.
+  // x_0, φ_cog, v_ε, ω_ε, the patch's x_pt0, x_pt1, w_pt) stay non-zero.
   p.F_c = 0.0;
   p.F_st = 0.0;
   p.Delta_B = 0.0;
@@ -396,6 +413,8 @@ TEST(AxisEffectsTest, EnabledAtZeroEqualsDisabled) {
   p.Delta_M = 0.0;
   p.T_c = 0.0;
   p.A_cog = 0.0;
+  p.F_pt = 0.0;  // patch bounds and edge width stay
+  p.C_d = 0.0;
   for (AxisStructure s : EffectConfigs()) {
     s.N_cog = kNCog;
     for (const State& y : EffectStates(p)) {

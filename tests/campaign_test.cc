@@ -49,6 +49,14 @@ TEST(CampaignTest, StrictLoader) {
   EXPECT_NE(e.find("got 'friction'"), std::string::npos) << e;
   e = LoadError(ok + "truth: {verdict: maybe}\n");
   EXPECT_NE(e.find("truth.verdict"), std::string::npos) << e;
+  // outside_library: a generator-only force, and one the data contain.
+  e = LoadError(ok + "truth: {outside_library: [coulomb]}\n");
+  EXPECT_NE(e.find("truth.outside_library"), std::string::npos) << e;
+  EXPECT_NE(e.find("expected a generator-only force (friction_patch, quadratic_drag)"),
+            std::string::npos) << e;
+  e = LoadError(ok + "truth: {outside_library: [quadratic_drag]}\n");
+  EXPECT_NE(e.find("a force that a generating config switches on (effects.quadratic_drag)"),
+            std::string::npos) << e;
   // A generating config for an experiment the job does not have.
   const std::string path = WriteCampaign(ok);
   std::ofstream(path) << "job: job.yaml\ngenerate: {sine: sine.yaml, step: sine.yaml}\n" << ok;
@@ -64,7 +72,7 @@ TEST(CampaignTest, StrictLoader) {
 // generating configs and the first seed's records (LoadCampaign checks them
 // all), and it names a truth (or none: null data).
 TEST(CampaignTest, CommittedCampaignsLoad) {
-  int loaded = 0;
+  int loaded = 0, outside = 0;
   for (const auto& entry :
        std::filesystem::directory_iterator(std::string(PROJECT_SOURCE_DIR) + "/configs/campaigns")) {
     const std::string path = entry.path().string();
@@ -80,9 +88,17 @@ TEST(CampaignTest, CommittedCampaignsLoad) {
       EXPECT_EQ(c.truth_values.size(), 1u);
       EXPECT_GE(c.last_seed - c.first_seed + 1, 20);  // issue 10: >= 20 seeds per effect
     }
+    if (path.find("outside_") != std::string::npos) {
+      // Issue 10: a force outside the library, and the verdict it must get.
+      EXPECT_TRUE(c.truth_effects.empty());
+      EXPECT_EQ(c.truth_outside.size(), 1u);
+      EXPECT_EQ(c.truth_verdict, "incomplete");
+      ++outside;
+    }
     ++loaded;
   }
-  EXPECT_GE(loaded, 8);
+  EXPECT_GE(loaded, 10);
+  EXPECT_GE(outside, 2);  // issue 10: at least two generating cases outside section 7
 }
 
 // Clopper–Pearson: k = 0 of n has upper bound 1 − 0.025^(1/n); k = n has
@@ -144,6 +160,34 @@ TEST(CampaignTest, SmallCampaignEndToEnd) {
 // The MPI campaign's messages (fleet/campaign_run.h): an outcome survives
 // JSON text exactly, NaN as null; a document that is not an outcome is
 // refused naming where and what.
+// With a force outside the library in the data (truth.outside_library) an
+// effect the loop selects stands in for it: no false-discovery or exact-set
+// rate is reported, the verdict is the measure, and the table says what the
+// data hold.
+TEST(CampaignTest, OutsideTheLibraryIsMeasuredByTheVerdict) {
+  CampaignConfig config;
+  config.path = "outside.yaml";
+  config.title = "outside";
+  config.truth_verdict = "incomplete";
+  config.truth_outside = {"friction_patch"};
+  std::vector<SeedOutcome> outcomes(3);
+  for (int k = 0; k < 3; ++k) outcomes[k].seed = k + 1;
+  outcomes[0].selected = {"coulomb"};
+  outcomes[0].verdict = "incomplete";
+  outcomes[1].verdict = "incomplete";
+  outcomes[2].verdict = "explained";
+  const CampaignSummary s = Summarize(config, outcomes);
+  EXPECT_EQ(s.false_discovery.n, 0);
+  EXPECT_EQ(s.exact_set.n, 0);
+  EXPECT_EQ(s.right_first.n, 0);
+  EXPECT_EQ(s.verdict_as_expected.n, 3);
+  EXPECT_EQ(s.verdict_as_expected.k, 2);
+  const std::string table = FormatCampaign(config, s, outcomes);
+  EXPECT_NE(table.find("outside the library, {friction_patch}"), std::string::npos) << table;
+  EXPECT_EQ(table.find("false discovery"), std::string::npos) << table;
+  EXPECT_NE(table.find("| verdict incomplete | 2/3"), std::string::npos) << table;
+}
+
 TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
   SeedOutcome o;
   o.seed = 17;

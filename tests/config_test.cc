@@ -223,6 +223,44 @@ TEST(ConfigTest, EffectsAreParsedWithTheirParameters) {
   EXPECT_EQ(e.model.params.b[static_cast<int>(Channel::kTach)], 0.01);
 }
 
+// Forces outside MODEL.md §7 (issue 10) load for generating data, round
+// trip through AxisConfigToYaml, and are no discovery candidates.
+TEST(ConfigTest, GeneratorOnlyForcesLoadButAreNotEffectsOfTheLibrary) {
+  const std::string path = WriteTemp(
+      "generator_only.yaml",
+      Experiment("effects:\n  friction_patch: {F_pt: 40, x_pt0: 0.01, x_pt1: 0.03, "
+                 "w_pt: 0.002}\n  quadratic_drag: {C_d: 500}\n"));
+  const ExperimentConfig e = LoadExperiment(path);
+  EXPECT_TRUE(e.model.structure.effects.friction_patch);
+  EXPECT_TRUE(e.model.structure.effects.quadratic_drag);
+  EXPECT_EQ(e.model.params.F_pt, 40.0);
+  EXPECT_EQ(e.model.params.x_pt0, 0.01);
+  EXPECT_EQ(e.model.params.x_pt1, 0.03);
+  EXPECT_EQ(e.model.params.w_pt, 0.002);
+  EXPECT_EQ(e.model.params.C_d, 500.0);
+  const AxisConfig back =
+      LoadAxisConfig(WriteTemp("generator_only_back.yaml", AxisConfigToYaml(e.model)));
+  EXPECT_TRUE(back.structure.effects.friction_patch);
+  EXPECT_TRUE(back.structure.effects.quadratic_drag);
+  EXPECT_EQ(back.params.x_pt1, 0.03);
+  EXPECT_EQ(back.params.C_d, 500.0);
+  EXPECT_FALSE(IsEffectName("friction_patch"));
+  EXPECT_FALSE(IsEffectName("quadratic_drag"));
+  // A patch that ends where it starts is refused, naming the key.
+  const std::string bad = WriteTemp(
+      "patch_order.yaml",
+      Experiment("effects:\n  friction_patch: {F_pt: 40, x_pt0: 0.03, x_pt1: 0.03, "
+                 "w_pt: 0.002}\n"));
+  const std::string msg = ErrorOf([&] { LoadExperiment(bad); });
+  EXPECT_NE(msg.find("key 'effects.friction_patch.x_pt1'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected a patch end above x_pt0"), std::string::npos) << msg;
+  // The list of known effects names them apart from the library.
+  const std::string unknown =
+      ErrorOf([&] { LoadExperiment(WriteTemp("effect2.yaml", Experiment("effects: {x: {}}\n"))); });
+  EXPECT_NE(unknown.find("to generate data, friction_patch, quadratic_drag"), std::string::npos)
+      << unknown;
+}
+
 TEST(ConfigTest, MissingDataColumnIsNamed) {
   const std::string csv = WriteTemp("data.csv", "t,u\n0,1\n0.001,2\n");
   const std::string path = WriteTemp(
