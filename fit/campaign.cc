@@ -239,7 +239,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
     }
     c.discover = d.Scalar() == "true";
   }
-  std::vector<std::pair<std::string, YAML::Node>> outside_nodes;
+  std::vector<std::pair<const EffectInfo*, YAML::Node>> outside_nodes;
   if (const YAML::Node truth = map.Optional("truth")) {
     YamlMap t(truth, path, "truth.");
     if (const YAML::Node effects = t.Optional("effects")) {
@@ -282,14 +282,14 @@ CampaignConfig LoadCampaign(const std::string& path) {
       }
       for (const YAML::Node& e : outside) {
         const std::string name = e.IsScalar() ? e.Scalar() : "";
-        const bool known =
-            std::any_of(GeneratorOnlyEffectTable().begin(), GeneratorOnlyEffectTable().end(),
-                        [&](const EffectInfo& g) { return name == g.name; });
-        if (!known) {
+        const auto known =
+            std::find_if(GeneratorOnlyEffectTable().begin(), GeneratorOnlyEffectTable().end(),
+                         [&](const EffectInfo& g) { return name == g.name; });
+        if (known == GeneratorOnlyEffectTable().end()) {
           ThrowConfigError(path, e, "truth.outside_library",
                            "a generator-only force (" + names + ")", Describe(e));
         }
-        outside_nodes.emplace_back(name, e);
+        outside_nodes.emplace_back(&*known, e);
         c.truth_outside.push_back(name);
       }
       std::sort(c.truth_outside.begin(), c.truth_outside.end());
@@ -327,17 +327,21 @@ CampaignConfig LoadCampaign(const std::string& path) {
   }
   // A force outside the library that no generating config switches on
   // would make the campaign measure something else.
-  for (const auto& outside : outside_nodes) {
-    const std::string& name = outside.first;
-    const YAML::Node& node = outside.second;
-    const EffectInfo& info = *std::find_if(
-        GeneratorOnlyEffectTable().begin(), GeneratorOnlyEffectTable().end(),
-        [&](const EffectInfo& g) { return name == g.name; });
-    bool on = false;
+  // Each generating config is read once here (JobForSeed below reads them
+  // again, as every seed does).
+  EffectSwitches switched_on;
+  if (!outside_nodes.empty()) {
     for (const auto& generating : c.generate) {
-      on = on || LoadExperiment(generating.second).model.structure.effects.*(info.flag);
+      const EffectSwitches e = LoadExperiment(generating.second).model.structure.effects;
+      for (const EffectInfo& g : GeneratorOnlyEffectTable()) {
+        switched_on.*(g.flag) = switched_on.*(g.flag) || e.*(g.flag);
+      }
     }
-    if (!on) {
+  }
+  for (const auto& outside : outside_nodes) {
+    const std::string name = outside.first->name;
+    const YAML::Node& node = outside.second;
+    if (!(switched_on.*(outside.first->flag))) {
       ThrowConfigError(path, node, "truth.outside_library",
                        "a force that a generating config switches on (effects." + name + ")",
                        "'" + name + "', in none of them");
