@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -68,10 +69,29 @@ TEST(InterruptTest, HeldWhileCommittingThenReported) {
       ::testing::ExitedWithCode(130), "^tool: interrupted by SIGINT: nothing written to out/run\n$");
 }
 
+// CPU time (user + system) the process `pid` has used so far, from fields 14
+// and 15 of /proc/PID/stat (proc(5)), in seconds; -1 if it cannot be read.
+double CpuSeconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat((std::istreambuf_iterator<char>(in)), {});
+  const std::size_t close = stat.rfind(')');  // the command name may hold spaces
+  if (close == std::string::npos) return -1;
+  std::istringstream fields(stat.substr(close + 2));
+  std::string field;
+  long ticks = 0;
+  for (int i = 3; i <= 15 && fields >> field; ++i) {
+    if (i >= 14) ticks += std::stol(field);
+  }
+  return static_cast<double>(ticks) / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
 // Starts `binary args...` with stdout to /dev/null and stderr to a file,
-// sends `signal` after `delay`, and waits for it.
+// sends `signal` once the process has used `cpu` seconds of CPU time (so it
+// is past start-up and into its work however loaded the machine is; a wall
+// clock delay was not: under a loaded CI the signal once arrived before the
+// tool had named its output), and waits for it.
 CommandResult RunAndSignal(const std::string& binary, std::vector<std::string> args,
-                           std::chrono::milliseconds delay, int signal) {
+                           double cpu, int signal) {
   const std::string err_path = axis::testing_files::TestTempDir() + "stderr.txt";
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -86,7 +106,10 @@ CommandResult RunAndSignal(const std::string& binary, std::vector<std::string> a
   const int spawned = posix_spawn(&pid, binary.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) return {-1, "cannot start " + binary};
-  std::this_thread::sleep_for(delay);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (CpuSeconds(pid) < cpu && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   ::kill(pid, signal);
   int status = 0;
   ::waitpid(pid, &status, 0);
@@ -105,15 +128,15 @@ std::vector<std::string> EntriesStartingWith(const std::string& dir, const std::
   return out;
 }
 
-// The paper job runs for tens of seconds: interrupted after 1.5 s it has
-// written nothing, not even the staging folder.
+// The paper job runs for seconds of CPU time: interrupted after 0.5 s of it
+// it has written nothing, not even the staging folder.
 TEST(InterruptTest, FitParamsInterruptedLeavesNoOutputFolder) {
   const std::string dir = axis::testing_files::TestTempDir();
   const std::string out = dir + "paper_out";
   fs::remove_all(out);
   const CommandResult r =
       RunAndSignal(kBin + "/fit-params", {kRoot + "/configs/jobs/x_axis_paper.yaml", "--out", out},
-                   std::chrono::milliseconds(1500), SIGINT);
+                   0.5, SIGINT);
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_NE(r.err.find("fit-params: interrupted by SIGINT: nothing written to " + out),
             std::string::npos)
@@ -122,7 +145,7 @@ TEST(InterruptTest, FitParamsInterruptedLeavesNoOutputFolder) {
   EXPECT_TRUE(EntriesStartingWith(dir, "paper_out").empty());
 }
 
-// A 2000 s simulation (several seconds of work) terminated after 0.5 s:
+// A 2000 s simulation (minutes of work) terminated after 0.3 s of CPU time:
 // no CSV and no temporary file.
 TEST(InterruptTest, SimulateAxisTerminatedLeavesNoFile) {
   const std::string dir = axis::testing_files::TestTempDir();
@@ -133,7 +156,7 @@ TEST(InterruptTest, SimulateAxisTerminatedLeavesNoFile) {
   const std::string out = dir + "long.csv";
   fs::remove(out);
   const CommandResult r = RunAndSignal(kBin + "/simulate-axis", {experiment, "--out", out},
-                                       std::chrono::milliseconds(500), SIGTERM);
+                                       0.3, SIGTERM);
   EXPECT_EQ(r.exit_code, 143) << r.err;
   EXPECT_NE(r.err.find("simulate-axis: interrupted by SIGTERM: nothing written to " + out),
             std::string::npos)
