@@ -33,6 +33,40 @@
 namespace axis {
 namespace {
 
+// FitResult::stop_note (fit/fit_result.h): why a stop on Ceres' parameter
+// tolerance on a model that quantises its position feedback may depend on
+// the path; empty otherwise.
+std::string QuantisedFeedbackStopNote(const AxisConfig& model,
+                                      const ceres::Solver::Summary& summary) {
+  const ControllerConfig& c = model.controller;
+  if (!model.has_controller || summary.termination_type != ceres::CONVERGENCE ||
+      summary.message.rfind("Parameter tolerance", 0) != 0) {
+    return "";
+  }
+  double quantum = 0.0;  // m, of the position the controller sees
+  std::string key;
+  if (c.load_quantum > 0.0) {
+    quantum = c.load_quantum;
+    key = "load_quantum";
+  } else if (c.counts_per_rev > 0.0) {
+    constexpr double kTwoPi = 6.283185307179586476925;
+    quantum = model.params.r_g * kTwoPi / c.counts_per_rev;
+    key = "counts_per_rev";
+  } else {
+    return "";
+  }
+  std::ostringstream note;
+  note << std::setprecision(3) << "stopped on the step size, not on the gradient or the cost "
+       << "change, with the position feedback quantised (controller." << key << ": quantum "
+       << quantum << " m, G_p·quantum = " << c.G_p * quantum
+       << " V at the controller output): the cost is piecewise constant at that scale, so "
+          "the end point can depend on the path by more than the standard errors; where "
+          "G_p·quantum is far below the σ of u, a model "
+          "without the quantiser (controller: {"
+       << key << ": 0} in the job) has a smooth cost (README, Real data: EMPS)";
+  return note.str();
+}
+
 // Prints iteration, cost, relative decrease and step norm: one line per
 // iteration, or on a terminal (ProgressStream) the detail of its status
 // line. `plain_lines` false: nothing but that detail (the refits of the
@@ -899,6 +933,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.final_cost = best_cost;
   result.converged = best_summary.termination_type == ceres::CONVERGENCE;
   result.termination = best_summary.message;
+  result.stop_note = QuantisedFeedbackStopNote(job.model, best_summary);
   result.iterations = static_cast<int>(best_summary.iterations.size()) - 1;
 
   // To physical units: value_k = g(θ_k), so Cov = D·Cov_θ·D·s² (the

@@ -100,6 +100,13 @@ struct FitResult {
   int simulations = 0;            // residual-only evaluations
   int jacobian_evaluations = 0;   // evaluations with derivatives
   std::string termination;        // Ceres' message
+  // Why the end point may depend on the path (FitParameters): set when the
+  // solver stopped on its step size (Ceres' parameter tolerance: the trust
+  // region collapsed, not a small gradient or cost change) on a model whose
+  // controller quantises the position feedback (sim/controller.h
+  // load_quantum, counts_per_rev), whose cost is then piecewise constant at
+  // the quantum. Empty otherwise.
+  std::string stop_note;
   // Optimum check after the solver stopped (FitParameters): the cost probed
   // at the estimate ± {0.01, 0.3, 1, 3, 10} standard deviations along every
   // parameter, every principal axis of the covariance and the last stage's

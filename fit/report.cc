@@ -607,6 +607,7 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
          (result.termination.empty() ? std::string("-")
                                      : OneLine(result.termination)) +
          "\n";
+  if (!result.stop_note.empty()) out += "- note: " + result.stop_note + "\n";
   out += "- " + (result.optimum_check.empty() ? std::string("optimum not checked")
                                              : result.optimum_check) +
          "\n";
@@ -694,6 +695,7 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
   j["simulations"] = result.simulations;
   j["jacobian_evaluations"] = result.jacobian_evaluations;
   j["termination"] = result.termination;
+  j["stop_note"] = result.stop_note;
   Json phases = Json::array();
   for (const FitPhase& f : result.phases) {
     phases.push_back({{"name", f.name},
