@@ -168,7 +168,7 @@ namespace internal {
 
 inline bool AnyLoadEffect(const EffectSwitches& e) {
   return e.coulomb || e.stribeck || e.viscous_asymmetry || e.load_offset ||
-         e.spring || e.friction_patch || e.quadratic_drag;
+         e.spring || e.friction_patch || e.quadratic_drag || e.position_ripple;
 }
 
 }  // namespace internal
@@ -231,6 +231,12 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
       f_load += p.F_pt * window * tanh(v / p.v_eps);
     }
     if (e.quadratic_drag) f_load += p.C_d * v * abs(v);
+    // A force periodic in the load position (a ball screw's or a rack's
+    // pitch error, guide waviness): unlike cogging, whose period is set by
+    // the motor angle, its period λ_rp is the job's to choose.
+    if (e.position_ripple) {
+      f_load += p.F_rp * sin(T(6.283185307179586476925) * x / p.lambda_rp + p.phi_rp);
+    }
   }
 
   // Motor-side torque effects.

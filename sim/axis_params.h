@@ -48,6 +48,7 @@ struct EffectSwitches {
   // (GeneratorOnlyEffectTable in sim/config.h); the loop never proposes them.
   bool friction_patch = false;  // F_pt·sgn_ε(v) inside x_pt0 < x < x_pt1
   bool quadratic_drag = false;  // C_d·v·|v|
+  bool position_ripple = false;  // F_rp·sin(2π·x/λ_rp + φ_rp)
 };
 
 // Per-channel sensor effects of MODEL.md §7, indexed by Channel.
@@ -122,12 +123,16 @@ struct AxisParams {
   T T_c{0.0};
   T A_cog{0.0};
   T phi_cog{0.0};
-  // Generator-only forces (EffectSwitches::friction_patch, quadratic_drag).
+  // Generator-only forces (EffectSwitches::friction_patch, quadratic_drag,
+  // position_ripple).
   T F_pt{0.0};    // friction inside the patch (N)
   T x_pt0{0.0};   // patch start (m)
   T x_pt1{0.0};   // patch end (m), above x_pt0
   T w_pt{1e-3};   // width of the patch's smooth edges (m), positive
   T C_d{0.0};     // quadratic drag coefficient (N*s^2/m^2)
+  T F_rp{0.0};        // position ripple amplitude (N)
+  T lambda_rp{0.05};  // its period in the load position x (m), positive
+  T phi_rp{0.0};      // its phase (rad)
   // Sensor effects, per channel (index Channel): tau_d.<channel>, b.<channel>.
   std::array<T, kNumChannels> tau_d{};
   std::array<T, kNumChannels> b{};
@@ -187,6 +192,9 @@ void VisitParams(Visitor&& visit, Params&... params) {
   visit("x_pt1", "m", params.x_pt1...);
   visit("w_pt", "m", params.w_pt...);
   visit("C_d", "N*s^2/m^2", params.C_d...);
+  visit("F_rp", "N", params.F_rp...);
+  visit("lambda_rp", "m", params.lambda_rp...);
+  visit("phi_rp", "rad", params.phi_rp...);
   for (int c = 0; c < kNumChannels; ++c) {
     const Channel ch = static_cast<Channel>(c);
     if (ch == Channel::kT) continue;

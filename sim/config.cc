@@ -63,7 +63,7 @@ Range ParamRange(const std::string& name) {
       "w", "v_eps", "omega_eps", "v_st"};
   static const std::set<std::string> non_negative = {
       "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
-  if (name == "w_pt") return Range::kFinitePositive;
+  if (name == "w_pt" || name == "lambda_rp") return Range::kFinitePositive;
   if (positive.count(name)) return Range::kPositive;
   if (non_negative.count(name)) return Range::kNonNegative;
   if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
@@ -153,6 +153,7 @@ const std::vector<EffectInfo>& GeneratorOnlyEffectTable() {
   static const std::vector<EffectInfo> effects = {
       {"friction_patch", {"F_pt", "x_pt0", "x_pt1", "w_pt"}, &EffectSwitches::friction_patch},
       {"quadratic_drag", {"C_d"}, &EffectSwitches::quadratic_drag},
+      {"position_ripple", {"F_rp", "lambda_rp", "phi_rp"}, &EffectSwitches::position_ripple},
   };
   return effects;
 }

@@ -56,6 +56,8 @@ const std::vector<EffectInfo>& DynamicEffectTable();
 //   friction_patch: {F_pt: N, x_pt0: m, x_pt1: m, w_pt: m}  F_pt·sgn_ε(v)
 //       for x_pt0 < x < x_pt1, edges smoothed over w_pt (> 0); x_pt1 > x_pt0.
 //   quadratic_drag: {C_d: N*s^2/m^2}                        C_d·v·|v|
+//   position_ripple: {F_rp: N, lambda_rp: m, phi_rp: rad}
+//       F_rp·sin(2π·x/λ_rp + φ_rp): periodic in the load position, λ_rp > 0.
 // Not effects in the sense of IsEffectName: never discovery candidates, and
 // a fit job cannot name them in discover.candidates (sim/axis_model.h has
 // their equations).

@@ -270,6 +270,9 @@ AxisParams<double> EffectParams() {
   p.x_pt1 = 0.35;
   p.w_pt = 0.05;
   p.C_d = 800.0;
+  p.F_rp = 25.0;
+  p.lambda_rp = 0.07;
+  p.phi_rp = 0.3;
   return p;
 }
 constexpr int kNCog = 7;
@@ -313,6 +316,10 @@ std::vector<EffectCase> Effects(const AxisParams<double>& p) {
        }},
       {"quadratic_drag", [](EffectSwitches* e) { e->quadratic_drag = true; }, false,
        [p](double, double v, double, double) { return p.C_d * v * std::abs(v); }},
+      {"position_ripple", [](EffectSwitches* e) { e->position_ripple = true; }, false,
+       [p](double x, double, double, double) {
+         return p.F_rp * std::sin(2.0 * M_PI * x / p.lambda_rp + p.phi_rp);
+       }},
   };
 }
 
@@ -415,6 +422,7 @@ TEST(AxisEffectsTest, EnabledAtZeroEqualsDisabled) {
   p.A_cog = 0.0;
   p.F_pt = 0.0;  // patch bounds and edge width stay
   p.C_d = 0.0;
+  p.F_rp = 0.0;  // the ripple's period and phase stay
   for (AxisStructure s : EffectConfigs()) {
     s.N_cog = kNCog;
     for (const State& y : EffectStates(p)) {

@@ -229,7 +229,8 @@ TEST(ConfigTest, GeneratorOnlyForcesLoadButAreNotEffectsOfTheLibrary) {
   const std::string path = WriteTemp(
       "generator_only.yaml",
       Experiment("effects:\n  friction_patch: {F_pt: 40, x_pt0: 0.01, x_pt1: 0.03, "
-                 "w_pt: 0.002}\n  quadratic_drag: {C_d: 500}\n"));
+                 "w_pt: 0.002}\n  quadratic_drag: {C_d: 500}\n"
+                 "  position_ripple: {F_rp: 30, lambda_rp: 0.05, phi_rp: 0.2}\n"));
   const ExperimentConfig e = LoadExperiment(path);
   EXPECT_TRUE(e.model.structure.effects.friction_patch);
   EXPECT_TRUE(e.model.structure.effects.quadratic_drag);
@@ -238,14 +239,29 @@ TEST(ConfigTest, GeneratorOnlyForcesLoadButAreNotEffectsOfTheLibrary) {
   EXPECT_EQ(e.model.params.x_pt1, 0.03);
   EXPECT_EQ(e.model.params.w_pt, 0.002);
   EXPECT_EQ(e.model.params.C_d, 500.0);
+  EXPECT_TRUE(e.model.structure.effects.position_ripple);
+  EXPECT_EQ(e.model.params.F_rp, 30.0);
+  EXPECT_EQ(e.model.params.lambda_rp, 0.05);
+  EXPECT_EQ(e.model.params.phi_rp, 0.2);
   const AxisConfig back =
       LoadAxisConfig(WriteTemp("generator_only_back.yaml", AxisConfigToYaml(e.model)));
   EXPECT_TRUE(back.structure.effects.friction_patch);
   EXPECT_TRUE(back.structure.effects.quadratic_drag);
   EXPECT_EQ(back.params.x_pt1, 0.03);
   EXPECT_EQ(back.params.C_d, 500.0);
+  EXPECT_TRUE(back.structure.effects.position_ripple);
+  EXPECT_EQ(back.params.lambda_rp, 0.05);
   EXPECT_FALSE(IsEffectName("friction_patch"));
   EXPECT_FALSE(IsEffectName("quadratic_drag"));
+  EXPECT_FALSE(IsEffectName("position_ripple"));
+  // A ripple needs a positive period.
+  const std::string zero_period = ErrorOf([&] {
+    LoadExperiment(WriteTemp("ripple_period.yaml",
+                             Experiment("effects:\n  position_ripple: {F_rp: 30, lambda_rp: 0, "
+                                        "phi_rp: 0}\n")));
+  });
+  EXPECT_NE(zero_period.find("key 'effects.position_ripple.lambda_rp'"), std::string::npos)
+      << zero_period;
   // A patch that ends where it starts is refused, naming the key.
   const std::string bad = WriteTemp(
       "patch_order.yaml",
@@ -257,7 +273,8 @@ TEST(ConfigTest, GeneratorOnlyForcesLoadButAreNotEffectsOfTheLibrary) {
   // The list of known effects names them apart from the library.
   const std::string unknown =
       ErrorOf([&] { LoadExperiment(WriteTemp("effect2.yaml", Experiment("effects: {x: {}}\n"))); });
-  EXPECT_NE(unknown.find("to generate data, friction_patch, quadratic_drag"), std::string::npos)
+  EXPECT_NE(unknown.find("to generate data, friction_patch, quadratic_drag, position_ripple"),
+            std::string::npos)
       << unknown;
 }
 
