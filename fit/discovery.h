@@ -121,6 +121,11 @@ struct DiscoveryStep {
   // why ("BIC … above coulomb's …").
   std::string rule;
   std::string outranked;
+  // A forward refit that failed outright from the score step (no finite
+  // BIC: far from a model that explains the data the Gauss–Newton step can
+  // be far too long and the simulation leave the finite numbers) is run
+  // once more from a tenth of the step; then this says so.
+  std::string retried;
   std::vector<ChannelChange> channels;
   double seconds = 0.0;  // s, wall time of the step's refit
 };

@@ -394,6 +394,20 @@ TEST(DiscoveryTest, NoFalseDiscoveryOverTenNullSeeds) {
   RecordProperty("false_discoveries", std::to_string(summary.false_discovery.k) + "/10");
 }
 
+// A refit that fails outright from the score step is retried from a tenth
+// of it. Seed 4 of configs/campaigns/power_load_offset.yaml: the base fit is
+// far off (s² = 204), the offset is first by score, and its refit from the
+// score step failed in 0.27 s (no finite BIC), so a stand-in (cogging) took
+// the first step; without the retry the seed's first effect is cogging.
+TEST(DiscoveryTest, FailedRefitIsRetriedFromAShorterStep) {
+  CampaignConfig config = LoadCampaign(kRoot + "/configs/campaigns/power_load_offset.yaml");
+  const SeedOutcome o = RunCampaignSeed(config, 4, 2);
+  ASSERT_EQ(o.error, "");
+  EXPECT_EQ(o.first_added, "load_offset");
+  EXPECT_EQ(o.selected, std::vector<std::string>{"load_offset"});
+  EXPECT_EQ(o.verdict, "explained");
+}
+
 // Motion in one direction only (the +4 V step of the coulomb case): a
 // Coulomb force and a constant offset both act as a constant force while the
 // axis moves, so their projected columns are nearly parallel (cos 0.988)
