@@ -548,6 +548,20 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       std::vector<std::string> names;  // the effect's parameters, now free
     };
     std::vector<Pending> batch;
+    // The job of a candidate's refit: the effect added at `score`'s step.
+    // One start, no optimum check, Gauss–Newton intervals; but the horizon
+    // continuation stays: from the optimum with the effect at its score
+    // step, the whole record at once ended in higher minima (EMPS: the
+    // Stribeck refit at BIC 1.145e4 instead of 1.135e4, B_a 379 instead of
+    // 153 N·s/m; coulomb_viscous_asymmetry: motor-side Coulomb friction at
+    // 3.2e6 instead of 2.6e5), so refits with an effect added keep it.
+    const auto refit_job = [&](const Candidate& candidate, const Score& score) {
+      FitJob refit = *job;
+      AddEffect(candidate, score, &refit);
+      AsWarmRefit(&refit);
+      refit.solver.first_horizon = first_horizon;
+      return refit;
+    };
     const auto run_batch = [&]() {
       std::vector<FitJob> jobs;
       std::string names;
@@ -577,10 +591,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
           // a stand-in (cogging) took the step.
           Score damped = *q.score;
           for (double& x : damped.step) x *= 0.1;
-          FitJob retry = *job;
-          AddEffect(q.candidate, damped, &retry);
-          AsWarmRefit(&retry);
-          retry.solver.first_horizon = first_horizon;
+          FitJob retry = refit_job(q.candidate, damped);
           const Clock::time_point retry_start = Clock::now();
           refit = FitParameters(retry, nullptr);
           record.seconds += SecondsSince(retry_start);
@@ -644,16 +655,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       const Candidate& chosen = *std::find_if(
           candidates.begin(), candidates.end(),
           [&](const Candidate& c) { return c.name == score.name; });
-      Pending q{&score, chosen, *job, {}};
-      AddEffect(chosen, score, &q.job);
-      // One start, no optimum check, Gauss–Newton intervals; but the horizon
-      // continuation stays: from the optimum with the effect at its score
-      // step, the whole record at once ended in higher minima (EMPS: the
-      // Stribeck refit at BIC 1.145e4 instead of 1.135e4, B_a 379 instead of
-      // 153 N·s/m; coulomb_viscous_asymmetry: motor-side Coulomb friction at
-      // 3.2e6 instead of 2.6e5), so refits with an effect added keep it.
-      AsWarmRefit(&q.job);
-      q.job.solver.first_horizon = first_horizon;
+      Pending q{&score, chosen, refit_job(chosen, score), {}};
       for (size_t k = job->free.size(); k < q.job.free.size(); ++k) {
         q.names.push_back(q.job.free[k].name);
       }
