@@ -68,9 +68,23 @@ enum class AccelerometerSampling {
   kInstant,     // y1'(t_k)
 };
 
+// How the motor current y6 of the analog_velocity_loop follows eq. 3.
+// The current loop is the model's stiffest mode (λ ≈ −(K_a/K_i + R)/L =
+// −1.43·10⁵ 1/s for the X axis: RK4 needs h ≤ 19.5 µs); MODEL.md §2 calls
+// K_a only "sufficiently large", i.e. the loop is meant to be fast.
+enum class CurrentLoop {
+  kFull,         // eq. 3 as written (the paper's model, the default)
+  kQuasiSteady,  // the unsaturated loop as its fast limit K_a → ∞ (i follows
+                 // (K_a·V_c − K_e·ω)/(K_a/K_i + R) and its rate), the
+                 // saturated one (|V_m| = V_M) exactly as eq. 3: allows RK4
+                 // steps up to about 100 µs. Model error against kFull:
+                 // README "Numerics" and tests/axis_model_test.cc.
+};
+
 // The discrete (non-differentiable) part of a model: which equations apply.
 struct AxisStructure {
   Amplifier amplifier = Amplifier::kAnalogVelocityLoop;
+  CurrentLoop current_loop = CurrentLoop::kFull;  // analog_velocity_loop only
   Coupling coupling = Coupling::kGear;
   EffectSwitches effects;
   SensorSwitches sensors;

@@ -18,6 +18,7 @@ const std::vector<std::string> kAmplifiers = {
     "analog_velocity_loop", "current_source", "force_source"};
 const std::vector<std::string> kCouplings = {"gear", "rigid"};
 const std::vector<std::string> kAccelerometer = {"period_mean", "instant"};
+const std::vector<std::string> kCurrentLoops = {"full", "quasi_steady"};
 
 Amplifier ParseAmplifier(const std::string& s) {
   if (s == "current_source") return Amplifier::kCurrentSource;
@@ -27,6 +28,10 @@ Amplifier ParseAmplifier(const std::string& s) {
 
 Coupling ParseCoupling(const std::string& s) {
   return s == "rigid" ? Coupling::kRigid : Coupling::kGear;
+}
+
+CurrentLoop ParseCurrentLoop(const std::string& s) {
+  return s == "quasi_steady" ? CurrentLoop::kQuasiSteady : CurrentLoop::kFull;
 }
 
 AccelerometerSampling ParseAccelerometer(const std::string& s) {
@@ -233,6 +238,8 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
       << amplifiers[static_cast<int>(config.structure.amplifier)];
   out << YAML::Key << "coupling" << YAML::Value
       << (config.structure.coupling == Coupling::kRigid ? "rigid" : "gear");
+  out << YAML::Key << "current_loop" << YAML::Value
+      << (config.structure.current_loop == CurrentLoop::kQuasiSteady ? "quasi_steady" : "full");
   out << YAML::Key << "accelerometer" << YAML::Value
       << (config.structure.accelerometer == AccelerometerSampling::kInstant
               ? "instant"
@@ -329,6 +336,12 @@ void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
         where + ": key 'coupling': expected rigid with amplifier "
                 "force_source (there is no motor to couple), got gear");
   }
+  if (config.structure.current_loop == CurrentLoop::kQuasiSteady &&
+      config.structure.amplifier != Amplifier::kAnalogVelocityLoop) {
+    throw std::invalid_argument(
+        where + ": key 'current_loop': expected full with an amplifier other than "
+                "analog_velocity_loop (only that one has a current loop), got quasi_steady");
+  }
 }
 
 AxisConfig LoadAxisConfig(const std::string& path) {
@@ -344,6 +357,8 @@ AxisConfig ParseAxisConfig(const YAML::Node& document, const std::string& path) 
   root.String("description", "");
   config.structure.amplifier = ParseAmplifier(root.Choice("amplifier", kAmplifiers));
   config.structure.coupling = ParseCoupling(root.Choice("coupling", kCouplings));
+  config.structure.current_loop =
+      ParseCurrentLoop(root.Choice("current_loop", kCurrentLoops, "full"));
   config.structure.accelerometer =
       ParseAccelerometer(root.Choice("accelerometer", kAccelerometer, "period_mean"));
   YamlMap params(root.Required("parameters"), path, "parameters.");
@@ -574,6 +589,9 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
     }
     if (map.Has("coupling")) {
       model->structure.coupling = ParseCoupling(map.Choice("coupling", kCouplings));
+    }
+    if (map.Has("current_loop")) {
+      model->structure.current_loop = ParseCurrentLoop(map.Choice("current_loop", kCurrentLoops));
     }
     if (map.Has("accelerometer")) {
       model->structure.accelerometer =

@@ -335,6 +335,33 @@ TEST(ConfigTest, ForceSourceNeedsRigidCoupling) {
   EXPECT_NE(msg.find("expected rigid"), std::string::npos) << msg;
 }
 
+// current_loop: full (default) or quasi_steady, the latter only where there
+// is a current loop; a misspelt value names the choices.
+TEST(ConfigTest, CurrentLoopKey) {
+  const std::string x_axis = kRoot + "/configs/axes/x_axis.yaml";
+  EXPECT_EQ(LoadAxisConfig(x_axis).structure.current_loop, CurrentLoop::kFull);
+  std::ifstream in(x_axis);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  const auto with = [&](const std::string& line, const std::string& name) {
+    std::string t = text;
+    t.insert(t.find("coupling:"), line + "\n");
+    return WriteTemp(name, t);
+  };
+  EXPECT_EQ(LoadAxisConfig(with("current_loop: quasi_steady", "qs.yaml")).structure.current_loop,
+            CurrentLoop::kQuasiSteady);
+  const std::string typo = ErrorOf([&] { LoadAxisConfig(with("current_loop: quasi", "qs_typo.yaml")); });
+  EXPECT_NE(typo.find("current_loop"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("quasi_steady"), std::string::npos) << typo;
+  std::string emps;
+  {
+    std::ifstream e(kRoot + "/configs/axes/emps.yaml");
+    emps.assign((std::istreambuf_iterator<char>(e)), {});
+  }
+  emps.insert(emps.find("coupling:"), "current_loop: quasi_steady\n");
+  const std::string msg = ErrorOf([&] { LoadAxisConfig(WriteTemp("emps_qs.yaml", emps)); });
+  EXPECT_NE(msg.find("'current_loop': expected full"), std::string::npos) << msg;
+}
+
 // model_discovered.yaml is written by AxisConfigToYaml: every parameter,
 // including the sgn_ε widths and effect parameters, reads back unchanged.
 TEST(ConfigTest, AxisConfigYamlRoundTrip) {
@@ -342,10 +369,12 @@ TEST(ConfigTest, AxisConfigYamlRoundTrip) {
   config.params.v_eps = 2.5e-3;
   config.params.omega_eps = 0.4;
   config.structure.effects.coulomb = true;
+  config.structure.current_loop = CurrentLoop::kQuasiSteady;
   config.params.F_c = 12.5;
   const AxisConfig back =
       LoadAxisConfig(WriteTemp("round_trip.yaml", AxisConfigToYaml(config)));
   EXPECT_TRUE(back.structure.effects.coulomb);
+  EXPECT_EQ(back.structure.current_loop, CurrentLoop::kQuasiSteady);
   AxisParams<double> a = config.params, b = back.params;
   std::vector<double> values_a, values_b;
   VisitParams([&](const char*, const char*, double& v) { values_a.push_back(v); }, a);

@@ -399,8 +399,27 @@ TEST(DiscoveryTest, NoFalseDiscoveryOverTenNullSeeds) {
 // far off (s² = 204), the offset is first by score, and its refit from the
 // score step failed in 0.27 s (no finite BIC), so a stand-in (cogging) took
 // the first step; without the retry the seed's first effect is cogging.
+// That path was seen with the full current loop at 10 µs; the job now fits
+// the quasi-steady loop at 50 µs, whose base fit ends elsewhere (cogging is
+// then first by score and the offset follows in step 2), so the test fits
+// with the full model, as the campaign did (a copy of the job without its
+// `configuration` and `simulation` keys, the model path made absolute).
 TEST(DiscoveryTest, FailedRefitIsRetriedFromAShorterStep) {
   CampaignConfig config = LoadCampaign(kRoot + "/configs/campaigns/power_load_offset.yaml");
+  std::ifstream in(config.job_path);
+  std::string line, job;
+  int dropped = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("configuration:", 0) == 0 || line.rfind("simulation:", 0) == 0) {
+      ++dropped;
+      continue;
+    }
+    if (line.rfind("model:", 0) == 0) line = "model: " + kRoot + "/configs/axes/x_axis.yaml";
+    job += line + "\n";
+  }
+  ASSERT_EQ(dropped, 2) << config.job_path;
+  config.job_path = axis::testing_files::TestTempDir() + "load_offset_full_loop.yaml";
+  std::ofstream(config.job_path) << job;
   const SeedOutcome o = RunCampaignSeed(config, 4, 2);
   ASSERT_EQ(o.error, "");
   EXPECT_EQ(o.first_added, "load_offset");
