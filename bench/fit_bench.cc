@@ -58,9 +58,9 @@ BENCHMARK(BM_PaperJobWithDiscovery)->Unit(benchmark::kMillisecond)->Iterations(2
 // declared model, the score test, the refits and the backward pass.
 // configs/jobs/discover/coulomb.yaml: 3 × 2 s, one undeclared effect;
 // coulomb_load_offset.yaml: 4 records, two undeclared effects (the slowest
-// discovery case of tests/discovery_test.cc).
-void BM_Discover(benchmark::State& state, const char* job_file) {
-  axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) + job_file);
+// discovery case of tests/discovery_test.cc). RunDiscover fits `job` and
+// runs the loop on it, once per iteration.
+void RunDiscover(benchmark::State& state, axis::FitJob job) {
   job.solver.progress = false;
   job.discover.enabled = true;
   axis::DiscoveryReport report;
@@ -72,6 +72,23 @@ void BM_Discover(benchmark::State& state, const char* job_file) {
   }
   state.counters["effects_added"] = report.selected.size();
 }
+
+void BM_Discover(benchmark::State& state, const char* job_file) {
+  RunDiscover(state, axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) + job_file));
+}
+
+// The same with the full current loop at 10 µs (the discovery jobs fit the
+// quasi-steady loop at 50 µs: sim/axis_params.h CurrentLoop).
+void BM_DiscoverFullLoop(benchmark::State& state, const char* job_file) {
+  axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) + job_file);
+  job.model.structure.current_loop = axis::CurrentLoop::kFull;
+  for (std::vector<axis::FitExperiment>* list : {&job.experiments, &job.validate}) {
+    for (axis::FitExperiment& e : *list) e.options.step = 1e-5;
+  }
+  RunDiscover(state, job);
+}
+BENCHMARK_CAPTURE(BM_DiscoverFullLoop, coulomb, "/configs/jobs/discover/coulomb.yaml")
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_Discover, coulomb, "/configs/jobs/discover/coulomb.yaml")
     ->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_Discover, coulomb_load_offset,

@@ -115,11 +115,17 @@ void BM_HandWrittenStep(benchmark::State& state) {
 // sim/switched_rk4.h locates events), in double, in Jet<1> (a residual-only
 // evaluation's guard) and in Jet<5> (a Jacobian evaluation, the paper's five
 // unknowns carrying derivative parts).
-template <typename T>
+// QuasiSteady: the same record with `current_loop: quasi_steady` at a 50 µs
+// step (sim/axis_params.h CurrentLoop), as the discovery jobs fit it.
+template <typename T, bool QuasiSteady = false>
 void BM_SimulatePrbs(benchmark::State& state) {
-  const axis::ExperimentConfig e =
+  axis::ExperimentConfig e =
       axis::LoadExperiment(std::string(PROJECT_SOURCE_DIR) +
                            "/configs/experiments/x_prbs.yaml");
+  if (QuasiSteady) {
+    e.model.structure.current_loop = axis::CurrentLoop::kQuasiSteady;
+    e.options.step = 5e-5;
+  }
   axis::AxisParams<T> params = e.model.params.cast<T>();
   if constexpr (!std::is_same<T, double>::value) {
     T* unknowns[] = {&params.V_L, &params.B_a, &params.b_g, &params.k_g,
@@ -138,6 +144,8 @@ void BM_SimulatePrbs(benchmark::State& state) {
 BENCHMARK_TEMPLATE(BM_SimulatePrbs, double)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 1>)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 5>)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SimulatePrbs, double, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 5>, true)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_TEMPLATE(BM_HandWrittenStep, double);
 BENCHMARK_TEMPLATE(BM_HandWrittenStep, ceres::Jet<double, 5>);

@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -32,6 +33,32 @@
 
 namespace axis {
 namespace {
+
+// FitResult::integration (fit/fit_result.h): the RK4 steps of the job's
+// experiments and, with a current loop, how it is integrated.
+std::string IntegrationNote(const FitJob& job) {
+  std::set<double> steps;
+  for (const std::vector<FitExperiment>* list : {&job.experiments, &job.validate}) {
+    for (const FitExperiment& e : *list) steps.insert(e.options.step);
+  }
+  std::ostringstream out;
+  out << "RK4, step";
+  if (steps.size() > 1) out << "s";
+  const char* sep = " ";
+  for (double h : steps) {
+    out << sep << h;
+    sep = ", ";
+  }
+  out << " s";
+  if (job.model.structure.amplifier == Amplifier::kAnalogVelocityLoop) {
+    out << "; current loop "
+        << (job.model.structure.current_loop == CurrentLoop::kQuasiSteady
+                ? "quasi_steady (its fast limit, the voltage limit kept: "
+                  "sim/axis_params.h CurrentLoop)"
+                : "full (eq. 3)");
+  }
+  return out.str();
+}
 
 // FitResult::stop_note (fit/fit_result.h): why a stop on Ceres' parameter
 // tolerance on a model that quantises its position feedback may depend on
@@ -934,6 +961,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.converged = best_summary.termination_type == ceres::CONVERGENCE;
   result.termination = best_summary.message;
   result.stop_note = QuantisedFeedbackStopNote(job.model, best_summary);
+  result.integration = IntegrationNote(job);
   result.iterations = static_cast<int>(best_summary.iterations.size()) - 1;
 
   // To physical units: value_k = g(θ_k), so Cov = D·Cov_θ·D·s² (the
@@ -1197,6 +1225,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
       << result.simulations << " simulations, " << result.jacobian_evaluations
       << " Jacobian evaluations\n";
   out << FormatPhases(result) << "\n";
+  out << "integration: " << result.integration << "\n";
   out << result.optimum_check << "\n";
   out << "uncertainty: " << result.uncertainty_note << "\n";
   if (job.uncertainty.bootstrap > 0) out << FormatBootstrap(result);

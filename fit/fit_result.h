@@ -107,6 +107,10 @@ struct FitResult {
   // load_quantum, counts_per_rev), whose cost is then piecewise constant at
   // the quantum. Empty otherwise.
   std::string stop_note;
+  // How the model was integrated (FitParameters): RK4's step(s) and, with
+  // an analog_velocity_loop, the current loop (sim/axis_params.h
+  // CurrentLoop), e.g. "RK4, step 5e-05 s; current loop quasi_steady".
+  std::string integration;
   // Optimum check after the solver stopped (FitParameters): the cost probed
   // at the estimate ± {0.01, 0.3, 1, 3, 10} standard deviations along every
   // parameter, every principal axis of the covariance and the last stage's

@@ -577,6 +577,8 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
                                       Range::kFinitePositive);
       job.discover.tries = static_cast<int>(
           map.Integer("tries", job.discover.tries, 1, 20));
+      job.discover.misspecified_tries = static_cast<int>(
+          map.Integer("misspecified_tries", job.discover.misspecified_tries, 1, 40));
       if (const YAML::Node list = map.Optional("candidates")) {
         if (!list.IsSequence()) {
           ThrowConfigError(path, list, "discover.candidates",

@@ -261,7 +261,7 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
   }
 
   // Amplifier: preamp (eq. 2, y4–y5), current loop (eq. 3, y6).
-  T i, vc, vm;
+  T i, vc, vm(0.0);
   if (structure.amplifier != Amplifier::kForceSource) {
     vc = internal::Clamp(T(y[4] + c.T_z * y[5]), p.V_L);
     (*dy)[4] = y[5];

@@ -65,6 +65,42 @@ TEST(FitOptionsTest, RankDeficiencyIsNamed) {
   EXPECT_TRUE(Estimate(r, "B_a").determined);
 }
 
+// A job that fits the quasi-steady current loop at 50 µs (sim/axis_params.h
+// CurrentLoop) to data of the full model says so in its result, and B_a
+// (0.5 s of the 10 V step: the clamped rise, where V_L and B_a act) lands
+// within one standard error of the full model's fit at 10 µs.
+TEST(FitOptionsTest, QuasiSteadyCurrentLoopIsReportedAndAgrees) {
+  const auto job = [&](const std::string& name, const std::string& extra) {
+    return Write(name,
+        "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+        "free:\n"
+        "  V_L: {initial: 3, lower: 0.5, upper: 20}\n"
+        "  B_a: {initial: 220, lower: 10, upper: 2000}\n"
+        "experiments:\n"
+        "  - name: step\n"
+        "    data: " + kRoot + "/testdata/x_step_10V.csv\n"
+        "    window: [0, 0.5]\n"
+        "    channels: {u: u, a: a, tach: tach}\n"
+        "    input: {column: u}\n"
+        "    fit: {a: 0.02, tach: 0.005}\n"
+        "solver: {first_horizon: 0, probe_rounds: 0}\n"
+        "uncertainty: {method: gauss_newton}\n" + extra);
+  };
+  const FitResult full = Fit(job("full_loop.yaml", ""));
+  const FitResult quasi = Fit(job("quasi_loop.yaml",
+      "configuration: {current_loop: quasi_steady}\nsimulation: {step: 5.0e-5}\n"));
+  EXPECT_EQ(full.integration, "RK4, step 1e-05 s; current loop full (eq. 3)");
+  EXPECT_NE(quasi.integration.find("RK4, step 5e-05 s; current loop quasi_steady"),
+            std::string::npos) << quasi.integration;
+  for (const char* name : {"V_L", "B_a"}) {
+    const ParameterEstimate& f = Estimate(full, name);
+    const ParameterEstimate& q = Estimate(quasi, name);
+    std::cout << name << ": full " << f.value << " +- " << f.std_error << ", quasi-steady "
+              << q.value << " +- " << q.std_error << "\n";
+    EXPECT_NEAR(q.value, f.value, f.std_error) << name;
+  }
+}
+
 // The initial arm position and velocity estimated along with B_a, on a
 // window of the noise-free 10 V step that starts in motion (t = 0.2 s):
 // the fit (B_a started 25 % low) must find the state the truth had there.
