@@ -419,8 +419,9 @@ TEST(DiscoveryTest, NoFalseDiscoveryOverTenNullSeeds) {
 // That path was seen with the full current loop at 10 µs; the job now fits
 // the quasi-steady loop at 50 µs, whose base fit ends elsewhere (cogging is
 // then first by score and the offset follows in step 2), so the test fits
-// with the full model, as the campaign did (a copy of the job without its
-// `configuration` and `simulation` keys, the model path made absolute).
+// with the full model and refits the top three, as the campaign did (a copy
+// of the job without its `configuration` and `simulation` keys, the model
+// path made absolute, `misspecified_tries: 3`).
 TEST(DiscoveryTest, FailedRefitIsRetriedFromAShorterStep) {
   CampaignConfig config = LoadCampaign(kRoot + "/configs/campaigns/power_load_offset.yaml");
   std::ifstream in(config.job_path);
@@ -433,6 +434,7 @@ TEST(DiscoveryTest, FailedRefitIsRetriedFromAShorterStep) {
     }
     if (line.rfind("model:", 0) == 0) line = "model: " + kRoot + "/configs/axes/x_axis.yaml";
     job += line + "\n";
+    if (line == "discover:") job += "  misspecified_tries: 3\n";  // the rule of that run
   }
   ASSERT_EQ(dropped, 2) << config.job_path;
   config.job_path = axis::testing_files::TestTempDir() + "load_offset_full_loop.yaml";
