@@ -122,8 +122,11 @@ struct AxisCoefficients {
   Coefficient<T> inv_L;          // 1/L
   Coefficient<T> R_per_L;        // R/L
   Coefficient<T> K_e_per_L;      // K_e/L
-  Coefficient<T> inv_loop;       // 1/(K_a/K_i + R): quasi-steady current per volt
-  double loop_rate = 0.0;        // quasi-steady relaxation rate κ (1/s, below)
+  // CurrentLoop::kQuasiSteady only (zero otherwise): the quasi-steady
+  // current i_qs = K_a_loop·V_c − K_e_loop·ω and its relaxation rate κ.
+  Coefficient<T> K_a_loop;       // K_a/(K_a/K_i + R), A/V
+  Coefficient<T> K_e_loop;       // K_e/(K_a/K_i + R), A·s/rad
+  double loop_rate = 0.0;        // κ, 1/s (kQuasiSteadyCurrentRate)
   Coefficient<T> inv_r_g;        // 1/r_g
   Coefficient<T> inv_inertia;    // rigid: 1/(J_m + r_g²·mass)
   Coefficient<T> damping;        // rigid: B_m + r_g²·B_a
@@ -160,8 +163,12 @@ AxisCoefficients<T> MakeAxisCoefficients(const AxisStructure& structure,
   c.inv_L = C(inv_L);
   c.R_per_L = C(p.R * inv_L);
   c.K_e_per_L = C(p.K_e * inv_L);
-  c.inv_loop = C(T(1.0) / (p.K_a / p.K_i + p.R));
-  c.loop_rate = std::min(ScalarValue(T((p.K_a / p.K_i + p.R) * inv_L)), kQuasiSteadyCurrentRate);
+  if (structure.current_loop == CurrentLoop::kQuasiSteady) {
+    const T inv_loop = T(1.0) / (p.K_a / p.K_i + p.R);
+    c.K_a_loop = C(p.K_a * inv_loop);
+    c.K_e_loop = C(p.K_e * inv_loop);
+    c.loop_rate = std::min(ScalarValue(inv_L) / ScalarValue(inv_loop), kQuasiSteadyCurrentRate);
+  }
   c.inv_r_g = C(T(1.0) / p.r_g);
   c.inv_inertia = C(T(1.0) / (p.J_m + p.r_g * p.r_g * mass));
   c.damping = C(p.B_m + p.r_g * p.r_g * p.B_a);
@@ -262,8 +269,10 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
 
   // Amplifier: preamp (eq. 2, y4–y5), current loop (eq. 3, y6).
   T i, vc, vm(0.0);
+  T pre_vc(0.0);  // y4 + T_z·y5, V_c before the clamp of eq. 2
   if (structure.amplifier != Amplifier::kForceSource) {
-    vc = internal::Clamp(T(y[4] + c.T_z * y[5]), p.V_L);
+    pre_vc = y[4] + c.T_z * y[5];
+    vc = internal::Clamp(pre_vc, p.V_L);
     (*dy)[4] = y[5];
     (*dy)[5] = c.pre_u * u - c.pre_omega * omega - c.pre_y4 * y[4] -
                c.pre_y5 * y[5];
@@ -333,16 +342,16 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
     // In the limit K_a → ∞ the unsaturated current is i_qs itself: y6' =
     // i_qs' (+ κ·(i_qs − y6) to return to it after a saturation), clamped
     // to the same [lo, hi].
-    const T pre = y[4] + c.T_z * y[5];
-    const T dvc = (pre > p.V_L || pre < -p.V_L) ? T(0.0) : T((*dy)[4] + c.T_z * (*dy)[5]);
-    const T i_qs = c.inv_loop * T(c.K_a * vc - p.K_e * omega);
-    const T di_qs = c.inv_loop * T(c.K_a * dvc - p.K_e * (*dy)[3]);
+    const T dvc = (pre_vc > p.V_L || pre_vc < -p.V_L) ? T(0.0)
+                                                      : T((*dy)[4] + c.T_z * (*dy)[5]);
+    const T i_qs = c.K_a_loop * vc - c.K_e_loop * omega;
+    const T di_qs = c.K_a_loop * dvc - c.K_e_loop * T((*dy)[3]);
     const T drive = di_qs + c.loop_rate * T(i_qs - i);
-    const T back = c.R_per_L * i + c.K_e_per_L * omega;
-    const T hi = c.inv_L * p.V_M - back;
-    const T lo = -(c.inv_L * p.V_M) - back;
-    (*dy)[6] = drive > hi ? hi : (drive < lo ? lo : drive);
-    vm = p.L * (*dy)[6] + p.R * i + p.K_e * omega;
+    const T back = c.R_per_L * i + c.K_e_per_L * omega;  // (R·y6 + K_e·ω)/L
+    const T v_max = c.inv_L * p.V_M;
+    (*dy)[6] = drive > v_max - back ? T(v_max - back)
+               : drive < -v_max - back ? T(-v_max - back) : drive;
+    vm = p.L * T((*dy)[6] + back);
   }
 
   if (aux != nullptr) {

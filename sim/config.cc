@@ -239,7 +239,7 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
   out << YAML::Key << "coupling" << YAML::Value
       << (config.structure.coupling == Coupling::kRigid ? "rigid" : "gear");
   out << YAML::Key << "current_loop" << YAML::Value
-      << (config.structure.current_loop == CurrentLoop::kQuasiSteady ? "quasi_steady" : "full");
+      << kCurrentLoops[static_cast<int>(config.structure.current_loop)];
   out << YAML::Key << "accelerometer" << YAML::Value
       << (config.structure.accelerometer == AccelerometerSampling::kInstant
               ? "instant"

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include "fit/campaign.h"
 #include "fit/discovery.h"
@@ -424,21 +425,12 @@ TEST(DiscoveryTest, NoFalseDiscoveryOverTenNullSeeds) {
 // path made absolute, `misspecified_tries: 3`).
 TEST(DiscoveryTest, FailedRefitIsRetriedFromAShorterStep) {
   CampaignConfig config = LoadCampaign(kRoot + "/configs/campaigns/power_load_offset.yaml");
-  std::ifstream in(config.job_path);
-  std::string line, job;
-  int dropped = 0;
-  while (std::getline(in, line)) {
-    if (line.rfind("configuration:", 0) == 0 || line.rfind("simulation:", 0) == 0) {
-      ++dropped;
-      continue;
-    }
-    if (line.rfind("model:", 0) == 0) line = "model: " + kRoot + "/configs/axes/x_axis.yaml";
-    job += line + "\n";
-    if (line == "discover:") job += "  misspecified_tries: 3\n";  // the rule of that run
-  }
-  ASSERT_EQ(dropped, 2) << config.job_path;
+  YAML::Node job = YAML::LoadFile(config.job_path);
+  ASSERT_TRUE(job.remove("configuration") && job.remove("simulation")) << config.job_path;
+  job["model"] = kRoot + "/configs/axes/x_axis.yaml";
+  job["discover"]["misspecified_tries"] = 3;  // the rule of that run
   config.job_path = axis::testing_files::TestTempDir() + "load_offset_full_loop.yaml";
-  std::ofstream(config.job_path) << job;
+  std::ofstream(config.job_path) << YAML::Dump(job);
   const SeedOutcome o = RunCampaignSeed(config, 4, 2);
   ASSERT_EQ(o.error, "");
   EXPECT_EQ(o.first_added, "load_offset");
