@@ -434,7 +434,14 @@ CampaignSummary Summarize(const CampaignConfig& config,
     }
     if (config.truth_outside.empty()) s.exact_set = RateOf(exact, ok);
   }
-  for (int c : covered) s.covered.push_back(RateOf(c, ok));
+  int pooled = 0;
+  for (int c : covered) {
+    s.covered.push_back(RateOf(c, ok));
+    pooled += c;
+  }
+  if (covered.size() >= 2) {
+    s.covered_pooled = RateOf(pooled, ok * static_cast<int>(covered.size()));
+  }
   if (!config.truth_verdict.empty()) s.verdict_as_expected = RateOf(as_expected, ok);
   return s;
 }
@@ -461,6 +468,10 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
   for (size_t k = 0; k < s.covered.size(); ++k) {
     out << "| " << config.truth_values[k].first << " = " << config.truth_values[k].second
         << " inside its 95 % interval | " << FormatRate(s.covered[k]) << " |\n";
+  }
+  if (s.covered_pooled.n) {
+    out << "| all " << s.covered.size() << " values inside their 95 % intervals (pooled) | "
+        << FormatRate(s.covered_pooled) << " |\n";
   }
   if (s.verdict_as_expected.n) {
     out << "| verdict " << config.truth_verdict << " | " << FormatRate(s.verdict_as_expected)
@@ -528,6 +539,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
   for (size_t k = 0; k < s.covered.size(); ++k) {
     j["coverage"][config.truth_values[k].first] = RateJson(s.covered[k]);
   }
+  if (s.covered_pooled.n) j["coverage_pooled"] = RateJson(s.covered_pooled);
   if (s.verdict_as_expected.n) j["verdict_as_expected"] = RateJson(s.verdict_as_expected);
   j["verdicts"] = {{"explained", s.explained}, {"incomplete", s.incomplete}};
   WriteFileAtomic(dir + "/results.csv", csv.str());

@@ -122,6 +122,10 @@ struct CampaignSummary {
   Rate right_first;      // first added in truth_effects; only if not empty
   Rate exact_set;        // selected == truth_effects
   std::vector<Rate> covered;  // per truth value: inside the 95 % interval
+  // All truth values pooled (seeds × values; only with two or more). The
+  // values of one seed share its noise, so the Clopper–Pearson interval of
+  // the pooled rate is narrower than its true spread.
+  Rate covered_pooled;
   Rate verdict_as_expected;   // only if truth_verdict is set
   int explained = 0, incomplete = 0;
 };

@@ -191,6 +191,45 @@ TEST(CampaignTest, OutsideTheLibraryIsMeasuredByTheVerdict) {
   EXPECT_NE(table.find("| verdict incomplete | 2/3"), std::string::npos) << table;
 }
 
+// Two truth values over three seeds (one failed): each value's coverage
+// counts the seeds that ran; the pooled rate counts every (seed, value)
+// pair, 3 of 4 here, in the table and in summary.json.
+TEST(CampaignTest, PooledCoverageCountsEveryValueOfEverySeed) {
+  CampaignConfig config;
+  config.path = "coverage.yaml";
+  config.title = "coverage";
+  config.discover = false;
+  config.truth_values = {{"B_a", 200.0}, {"T_p", 0.04}};
+  std::vector<SeedOutcome> outcomes(3);
+  for (int k = 0; k < 3; ++k) {
+    outcomes[k].seed = k + 1;
+    outcomes[k].value = {200.0, 0.04};
+  }
+  outcomes[0].ci95_low = {190.0, 0.03};
+  outcomes[0].ci95_high = {210.0, 0.05};  // both inside
+  outcomes[1].ci95_low = {201.0, 0.035};
+  outcomes[1].ci95_high = {215.0, 0.045};  // B_a outside, T_p inside
+  outcomes[2].error = "simulation failed";  // as RunCampaignSeed leaves it
+  outcomes[2].value = outcomes[2].ci95_low = outcomes[2].ci95_high = {std::nan(""), std::nan("")};
+  const CampaignSummary s = Summarize(config, outcomes);
+  ASSERT_EQ(s.covered.size(), 2u);
+  EXPECT_EQ(s.covered[0].k, 1);
+  EXPECT_EQ(s.covered[0].n, 2);
+  EXPECT_EQ(s.covered[1].k, 2);
+  EXPECT_EQ(s.covered_pooled.k, 3);
+  EXPECT_EQ(s.covered_pooled.n, 4);
+  const std::string table = FormatCampaign(config, s, outcomes);
+  EXPECT_NE(table.find("| all 2 values inside their 95 % intervals (pooled) | 3/4"),
+            std::string::npos)
+      << table;
+  const std::string dir = testing_files::TestTempDir() + "pooled_out";
+  WriteCampaign(dir, config, s, outcomes);
+  std::ifstream in(dir + "/summary.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["coverage_pooled"]["k"], 3);
+  EXPECT_EQ(j["coverage_pooled"]["n"], 4);
+}
+
 TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
   SeedOutcome o;
   o.seed = 17;
