@@ -272,10 +272,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
     }
     if (t.Has("verdict")) c.truth_verdict = t.Choice("verdict", {"explained", "incomplete"});
     if (const YAML::Node outside = t.Optional("outside_library")) {
-      std::string names;
-      for (const EffectInfo& e : GeneratorOnlyEffectTable()) {
-        names += (names.empty() ? "" : ", ") + std::string(e.name);
-      }
+      const std::string names = GeneratorOnlyEffectNameList();
       if (!outside.IsSequence()) {
         ThrowConfigError(path, outside, "truth.outside_library",
                          "a list of generator-only forces (" + names + ")", Describe(outside));

@@ -27,6 +27,7 @@
 #include "fit/report.h"
 #include "fit/statistics.h"
 #include "fit/uncertainty.h"
+#include "sim/controller.h"
 #include "sim/csv.h"
 #include "sim/interrupt.h"
 #include "sim/random.h"
@@ -70,18 +71,9 @@ std::string QuantisedFeedbackStopNote(const AxisConfig& model,
       summary.message.rfind("Parameter tolerance", 0) != 0) {
     return "";
   }
-  double quantum = 0.0;  // m, of the position the controller sees
-  std::string key;
-  if (c.load_quantum > 0.0) {
-    quantum = c.load_quantum;
-    key = "load_quantum";
-  } else if (c.counts_per_rev > 0.0) {
-    constexpr double kTwoPi = 6.283185307179586476925;
-    quantum = model.params.r_g * kTwoPi / c.counts_per_rev;
-    key = "counts_per_rev";
-  } else {
-    return "";
-  }
+  const double quantum = PositionQuantum(c, model.params.r_g);  // m
+  if (quantum == 0.0) return "";
+  const std::string key = c.load_quantum > 0.0 ? "load_quantum" : "counts_per_rev";
   std::ostringstream note;
   note << std::setprecision(3) << "stopped on the step size, not on the gradient or the cost "
        << "change, with the position feedback quantised (controller." << key << ": quantum "

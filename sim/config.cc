@@ -177,6 +177,14 @@ bool IsEffectName(const std::string& name, bool allow_bare_sensor) {
   return false;
 }
 
+std::string GeneratorOnlyEffectNameList() {
+  std::string list;
+  for (const EffectInfo& e : GeneratorOnlyEffectTable()) {
+    list += (list.empty() ? "" : ", ") + std::string(e.name);
+  }
+  return list;
+}
+
 std::string EffectNameList() {
   std::string list;
   for (const EffectInfo& e : DynamicEffectTable()) list += std::string(e.name) + ", ";
@@ -201,10 +209,8 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
     if (spec == nullptr) {
       std::string known;
       for (const EffectInfo& e : DynamicEffectTable()) known += std::string(e.name) + ", ";
-      known += "sensor_delay, sensor_bias; or, to generate data, ";
-      for (const EffectInfo& e : GeneratorOnlyEffectTable()) {
-        known += std::string(e.name) + (&e == &GeneratorOnlyEffectTable().back() ? "" : ", ");
-      }
+      known += "sensor_delay, sensor_bias; or, to generate data, " +
+               GeneratorOnlyEffectNameList();
       ThrowConfigError(effects.file(), entry.first, effects.KeyPath(name),
                        "an effect of MODEL.md section 7 (" + known + ")",
                        "'" + name + "'");

@@ -63,6 +63,9 @@ const std::vector<EffectInfo>& DynamicEffectTable();
 // their equations).
 const std::vector<EffectInfo>& GeneratorOnlyEffectTable();
 
+// Their names for messages: "friction_patch, quadratic_drag, position_ripple".
+std::string GeneratorOnlyEffectNameList();
+
 // Whether `name` names one effect the way the discovery loop does: a
 // DynamicEffectTable name ("coulomb"), or sensor_delay / sensor_bias with a
 // MODEL.md §6 channel ("sensor_delay.a"); with `allow_bare_sensor` also

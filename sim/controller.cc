@@ -30,6 +30,13 @@ double Reference::Profile(double t) const {
   return origin + sign * s;
 }
 
+double PositionQuantum(const ControllerConfig& c, double r_g) {
+  constexpr double kTwoPi = 6.283185307179586476925;
+  if (c.load_quantum > 0.0) return c.load_quantum;
+  if (c.counts_per_rev > 0.0) return r_g * kTwoPi / c.counts_per_rev;
+  return 0.0;
+}
+
 ReferenceSample SampleReference(const Reference& ref,
                                 const ControllerConfig& c, long k) {
   const double t = k * c.T_s;

@@ -34,6 +34,11 @@ struct ControllerConfig {
   double load_quantum = 0.0;
 };
 
+// The quantum of the position the controller sees, in m of load travel:
+// load_quantum if > 0, else r_g·2π/counts_per_rev for the motor encoder
+// (r_g in m/rad), 0 for an ideal measurement (ControllerUpdate below).
+double PositionQuantum(const ControllerConfig& c, double r_g);
+
 // The reference the controller tracks, MODEL.md §5: a trapezoidal move
 // sampled by the master every T_track and interpolated linearly by the slave,
 // or a reference position column read at every control sample.

@@ -307,6 +307,21 @@ TEST(ControllerUpdateTest, MotorEncoderQuantisation) {
                                          Ref(0.0, 0.0), &s3);
   EXPECT_EQ(u_lo, u_hi);  // same count
   EXPECT_NEAR(u_lo - u_next, 300.0 * 0.00573 * q, 1e-15);  // ≈ 1.35e-3 V
+  // PositionQuantum names the same count in m of travel.
+  EXPECT_NEAR(PositionQuantum(c, p.r_g), 0.00573 * q, 1e-20);
+}
+
+// The quantum in m: the load-side encoder's if set (the motor encoder is
+// then ignored, as ControllerUpdate does), none for an ideal measurement.
+TEST(ControllerUpdateTest, PositionQuantumOfEachFeedback) {
+  ControllerConfig c;
+  c.counts_per_rev = 8000.0;
+  c.load_quantum = 5e-8;
+  EXPECT_EQ(PositionQuantum(c, 0.00573), 5e-8);
+  c.load_quantum = 0.0;
+  EXPECT_NEAR(PositionQuantum(c, 0.00573), 0.00573 * 6.283185307179586 / 8000.0, 1e-20);
+  c.counts_per_rev = 0.0;
+  EXPECT_EQ(PositionQuantum(c, 0.00573), 0.0);
 }
 
 TEST(ControllerUpdateTest, LoadSideQuantum) {
