@@ -329,7 +329,8 @@ TEST(DiscoveryTest, LibraryRunsOutVerdictIsIncomplete) {
   job.validate.clear();
   job.discover.candidates = {"cogging", "payload", "spring"};
   job.discover.max_effects = 1;  // one step shows it
-  job.discover.tries = 1;        // and one refit, the top-ranked candidate's
+  job.discover.tries = 1;        // and one refit, the top-ranked candidate's,
+  job.discover.misspecified_tries = 1;  // also when s² > 2 (it is: 21.8)
   FitResult result = FitParameters(job);
   const DiscoveryReport report = Discover(job.discover, &job, &result, nullptr);
   EXPECT_EQ(report.verdict.verdict, "incomplete");
