@@ -52,6 +52,29 @@ enum class GearContact : int {
   kFromState = 2,
 };
 
+// Which side of the preamp output limit (MODEL.md eq. 2, V_c = clamp(y4 +
+// T_z·y5, ±V_L)) applies: below −V_L, within, above V_L. kFromState picks it
+// from the state, as eq. 2 is written; the other values hold one side fixed
+// (V_c = −V_L, y4 + T_z·y5 unclamped, or V_L), so that the right-hand side is
+// smooth in the state. Under the quasi-steady current loop the current's
+// rate carries V_c' (zero outside the limits), which jumps at ±V_L; the
+// simulator integrates across those events with the side held between them
+// (sim/switched_rk4.h), as across the gear contacts.
+enum class PreampRegion : int {
+  kLow = -1,
+  kLinear = 0,
+  kHigh = 1,
+  kFromState = 2,
+};
+
+// The side of the limit for an unclamped preamp output y4 + T_z·y5 (V) and
+// limit V_L (V, > 0). Never throws.
+inline PreampRegion PreampRegionOf(double pre_vc, double V_L) {
+  if (pre_vc > V_L) return PreampRegion::kHigh;
+  if (pre_vc < -V_L) return PreampRegion::kLow;
+  return PreampRegion::kLinear;
+}
+
 // The branch of eq. 5 for a pinion–rack difference X = r_g·θ − x (m) and
 // backlash half-width H (m, ≥ 0). Never throws.
 inline GearContact GearContactOf(double gap, double H) {
@@ -203,6 +226,8 @@ inline bool AnyLoadEffect(const EffectSwitches& e) {
 //   dy: derivative of y (must not alias y). aux: optional algebraic outputs.
 //   contact: the branch of eq. 5 (gear coupling only); by default the one
 //      the state is in.
+//   preamp: the side of the limit of eq. 2 (analog velocity loop); by
+//      default the one the state is in.
 // Never throws; non-finite inputs give non-finite outputs.
 template <typename T>
 AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
@@ -210,7 +235,8 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
                                  const AxisCoefficients<T>& c,
                                  const AxisState<T>& y,
                     const T& u, AxisState<T>* dy, AxisAux<T>* aux = nullptr,
-                    GearContact contact = GearContact::kFromState) {
+                    GearContact contact = GearContact::kFromState,
+                    PreampRegion preamp = PreampRegion::kFromState) {
   using std::abs;
   using std::exp;
   using std::sin;
@@ -272,7 +298,14 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
   T pre_vc(0.0);  // y4 + T_z·y5, V_c before the clamp of eq. 2
   if (structure.amplifier != Amplifier::kForceSource) {
     pre_vc = y[4] + c.T_z * y[5];
-    vc = internal::Clamp(pre_vc, p.V_L);
+    if (preamp == PreampRegion::kFromState) {
+      preamp = pre_vc > p.V_L    ? PreampRegion::kHigh
+               : pre_vc < -p.V_L ? PreampRegion::kLow
+                                 : PreampRegion::kLinear;
+    }
+    vc = preamp == PreampRegion::kHigh  ? p.V_L
+         : preamp == PreampRegion::kLow ? T(-p.V_L)
+                                        : pre_vc;
     (*dy)[4] = y[5];
     (*dy)[5] = c.pre_u * u - c.pre_omega * omega - c.pre_y4 * y[4] -
                c.pre_y5 * y[5];
@@ -342,8 +375,8 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
     // In the limit K_a → ∞ the unsaturated current is i_qs itself: y6' =
     // i_qs' (+ κ·(i_qs − y6) to return to it after a saturation), clamped
     // to the same [lo, hi].
-    const T dvc = (pre_vc > p.V_L || pre_vc < -p.V_L) ? T(0.0)
-                                                      : T((*dy)[4] + c.T_z * (*dy)[5]);
+    const T dvc = preamp == PreampRegion::kLinear ? T((*dy)[4] + c.T_z * (*dy)[5])
+                                                  : T(0.0);
     const T i_qs = c.K_a_loop * vc - c.K_e_loop * omega;
     const T di_qs = c.K_a_loop * dvc - c.K_e_loop * T((*dy)[3]);
     const T drive = di_qs + c.loop_rate * T(i_qs - i);

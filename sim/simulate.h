@@ -119,37 +119,62 @@ AxisParams<double> ParamValues(const AxisParams<T>& p) {
   return out;
 }
 
-// The gear-coupled axis as a switched system for Rk4SwitchedStep: the modes
-// are the branches of MODEL.md eq. 5 (GearContact −1, 0, +1, ordered by X),
-// the guards X − H and X + H (negated when crossing downwards). `input_at`
-// maps t (s) to U as a T.
+// The axis as a switched system for Rk4SwitchedStep, with two families of
+// regions: the branches of MODEL.md eq. 5 (GearContact −1, 0, +1, ordered by
+// X; guards X − H and X + H), if `gear` (gear coupling with backlash), and
+// the sides of the preamp limit of eq. 2 (PreampRegion −1, 0, +1, ordered by
+// y4 + T_z·y5; guards y4 + T_z·y5 ∓ V_L), if `preamp` (analog velocity loop
+// with the quasi-steady current loop, whose current rate carries V_c').
+// Guards are negated when crossing downwards. A family that is off stays in
+// its middle region and its branch is taken from the state. Mode =
+// 3·(contact + 1) + (side + 1). `input_at` maps t (s) to U as a T.
 template <typename T, typename Input>
 struct SwitchedAxis {
+  static constexpr int kFamilies = 2;
   const AxisStructure& structure;
   const AxisParams<T>& params;
   const AxisCoefficients<T>& coeffs;
   const AxisParams<double>& values;
   const AxisCoefficients<double>& value_coeffs;
   const Input& input_at;
+  bool gear = false;
+  bool preamp = false;
+
+  static int ContactOf(int mode) { return mode / 3 - 1; }
+  static int SideOf(int mode) { return mode % 3 - 1; }
 
   template <typename S>
   void Derivative(double t, const AxisState<S>& y, int mode,
                   AxisState<S>* dy) const {
+    const GearContact contact =
+        gear ? static_cast<GearContact>(ContactOf(mode)) : GearContact::kFromState;
+    const PreampRegion side =
+        preamp ? static_cast<PreampRegion>(SideOf(mode)) : PreampRegion::kFromState;
     if constexpr (std::is_same<S, T>::value) {
-      AxisDerivative(structure, params, coeffs, y, input_at(t), dy, static_cast<AxisAux<T>*>(nullptr),
-                     static_cast<GearContact>(mode));
+      AxisDerivative(structure, params, coeffs, y, input_at(t), dy,
+                     static_cast<AxisAux<T>*>(nullptr), contact, side);
     } else {
       AxisDerivative(structure, values, value_coeffs, y,
                      ScalarValue(input_at(t)), dy,
-                     static_cast<AxisAux<double>*>(nullptr),
-                     static_cast<GearContact>(mode));
+                     static_cast<AxisAux<double>*>(nullptr), contact, side);
     }
   }
   int Mode(const AxisState<double>& y) const {
-    return static_cast<int>(
-        GearContactOf(values.r_g * y[2] - y[0], values.H));
+    const int contact =
+        gear ? static_cast<int>(GearContactOf(values.r_g * y[2] - y[0], values.H)) : 0;
+    const int side =
+        preamp ? static_cast<int>(PreampRegionOf(y[4] + values.T_z * y[5], values.V_L)) : 0;
+    return 3 * (contact + 1) + side + 1;
   }
-  int Toward(int from, int to) const { return to > from ? from + 1 : from - 1; }
+  int Toward(int from, int to, int family) const {
+    const int a = family == 0 ? ContactOf(from) : SideOf(from);
+    const int b = family == 0 ? ContactOf(to) : SideOf(to);
+    if (a == b) return from;
+    const int step = b > a ? 1 : -1;
+    return from + (family == 0 ? 3 * step : step);
+  }
+  // The family in which `from` and `to` (neighbours) differ: 0 or 1.
+  static int FamilyOf(int from, int to) { return ContactOf(from) != ContactOf(to) ? 0 : 1; }
   template <typename S>
   S Guard(const AxisState<S>& y, int from, int to) const {
     const AxisParams<S>* p;
@@ -158,14 +183,22 @@ struct SwitchedAxis {
     } else {
       p = &values;
     }
-    const S gap = p->r_g * y[2] - y[0];
-    // Between kFree and kPositive the boundary is X = H, else X = −H.
-    const S g = (from == 1 || to == 1) ? S(gap - p->H) : S(gap + p->H);
+    S g;
+    if (FamilyOf(from, to) == 0) {
+      const S gap = p->r_g * y[2] - y[0];
+      // Between kFree and kPositive the boundary is X = H, else X = −H.
+      g = (ContactOf(from) == 1 || ContactOf(to) == 1) ? S(gap - p->H) : S(gap + p->H);
+    } else {
+      const S pre_vc = y[4] + p->T_z * y[5];
+      // Between kLinear and kHigh the boundary is V_L, else −V_L.
+      g = (SideOf(from) == 1 || SideOf(to) == 1) ? S(pre_vc - p->V_L) : S(pre_vc + p->V_L);
+    }
     return to > from ? g : S(-g);
   }
   double GuardRate(const AxisState<double>&, const AxisState<double>& dy,
                    int from, int to) const {
-    const double rate = values.r_g * dy[2] - dy[0];
+    const double rate = FamilyOf(from, to) == 0 ? values.r_g * dy[2] - dy[0]
+                                                : dy[4] + values.T_z * dy[5];
     return to > from ? rate : -rate;
   }
 };
@@ -219,8 +252,25 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
   double memo_t[2] = {-1.0, -1.0};
   double memo_u[2] = {0.0, 0.0};
   int memo_next = 0;
+  // A piecewise-constant input (a held table: a PRBS, a recorded column; a
+  // step) is held over each RK4 step at its value at the step's start, as
+  // the controller's output is: the value a sample applies on [t_k, t_k+1)
+  // is then what every stage of a step in that interval sees. Evaluated at
+  // the stage times, the last stage of the step ending at t_k+1 took the
+  // next sample's value, which at a reversal moved the preamp across its
+  // limits inside the step by a stage's weight (y5 jumps by h/6 of
+  // K1·ΔU/(T_p·T_r)), where no event can be located. A switch between grid
+  // points (a step's `start`, a table off the grid) applies from the next
+  // step.
+  const InputSignal& in = drive.input;
+  const bool held_input =
+      !drive.closed_loop && (in.kind == InputSignal::Kind::kZero ||
+                             in.kind == InputSignal::Kind::kStep ||
+                             (in.kind == InputSignal::Kind::kTable && in.hold));
+  double u_step = 0.0;
   const auto input_at = [&](double t) -> T {
     if (drive.closed_loop) return u_held;
+    if (held_input) return T(u_step);
     if (t == memo_t[0]) return T(memo_u[0]);
     if (t == memo_t[1]) return T(memo_u[1]);
     const double u = drive.input.Evaluate(t, &input_cursor);
@@ -238,20 +288,29 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
   // inside the step, with the sensitivities carried across them
   // (sim/switched_rk4.h). Without backlash (H = 0) the gear force is
   // continuous in the state and a plain RK4 step is exact to its order.
+  // Under the quasi-steady current loop the preamp limits of eq. 2 are
+  // events too: the current's rate carries V_c', which jumps there (the
+  // full loop sees only V_c, continuous in the state).
   const AxisParams<double> values = internal::ParamValues(params);
-  const bool switched =
+  const bool gear_events =
       structure.coupling == Coupling::kGear && values.H > 0.0;
+  const bool preamp_events =
+      structure.amplifier == Amplifier::kAnalogVelocityLoop &&
+      structure.current_loop == CurrentLoop::kQuasiSteady;
+  const bool switched = gear_events || preamp_events;
   const AxisCoefficients<double> value_coeffs =
       switched ? MakeAxisCoefficients(structure, values)
                : AxisCoefficients<double>{};
   const internal::SwitchedAxis<T, decltype(input_at)> system{
-      structure, params, coeffs, values, value_coeffs, input_at};
+      structure, params, coeffs, values, value_coeffs, input_at,
+      gear_events, preamp_events};
   AxisState<double> y_values;
   for (int k = 0; k < kNumStates; ++k) y_values[k] = ScalarValue(y[k]);
   int contact = system.Mode(y_values);
 
   for (long n = 0; n <= grid.num_steps; ++n) {
     const double t = n * h;
+    if (held_input) u_step = in.Evaluate(t, &input_cursor);
     if (drive.closed_loop && n % grid.steps_per_control == 0) {
       const long k = n / grid.steps_per_control;
       ref = SampleReference(drive.reference, drive.controller, k);

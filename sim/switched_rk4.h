@@ -1,17 +1,22 @@
 // Fixed-step RK4 across the switching surfaces of a piecewise-smooth system
-// (the backlash contacts of MODEL.md eq. 5), with the event located inside
-// the step and the sensitivities carried across it by the saltation rule of
-// Hiskens & Pai, "Trajectory sensitivity analysis of hybrid systems", IEEE
-// Trans. Circuits Syst. I 47(2), 2000, eq. (13)–(15).
+// (the backlash contacts of MODEL.md eq. 5, the preamp limit of eq. 2 under
+// the quasi-steady current loop), with each event located inside the step
+// and the sensitivities carried across it by the saltation rule of Hiskens &
+// Pai, "Trajectory sensitivity analysis of hybrid systems", IEEE Trans.
+// Circuits Syst. I 47(2), 2000, eq. (13)–(15).
 //
 // Why: eq. 5 switches f_g between 0 and k_g·(X ∓ H) + b_g·(r_g·ω − v) when
 // the pinion–rack difference X crosses ±H, so the right-hand side jumps by
 // b_g·(r_g·ω − v). A plain RK4 step that straddles the contact mixes the two
 // branches stage by stage, and its ceres::Jet derivative is pathwise: it
 // misses the term from the contact time moving with the parameters, and the
-// Jacobian is not the derivative of the cost. Here each mode's smooth field is
-// integrated up to the located event, the mode is switched there, and the
-// sensitivities S = ∂y/∂p jump by
+// Jacobian is not the derivative of the cost. Worse, which stages fall on
+// which side is decided by the stage times, so the simulated trace jumps
+// when a parameter moves an event across one: the cost has steps, and a
+// solver or a profile refit stops at their edges (issue 10, coverage_prbs:
+// the preamp output crossing ±V_L within one step). Here each mode's smooth
+// field is integrated up to the first located event, the mode is switched
+// there, and the sensitivities S = ∂y/∂p jump by
 //     S⁺ = S⁻ + (f⁺ − f⁻)·(g_y·S⁻ + g_p)/(g_y·f⁻)
 // where g is the guard (the switching function) and f⁻, f⁺ the fields before
 // and after. The simulated values also become more accurate (the event is no
@@ -33,22 +38,29 @@ namespace axis {
 inline constexpr int kMaxEventsPerStep = 4;
 
 // Advances *y (N states of scalar T: double or ceres::Jet) from t to t + h
-// in `mode` and returns the mode at t + h. `system` must provide, for S = T
-// and S = double:
+// in `mode` and returns the mode at t + h. A mode is one region of each of
+// System::kFamilies independent switching families (e.g. gear contact ×
+// preamp region), the regions of a family ordered so that only neighbours
+// share a boundary. `system` must provide, for S = T and S = double:
 //   void Derivative(double t, const Eigen::Matrix<S, N, 1>& y, int mode,
 //                   Eigen::Matrix<S, N, 1>* dy) const;  // smooth in y
 //   S Guard(const Eigen::Matrix<S, N, 1>& y, int from, int to) const;
 // and
+//   static constexpr int kFamilies;  // ≥ 1
 //   int Mode(const Eigen::Matrix<double, N, 1>& y) const;
-//   int Toward(int from, int to) const;  // first region entered from `from`
-//                                       // on the way to region `to`
+//   int Toward(int from, int to, int family) const;  // `from` with the
+//       // region of `family` moved one region toward that of `to`; `from`
+//       // itself where the two agree in that family
 //   double GuardRate(const Eigen::Matrix<double, N, 1>& y,
 //                    const Eigen::Matrix<double, N, 1>& dy, int from,
 //                    int to) const;  // dg/dt along dy
-// Guard(y, from, to) is negative in region `from`, positive in `to`, zero on
-// their boundary, and may depend on the parameters (its Jet part then
-// carries ∂g/∂p). The event time is located to 1e-12·h by the Illinois
-// variant of regula falsi on double copies of the state.
+// Guard(y, from, to) (`to` = Toward(from, ·, ·) ≠ from) is negative in
+// region `from`, positive in `to`, zero on their boundary, and may depend on
+// the parameters (its Jet part then carries ∂g/∂p). Where the step ends in
+// another mode, the event of every family that changed is located on the
+// double trajectory to 1e-12·h by the Illinois variant of regula falsi, and
+// the earliest is taken. A family whose guard crosses and recrosses inside
+// one step (a grazing contact) is not seen.
 // Never throws unless the system does.
 template <typename T, int N, typename System>
 int Rk4SwitchedStep(const System& system, double t, double h, int mode,
@@ -73,55 +85,67 @@ int Rk4SwitchedStep(const System& system, double t, double h, int mode,
       *y = trial;
       return end_mode;
     }
-    const int next = system.Toward(mode, end_mode);
 
-    // Locate the event on the double trajectory: G(s) = g(Φ_s(y)) changes
-    // sign on [0, remaining].
+    // Locate each changed family's event on the double trajectory:
+    // G(s) = g(Φ_s(y)) changes sign on [0, remaining]; the earliest wins.
     const Values start = values_of(*y);
+    const Values end = values_of(trial);
     const auto value_field = [&system, &mode](double tt, const Values& s,
                                               Values* ds) {
       system.Derivative(tt, s, mode, ds);
     };
-    const auto guard_after = [&](double s) {
-      Values v = start;
-      if (s > 0.0) Rk4Step(value_field, t0, s, &v);
-      return system.Guard(v, mode, next);
-    };
-    double a = 0.0, b = remaining;
-    double ga = system.Guard(start, mode, next);
-    double gb = system.Guard(values_of(trial), mode, next);
-    double s_event = 0.0;
-    if (ga < 0.0 && gb > 0.0) {
-      int side = 0;
-      s_event = b;
-      for (int it = 0; it < 100 && b - a > 1e-12 * h; ++it) {
-        const double s = (a * gb - b * ga) / (gb - ga);
-        const double gs = guard_after(s);
-        if (gs == 0.0) {
-          a = b = s;
-          break;
+    int next = mode;
+    double s_event = remaining;
+    for (int family = 0; family < System::kFamilies; ++family) {
+      const int to = system.Toward(mode, end_mode, family);
+      if (to == mode) continue;
+      const auto guard_after = [&](double s) {
+        Values v = start;
+        if (s > 0.0) Rk4Step(value_field, t0, s, &v);
+        return system.Guard(v, mode, to);
+      };
+      double a = 0.0, b = remaining;
+      double ga = system.Guard(start, mode, to);
+      double gb = system.Guard(end, mode, to);
+      double s_to = 0.0;
+      if (ga < 0.0 && gb > 0.0) {
+        int side = 0;
+        for (int it = 0; it < 100 && b - a > 1e-12 * h; ++it) {
+          const double s = (a * gb - b * ga) / (gb - ga);
+          const double gs = guard_after(s);
+          if (gs == 0.0) {
+            a = b = s;
+            break;
+          }
+          if (gs > 0.0) {
+            b = s;
+            gb = gs;
+            if (side == 1) ga *= 0.5;
+            side = 1;
+          } else {
+            a = s;
+            ga = gs;
+            if (side == -1) gb *= 0.5;
+            side = -1;
+          }
         }
-        if (gs > 0.0) {
-          b = s;
-          gb = gs;
-          if (side == 1) ga *= 0.5;
-          side = 1;
-        } else {
-          a = s;
-          ga = gs;
-          if (side == -1) gb *= 0.5;
-          side = -1;
-        }
+        s_to = b;  // on the `to` side (or on the boundary)
+      } else if (!(ga >= 0.0)) {
+        // The end is outside `mode` in this family for another reason than
+        // this guard (not possible with ordered regions): no event here.
+        continue;
       }
-      s_event = b;  // on the `next` side (or on the boundary)
-    } else if (!(ga >= 0.0)) {
-      // The end is outside `mode` for another reason than this guard (not
-      // possible with ordered regions): keep the step as it is.
+      // ga ≥ 0: already on the boundary (e.g. an event ended the last step
+      // and the motion turns back at once): switch at s = 0.
+      if (next == mode || s_to < s_event) {
+        next = to;
+        s_event = s_to;
+      }
+    }
+    if (next == mode) {
       *y = trial;
       return end_mode;
     }
-    // ga ≥ 0: already on the boundary (e.g. an event ended the last step and
-    // the motion turns back at once): switch at s = 0.
 
     if (s_event > 0.0) Rk4Step(field, t0, s_event, y);
     // Saltation: S += (f⁺ − f⁻)·(dg/dp)/(dg/dt), dg/dp being the Jet part of

@@ -14,6 +14,7 @@
 #include <iostream>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -954,7 +955,7 @@ TEST(QuasiSteadyCurrentLoopTest, StabilityLimitIsAbove100Microseconds) {
 // +10, +4 and −2 V that saturate the voltage and the preamp, a 1 Hz sine of
 // 3 V): the quasi-steady model at 50 µs against the full model at 10 µs,
 // RMS over 2 s at 1 kHz, in units of the jobs' noise σ (a 0.02 m/s²,
-// tach 0.005 V). Measured: a ≤ 0.027 σ, tach ≤ 0.014 σ (the full model's
+// tach 0.005 V). Measured: a ≤ 0.029 σ, tach ≤ 0.014 σ (the full model's
 // own error between 10 and 5 µs: 0.005 σ). Bound 0.05 σ: a model error of
 // r·σ RMS adds r² = 0.25 % to the expected cost per sample, far below the
 // cost's own noise (its relative SD is √(2/m) = 2 % for m = 4000 samples).
@@ -995,6 +996,65 @@ TEST(QuasiSteadyCurrentLoopTest, At50MicrosecondsMatchesTheFullModelWithinTheNoi
     EXPECT_LT(rms(Channel::kA), 0.05 * 0.02) << what;
     EXPECT_LT(rms(Channel::kTach), 0.05 * 0.005) << what;
   }
+}
+
+// A reversal of the set-velocity voltage (+5 → −5 V) drives the preamp
+// output from +V_L to −V_L within about one 50 µs step. Under the
+// quasi-steady loop the current's rate carries V_c', which jumps at ±V_L;
+// with those events left to the RK4 stages the trace jumped whenever a
+// parameter moved the crossing across a stage time, and the fit cost had
+// steps (issue 10, coverage seed 2: a step of 42 in the cost, 0.036 m/s² =
+// 1.8 σ in a, for 2e-7 V of V_L; profile intervals collapsed onto the
+// estimate in 33 of 200 seeds). With the limits located as events the
+// trace is continuous: T_p swept in 400 steps of 1e-6 s (1 %) moves the
+// crossing over several RK4 stages; every step of T_p must move the trace,
+// and no neighbouring pair of traces may differ by more than 5 times the
+// median neighbouring difference (a smooth trace changes by about the same
+// amount per step of T_p; a jump stands out by orders of magnitude). Measured before the events were located: the
+// trace piecewise constant in T_p (median change 0) with jumps of up to
+// 0.072 m/s² and 1.6 A.
+TEST(QuasiSteadyCurrentLoopTest, TraceIsContinuousInTheParametersAcrossThePreampLimit) {
+  Drive reversal;
+  reversal.input.kind = InputSignal::Kind::kStep;
+  reversal.input.offset = 5.0;
+  reversal.input.start = 0.15;
+  reversal.input.amplitude = -10.0;
+  SimulationOptions o;
+  o.duration = 0.25;
+  o.step = 5e-5;
+  o.output_period = 1e-3;
+  o.channels = {Channel::kA, Channel::kI};
+  const SimulationGrid grid = MakeGrid(o, reversal);
+  std::vector<double> step_a, step_i;
+  Trace<double> last;
+  for (int n = 0; n <= 400; ++n) {
+    AxisParams<double> p;
+    p.T_p = 0.04 + 1e-6 * n;
+    const Trace<double> tr = Simulate(QuasiSteady(), p, State::Zero().eval(), reversal, o, grid);
+    ASSERT_TRUE(tr.finite);
+    if (n > 0) {
+      double da = 0.0, di = 0.0;
+      for (size_t k = 0; k < tr.t.size(); ++k) {
+        da = std::max(da, std::abs(tr[Channel::kA][k] - last[Channel::kA][k]));
+        di = std::max(di, std::abs(tr[Channel::kI][k] - last[Channel::kI][k]));
+      }
+      step_a.push_back(da);
+      step_i.push_back(di);
+    }
+    last = tr;
+  }
+  const auto median_and_max = [](std::vector<double> v) {
+    const double largest = *std::max_element(v.begin(), v.end());
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return std::pair{v[v.size() / 2], largest};
+  };
+  const auto [median_a, max_a] = median_and_max(step_a);
+  const auto [median_i, max_i] = median_and_max(step_i);
+  std::cout << "per 1e-6 s of T_p: a median " << median_a << " max " << max_a
+            << " m/s^2; i median " << median_i << " max " << max_i << " A\n";
+  EXPECT_GT(median_a, 0.0);
+  EXPECT_LT(max_a, 5.0 * median_a);
+  EXPECT_LT(max_i, 5.0 * median_i);
 }
 
 }  // namespace

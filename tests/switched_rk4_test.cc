@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -40,8 +41,11 @@ struct TwoSlopes {
                   Eigen::Matrix<S, 1, 1>* dy) const {
     (*dy)[0] = Slope<S>(mode);
   }
+  static constexpr int kFamilies = 1;
   int Mode(const Eigen::Matrix<double, 1, 1>& y) const { return y[0] >= c ? 1 : 0; }
-  int Toward(int from, int to) const { return to > from ? from + 1 : from - 1; }
+  int Toward(int from, int to, int) const {
+    return to == from ? from : to > from ? from + 1 : from - 1;
+  }
   template <typename S>
   S Guard(const Eigen::Matrix<S, 1, 1>& y, int from, int to) const {
     return to > from ? S(y[0] - c) : S(c - y[0]);
@@ -96,6 +100,55 @@ TEST(SwitchedRk4Test, EventParameterInTheGuard) {
   EXPECT_NEAR(y[0].v[0], 1.0 - 5.0 / 2.0, 1e-12);
 }
 
+// Two independent switches, y0' = 1 → 3 at y0 = c0 and y1' = 2 → 7 at
+// y1 = c1, both crossed inside one step in either order: the events are at
+// τ0 = c0 and τ1 = c1/2, and the earlier must be taken first, else the
+// other coordinate is integrated on its old slope past its own event.
+// Mode = 2·(y0 ≥ c0) + (y1 ≥ c1).
+struct TwoSwitches {
+  double c0, c1;
+  static constexpr int kFamilies = 2;
+  template <typename S>
+  void Derivative(double, const Eigen::Matrix<S, 2, 1>&, int mode,
+                  Eigen::Matrix<S, 2, 1>* dy) const {
+    (*dy)[0] = S(mode / 2 == 0 ? 1.0 : 3.0);
+    (*dy)[1] = S(mode % 2 == 0 ? 2.0 : 7.0);
+  }
+  int Mode(const Eigen::Matrix<double, 2, 1>& y) const {
+    return 2 * (y[0] >= c0 ? 1 : 0) + (y[1] >= c1 ? 1 : 0);
+  }
+  int Toward(int from, int to, int family) const {
+    const int bit = family == 0 ? 2 : 1;
+    return (from & bit) == (to & bit) ? from : (from ^ bit);
+  }
+  template <typename S>
+  S Guard(const Eigen::Matrix<S, 2, 1>& y, int from, int to) const {
+    const S g = (from ^ to) == 2 ? S(y[0] - c0) : S(y[1] - c1);
+    return to > from ? g : S(-g);
+  }
+  double GuardRate(const Eigen::Matrix<double, 2, 1>&,
+                   const Eigen::Matrix<double, 2, 1>& dy, int from, int to) const {
+    const double rate = (from ^ to) == 2 ? dy[0] : dy[1];
+    return to > from ? rate : -rate;
+  }
+};
+
+TEST(SwitchedRk4Test, TwoFamiliesSwitchingInOneStepTakeTheEarlierEventFirst) {
+  const double h = 0.01;
+  // Events at t = 0.0043 then 0.0061, and the reverse order.
+  for (const auto& [c0, c1] : {std::pair{0.0043, 2 * 0.0061}, std::pair{0.0061, 2 * 0.0043}}) {
+    TwoSwitches system{c0, c1};
+    Eigen::Vector2d y = Eigen::Vector2d::Zero();
+    int mode = 0;
+    for (int n = 0; n < 3; ++n) mode = Rk4SwitchedStep(system, n * h, h, mode, &y);
+    const double t_end = 3 * h;
+    EXPECT_EQ(mode, 3);
+    // Constant slopes on each piece: exact up to the event location.
+    EXPECT_NEAR(y[0], c0 + 3.0 * (t_end - c0), 1e-12);
+    EXPECT_NEAR(y[1], c1 + 7.0 * (t_end - c1 / 2.0), 1e-12);
+  }
+}
+
 // The paper's five unknowns on a 1 s PRBS record (12 reversals, about 200
 // backlash contacts), at a point 5 % off the truth: the Jet Jacobian of the
 // whole cost against central differences of the cost itself, the
@@ -103,7 +156,8 @@ TEST(SwitchedRk4Test, EventParameterInTheGuard) {
 // moves contact times by ~1e-8 s, far below the 10 µs step, so the
 // differences see the event terms; their truncation and round-off
 // (~1e-9 relative on a cost of ~1e6) bound the agreement at ~1e-5.
-TEST(SwitchedRk4Test, CostJacobianOverAPrbsRecordMatchesCentralDifferences) {
+// `model_yaml`: job keys added to the job (the current-loop model and step).
+void CheckPrbsCostJacobian(const std::string& model_yaml) {
   SimulateAxisOptions sim;
   sim.experiment_path = kRoot + "/configs/experiments/x_prbs.yaml";
   sim.out_path = axis::testing_files::TestTempDir() + "x_prbs.csv";
@@ -123,7 +177,7 @@ TEST(SwitchedRk4Test, CostJacobianOverAPrbsRecordMatchesCentralDifferences) {
       "    window: [0, 1.0]\n"
       "    channels: {u: u, a: a, tach: tach}\n"
       "    input: {column: u, interpolation: hold}\n"
-      "    fit: {a: 0.02, tach: 0.005}\n");
+      "    fit: {a: 0.02, tach: 0.005}\n" + model_yaml);
   const FitJob job = LoadFitJob(job_path);
   const std::vector<testing_files::ColumnCheck> checks =
       testing_files::CheckJobJacobian(job, 1e-7);
@@ -133,6 +187,18 @@ TEST(SwitchedRk4Test, CostJacobianOverAPrbsRecordMatchesCentralDifferences) {
     EXPECT_NEAR(c.gradient, c.difference_gradient, 1e-4 * std::abs(c.difference_gradient))
         << job.free[k].name;
   }
+}
+
+TEST(SwitchedRk4Test, CostJacobianOverAPrbsRecordMatchesCentralDifferences) {
+  CheckPrbsCostJacobian("");
+}
+
+// As above with the quasi-steady current loop at 50 µs (the discovery and
+// coverage jobs' model): the preamp limits of eq. 2 are events too, each
+// reversal crossing both, and their saltation terms (the guard carries V_L
+// and T_z) must be in the Jacobian.
+TEST(SwitchedRk4Test, QuasiSteadyCostJacobianOverAPrbsRecordMatchesCentralDifferences) {
+  CheckPrbsCostJacobian("configuration: {current_loop: quasi_steady}\nsimulation: {step: 5.0e-5}\n");
 }
 
 }  // namespace
