@@ -206,11 +206,17 @@ struct SwitchedAxis {
 }  // namespace internal
 
 // Simulates one experiment from initial state y_init on the grid of
-// MakeGrid(). The sensor effects enabled in structure.sensors act on the
-// recorded channels: sensor_bias adds b.<channel>; sensor_delay records the
-// channel at t − tau_d.<channel> (linear interpolation between RK4 steps,
-// the value at t = 0 before the start). `progress`, if set, is called with
-// the completed fraction about every 1 % of the run.
+// MakeGrid(). A smooth open-loop input is evaluated at the RK4 stage times;
+// a piecewise-constant one (a held table, a step, zero) is held over each
+// step at its value at the step's start, as the controller output is (a
+// switch between grid points applies from the next step). Gear contacts
+// and, under the quasi-steady current loop, the preamp limits are events
+// located inside the step (sim/switched_rk4.h). The sensor effects enabled
+// in structure.sensors act on the recorded channels: sensor_bias adds
+// b.<channel>; sensor_delay records the channel at t − tau_d.<channel>
+// (linear interpolation between RK4 steps, the value at t = 0 before the
+// start). `progress`, if set, is called with the completed fraction about
+// every 1 % of the run.
 // Never throws (the grid is checked by MakeGrid); a run that goes
 // non-finite returns early with finite = false.
 template <typename T>
