@@ -68,8 +68,10 @@ enum class PreampRegion : int {
 };
 
 // The side of the limit for an unclamped preamp output y4 + T_z·y5 (V) and
-// limit V_L (V, > 0). Never throws.
-inline PreampRegion PreampRegionOf(double pre_vc, double V_L) {
+// limit V_L (V, > 0); T is double or ceres::Jet (compared by value). Never
+// throws.
+template <typename T>
+PreampRegion PreampRegionOf(const T& pre_vc, const T& V_L) {
   if (pre_vc > V_L) return PreampRegion::kHigh;
   if (pre_vc < -V_L) return PreampRegion::kLow;
   return PreampRegion::kLinear;
@@ -298,11 +300,7 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
   T pre_vc(0.0);  // y4 + T_z·y5, V_c before the clamp of eq. 2
   if (structure.amplifier != Amplifier::kForceSource) {
     pre_vc = y[4] + c.T_z * y[5];
-    if (preamp == PreampRegion::kFromState) {
-      preamp = pre_vc > p.V_L    ? PreampRegion::kHigh
-               : pre_vc < -p.V_L ? PreampRegion::kLow
-                                 : PreampRegion::kLinear;
-    }
+    if (preamp == PreampRegion::kFromState) preamp = PreampRegionOf(pre_vc, p.V_L);
     vc = preamp == PreampRegion::kHigh  ? p.V_L
          : preamp == PreampRegion::kLow ? T(-p.V_L)
                                         : pre_vc;

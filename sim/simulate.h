@@ -163,7 +163,7 @@ struct SwitchedAxis {
     const int contact =
         gear ? static_cast<int>(GearContactOf(values.r_g * y[2] - y[0], values.H)) : 0;
     const int side =
-        preamp ? static_cast<int>(PreampRegionOf(y[4] + values.T_z * y[5], values.V_L)) : 0;
+        preamp ? static_cast<int>(PreampRegionOf<double>(y[4] + values.T_z * y[5], values.V_L)) : 0;
     return 3 * (contact + 1) + side + 1;
   }
   int Toward(int from, int to, int family) const {
