@@ -49,6 +49,11 @@ struct Score {
   double p_value = 1.0;
   double log_p_value = 0.0;  // natural log; finite where p_value is 0
   std::vector<double> step;  // Gauss–Newton step of the columns' parameters
+  // The step of each column alone (−gₖ/Iₖₖ: the others held at zero), a
+  // start for a refit from one column's shape (Stribeck: one per v_st of
+  // the grid, where the joint step of nearly parallel columns can be far
+  // larger than any of them).
+  std::vector<double> single_step;
 };
 
 // Two candidates whose projected columns are nearly parallel (largest
@@ -126,8 +131,12 @@ struct DiscoveryStep {
   // be far too long and the simulation leave the finite numbers) is run
   // once more from a tenth of the step; then this says so.
   std::string retried;
+  // A forward refit from more than one start (Stribeck: one per v_st of
+  // the score test's grid): each start's BIC and which was kept (the
+  // lowest); empty for one start.
+  std::string starts;
   std::vector<ChannelChange> channels;
-  double seconds = 0.0;  // s, wall time of the step's refit
+  double seconds = 0.0;  // s, the step's refits (summed over its starts)
 };
 
 // Wald test of one effect of a fitted model against the value that
@@ -212,7 +221,7 @@ std::string FormatDiscovery(const DiscoveryReport& report);
 
 // report.json's "discovery" block: {"selected", "steps": [{"effect",
 // "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
-// "bic_before", "bic_after", "kept", "removal", "implausible", "insignificant", "rule", "outranked" (if any), "channels": [...]}],
+// "bic_before", "bic_after", "kept", "removal", "implausible", "insignificant", "rule", "outranked", "starts" (if any), "channels": [...]}],
 // "removed": [names], "level", "significance": [{"effect", "chi2", "dof",
 // "p_value"}], "verdict": "explained" | "incomplete", "verdict_detail":
 // {"s2", "s2_p_value", "tests", "threshold", "channels", "remains",

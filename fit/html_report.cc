@@ -446,6 +446,7 @@ std::string StepHtml(size_t index, const DiscoveryStep& s) {
                        " (refit " + Number(s.seconds, 3) + " s)");
   if (!s.rule.empty()) out += Tag("li", "rule: " + s.rule);
   if (!s.outranked.empty()) out += Tag("li", "outranked: " + s.outranked);
+  if (!s.starts.empty()) out += Tag("li", "starts: " + s.starts);
   if (!s.implausible.empty()) out += Tag("li", "not physical: " + s.implausible);
   if (!s.insignificant.empty()) out += Tag("li", "not significant: " + s.insignificant);
   out += "</ul>\n";
