@@ -107,6 +107,12 @@ struct FitResult {
   // load_quantum, counts_per_rev), whose cost is then piecewise constant at
   // the quantum. Empty otherwise.
   std::string stop_note;
+  // Where the fitting model's approximation may bias an estimate by a
+  // sizeable fraction of its standard error (FitParameters): a sensor delay
+  // tau_d.<channel> fitted with the quasi-steady current loop, whose
+  // neglected time constant τ_i = L/(K_a/K_i + R) (MODEL.md eq. 3) is at
+  // least half the delay's standard error. Empty otherwise.
+  std::string model_note;
   // How the model was integrated (FitParameters): RK4's step(s) and, with
   // an analog_velocity_loop, the current loop (sim/axis_params.h
   // CurrentLoop), e.g. "RK4, step 5e-05 s; current loop quasi_steady".

@@ -612,6 +612,7 @@ std::string SummaryHtml(const HtmlReportInput& input) {
                                            std::to_string(r.num_residuals) + " residuals"));
   item("AIC, BIC", HtmlEscape(Number(r.aic, 8) + ", " + Number(r.bic, 8)));
   item("optimum", HtmlEscape(r.optimum_check.empty() ? "not checked" : r.optimum_check));
+  if (!r.model_note.empty()) item("note", HtmlEscape(r.model_note));
   item("uncertainty", HtmlEscape((r.uncertainty_method.empty() ? "-" : r.uncertainty_method) +
                                  ": " + r.uncertainty_note));
   // FormatPhases: "time: 41.2 s (…)". With discovery the result is the

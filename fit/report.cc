@@ -608,6 +608,7 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
                                      : OneLine(result.termination)) +
          "\n";
   if (!result.stop_note.empty()) out += "- note: " + result.stop_note + "\n";
+  if (!result.model_note.empty()) out += "- note: " + result.model_note + "\n";
   if (!result.integration.empty()) out += "- integration: " + result.integration + "\n";
   out += "- " + (result.optimum_check.empty() ? std::string("optimum not checked")
                                              : result.optimum_check) +
@@ -697,6 +698,7 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
   j["jacobian_evaluations"] = result.jacobian_evaluations;
   j["termination"] = result.termination;
   j["stop_note"] = result.stop_note;
+  j["model_note"] = result.model_note;
   j["integration"] = result.integration;
   Json phases = Json::array();
   for (const FitPhase& f : result.phases) {

@@ -101,6 +101,43 @@ TEST(FitOptionsTest, QuasiSteadyCurrentLoopIsReportedAndAgrees) {
   }
 }
 
+// A sensor delay fitted with the quasi-steady current loop, whose neglected
+// time constant L/(K_a/K_i + R) = 7.04 µs is at least half the delay's
+// standard error, carries a note naming the delay and that time constant
+// (FitResult::model_note); the full loop's fit has none. 0.5 s of the +4 V
+// step of the sensor_delay discovery case (τ_d.a = 2 ms).
+TEST(FitOptionsTest, DelayFittedWithTheQuasiSteadyLoopCarriesANote) {
+  const auto job = [&](const std::string& name, const std::string& extra) {
+    return Write(name,
+        "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+        "effects: {sensor_delay: {a: 0.0015}}\n"
+        "free:\n"
+        "  tau_d.a: {initial: 0.0015, lower: 1.0e-5, upper: 0.01}\n"
+        "  V_L: {initial: 2.7, lower: 0.5, upper: 20}\n"
+        "experiments:\n"
+        "  - name: step\n"
+        "    data: " + kRoot + "/testdata/discover/sensor_delay_step_p4V.csv\n"
+        "    window: [0, 0.5]\n"
+        "    channels: {u: u, a: a, tach: tach}\n"
+        "    input: {column: u}\n"
+        "    fit: {a: 0.02, tach: 0.005}\n"
+        "solver: {first_horizon: 0, probe_rounds: 0}\n"
+        "uncertainty: {method: gauss_newton}\n" + extra);
+  };
+  const FitResult full = Fit(job("delay_full_loop.yaml", ""));
+  const FitResult quasi = Fit(job("delay_quasi_loop.yaml",
+      "configuration: {current_loop: quasi_steady}\nsimulation: {step: 5.0e-5}\n"));
+  const ParameterEstimate& tau = Estimate(quasi, "tau_d.a");
+  std::cout << "tau_d.a: full " << Estimate(full, "tau_d.a").value << ", quasi-steady "
+            << tau.value << " +- " << tau.std_error << "\n";
+  ASSERT_LE(tau.std_error, 2.0 * 7.04e-6);  // the case the note is for
+  EXPECT_EQ(full.model_note, "");
+  EXPECT_NE(quasi.model_note.find("L/(K_a/K_i + R) = 7.04e-06 s"), std::string::npos)
+      << quasi.model_note;
+  EXPECT_NE(quasi.model_note.find("tau_d.a (standard error"), std::string::npos)
+      << quasi.model_note;
+}
+
 // The initial arm position and velocity estimated along with B_a, on a
 // window of the noise-free 10 V step that starts in motion (t = 0.2 s):
 // the fit (B_a started 25 % low) must find the state the truth had there.
