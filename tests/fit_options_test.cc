@@ -41,6 +41,23 @@ const ParameterEstimate& Estimate(const FitResult& r, const std::string& name) {
   throw std::runtime_error("no parameter " + name);
 }
 
+// A job file `name` fitting 0.5 s of the record `data` (a set-velocity
+// step: u, a, tach) with `head` (model, effects, free parameters) and
+// `extra` (top-level keys); the Gauss–Newton intervals, no continuation.
+std::string HalfSecondStepJob(const std::string& name, const std::string& head,
+                              const std::string& data, const std::string& extra) {
+  return Write(name, head +
+      "experiments:\n"
+      "  - name: step\n"
+      "    data: " + data + "\n"
+      "    window: [0, 0.5]\n"
+      "    channels: {u: u, a: a, tach: tach}\n"
+      "    input: {column: u}\n"
+      "    fit: {a: 0.02, tach: 0.005}\n"
+      "solver: {first_horizon: 0, probe_rounds: 0}\n"
+      "uncertainty: {method: gauss_newton}\n" + extra);
+}
+
 // F_0 (load_offset) is free but the effect is not enabled in the model: its
 // Jacobian column is zero, the Jacobian is rank deficient, and the report
 // must say that the data cannot determine F_0 while B_a stays determined.
@@ -71,20 +88,12 @@ TEST(FitOptionsTest, RankDeficiencyIsNamed) {
 // within one standard error of the full model's fit at 10 µs.
 TEST(FitOptionsTest, QuasiSteadyCurrentLoopIsReportedAndAgrees) {
   const auto job = [&](const std::string& name, const std::string& extra) {
-    return Write(name,
-        "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
-        "free:\n"
-        "  V_L: {initial: 3, lower: 0.5, upper: 20}\n"
-        "  B_a: {initial: 220, lower: 10, upper: 2000}\n"
-        "experiments:\n"
-        "  - name: step\n"
-        "    data: " + kRoot + "/testdata/x_step_10V.csv\n"
-        "    window: [0, 0.5]\n"
-        "    channels: {u: u, a: a, tach: tach}\n"
-        "    input: {column: u}\n"
-        "    fit: {a: 0.02, tach: 0.005}\n"
-        "solver: {first_horizon: 0, probe_rounds: 0}\n"
-        "uncertainty: {method: gauss_newton}\n" + extra);
+    return HalfSecondStepJob(name,
+                             "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+                             "free:\n"
+                             "  V_L: {initial: 3, lower: 0.5, upper: 20}\n"
+                             "  B_a: {initial: 220, lower: 10, upper: 2000}\n",
+                             kRoot + "/testdata/x_step_10V.csv", extra);
   };
   const FitResult full = Fit(job("full_loop.yaml", ""));
   const FitResult quasi = Fit(job("quasi_loop.yaml",
@@ -108,21 +117,13 @@ TEST(FitOptionsTest, QuasiSteadyCurrentLoopIsReportedAndAgrees) {
 // step of the sensor_delay discovery case (τ_d.a = 2 ms).
 TEST(FitOptionsTest, DelayFittedWithTheQuasiSteadyLoopCarriesANote) {
   const auto job = [&](const std::string& name, const std::string& extra) {
-    return Write(name,
-        "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
-        "effects: {sensor_delay: {a: 0.0015}}\n"
-        "free:\n"
-        "  tau_d.a: {initial: 0.0015, lower: 1.0e-5, upper: 0.01}\n"
-        "  V_L: {initial: 2.7, lower: 0.5, upper: 20}\n"
-        "experiments:\n"
-        "  - name: step\n"
-        "    data: " + kRoot + "/testdata/discover/sensor_delay_step_p4V.csv\n"
-        "    window: [0, 0.5]\n"
-        "    channels: {u: u, a: a, tach: tach}\n"
-        "    input: {column: u}\n"
-        "    fit: {a: 0.02, tach: 0.005}\n"
-        "solver: {first_horizon: 0, probe_rounds: 0}\n"
-        "uncertainty: {method: gauss_newton}\n" + extra);
+    return HalfSecondStepJob(name,
+                             "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+                             "effects: {sensor_delay: {a: 0.0015}}\n"
+                             "free:\n"
+                             "  tau_d.a: {initial: 0.0015, lower: 1.0e-5, upper: 0.01}\n"
+                             "  V_L: {initial: 2.7, lower: 0.5, upper: 20}\n",
+                             kRoot + "/testdata/discover/sensor_delay_step_p4V.csv", extra);
   };
   const FitResult full = Fit(job("delay_full_loop.yaml", ""));
   const FitResult quasi = Fit(job("delay_quasi_loop.yaml",
