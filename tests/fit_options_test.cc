@@ -41,6 +41,11 @@ const ParameterEstimate& Estimate(const FitResult& r, const std::string& name) {
   throw std::runtime_error("no parameter " + name);
 }
 
+// The top-level keys of a job fitting the quasi-steady current loop at a
+// 50 µs step (sim/axis_params.h CurrentLoop), as the discovery jobs do.
+const std::string kQuasiSteadyAt50us =
+    "configuration: {current_loop: quasi_steady}\nsimulation: {step: 5.0e-5}\n";
+
 // A job file `name` fitting 0.5 s of the record `data` (a set-velocity
 // step: u, a, tach) with `head` (model, effects, free parameters) and
 // `extra` (top-level keys); the Gauss–Newton intervals, no continuation.
@@ -97,7 +102,7 @@ TEST(FitOptionsTest, QuasiSteadyCurrentLoopIsReportedAndAgrees) {
   };
   const FitResult full = Fit(job("full_loop.yaml", ""));
   const FitResult quasi = Fit(job("quasi_loop.yaml",
-      "configuration: {current_loop: quasi_steady}\nsimulation: {step: 5.0e-5}\n"));
+      kQuasiSteadyAt50us));
   EXPECT_EQ(full.integration, "RK4, step 1e-05 s; current loop full (eq. 3)");
   EXPECT_NE(quasi.integration.find("RK4, step 5e-05 s; current loop quasi_steady"),
             std::string::npos) << quasi.integration;
@@ -127,7 +132,7 @@ TEST(FitOptionsTest, DelayFittedWithTheQuasiSteadyLoopCarriesANote) {
   };
   const FitResult full = Fit(job("delay_full_loop.yaml", ""));
   const FitResult quasi = Fit(job("delay_quasi_loop.yaml",
-      "configuration: {current_loop: quasi_steady}\nsimulation: {step: 5.0e-5}\n"));
+      kQuasiSteadyAt50us));
   const ParameterEstimate& tau = Estimate(quasi, "tau_d.a");
   std::cout << "tau_d.a: full " << Estimate(full, "tau_d.a").value << ", quasi-steady "
             << tau.value << " +- " << tau.std_error << "\n";
