@@ -235,16 +235,46 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, FitJob* job) {
   }
 }
 
-// The index of the fit with the lowest finite BIC in `fits`, or
-// fits.size() if none is finite.
+// The index of the fit with the lowest finite BIC in `fits` among those
+// that ran to the whole record (else among those stopped early, whose BIC
+// is a lower bound: FitResult::abandoned_horizon), or fits.size() if none
+// is finite.
 size_t LowestFiniteBic(const std::vector<FitResult>& fits) {
   size_t best = fits.size();
+  const auto better = [&](size_t k) {
+    if (!std::isfinite(fits[k].bic)) return false;
+    if (best == fits.size()) return true;
+    const bool whole = fits[k].abandoned_horizon == 0.0;
+    const bool best_whole = fits[best].abandoned_horizon == 0.0;
+    if (whole != best_whole) return whole;
+    return fits[k].bic < fits[best].bic;
+  };
   for (size_t k = 0; k < fits.size(); ++k) {
-    if (std::isfinite(fits[k].bic) && (best == fits.size() || fits[k].bic < fits[best].bic)) {
-      best = k;
-    }
+    if (better(k)) best = k;
   }
   return best;
+}
+
+// A refit stops once the lower bound of its BIC on a shorter horizon
+// (fit/fit.h FitParameters) exceeds this many times the level that decides
+// (the BIC before the step, or the lowest a refit of the step has reached;
+// BICs here are positive). Not 1: the bound takes the shorter horizon's
+// minimum as the one its stage found, and a stage can end in a local
+// minimum above the whole record's (motor-side Coulomb friction on the
+// coulomb case: 3.90e5 at the 0.2 s horizon, 2.93e5 at the end, 1.33
+// times less), so the stop needs a margin.
+constexpr double kStopFactor = 2.0;
+
+// Why a refit stopped early (FitResult::abandoned_horizon), for
+// DiscoveryStep::stopped: its horizon, the bound and the level it passed
+// (`level_name`, e.g. "coulomb's BIC" or "the BIC before the step").
+std::string StoppedText(const FitResult& fit, double level, const std::string& level_name) {
+  if (fit.abandoned_horizon == 0.0) return "";
+  std::ostringstream out;
+  out << std::setprecision(4) << "at the " << fit.abandoned_horizon
+      << " s horizon: BIC >= " << fit.bic << " there already, more than " << kStopFactor
+      << " times " << level_name << " (" << level << ")";
+  return out.str();
 }
 
 // Switches candidate `c` off in `job` and fixes its parameters `params`.
@@ -330,15 +360,20 @@ std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
   const double first_horizon = without->solver.first_horizon;
   AsWarmRefit(without);
   without->solver.first_horizon = first_horizon;
+  // Removed only if BIC falls: a refit that can no longer fall below the
+  // BIC with the effect stops early (SolverSettings::abandon_above_bic).
+  without->solver.abandon_above_bic = kStopFactor * result.bic;
   const Clock::time_point start = Clock::now();
   FitResult refit = FitParameters(*without, nullptr);
+  without->solver.abandon_above_bic = std::numeric_limits<double>::infinity();
   DiscoveryStep record;
   record.seconds = SecondsSince(start);
   record.effect = c.name;
   record.removal = true;
   record.bic_before = result.bic;
   record.bic_after = refit.bic;
-  record.kept = refit.bic < result.bic;
+  record.stopped = StoppedText(refit, result.bic, "the BIC with the effect");
+  record.kept = refit.bic < result.bic && record.stopped.empty();
   record.channels = Changes(result, refit);
   return {record, refit};
 }
@@ -604,10 +639,25 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       }
       return out;
     };
+    // The level a refit must end below to matter (issue 11): a refit whose
+    // BIC's lower bound passes kStopFactor times it stops on a shorter
+    // horizon (SolverSettings::abandon_above_bic). First the BIC before the step
+    // (a refit above it is rejected); once the batch's leading refits have
+    // run, the lowest BIC among those that would be kept (no other refit
+    // above it can win the step).
+    double level = result->bic;
+    std::string level_name = "the BIC before the step";
     const auto run_batch = [&]() {
       std::vector<FitJob> jobs;
       std::string names;
+      // The leading refits: the first candidates of the batch up to
+      // `threads` fits (every start of each), run before the others so that
+      // they can set the level; the rest run after, stopped above it.
+      size_t lead = 0;
       for (const Pending& q : batch) {
+        if (lead == 0 || jobs.size() < static_cast<size_t>(std::max(1, job->solver.threads))) {
+          lead = jobs.size() + q.starts.size();
+        }
         jobs.insert(jobs.end(), q.starts.begin(), q.starts.end());
         names += (names.empty() ? "" : ", ") + q.candidate.name;
       }
@@ -620,13 +670,46 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                                       " candidates at once (" + names + ")"),
                        unknown);
       }
+      // The level each fit runs against (the jobs are copies: the starts
+      // in `batch`, one of which the loop may adopt, keep no level).
+      std::vector<double> level_of(jobs.size(), level);
+      std::vector<std::string> level_name_of(jobs.size(), level_name);
+      for (FitJob& j : jobs) j.solver.abandon_above_bic = kStopFactor * level;
       std::vector<double> seconds;
-      std::vector<FitResult> fits = FitConcurrently(jobs, job->solver.threads, &seconds);
+      std::vector<FitResult> fits = FitConcurrently(
+          std::vector<FitJob>(jobs.begin(), jobs.begin() + lead), job->solver.threads, &seconds);
+      if (lead < jobs.size()) {
+        size_t first = 0;  // q's first start in `jobs`
+        for (const Pending& q : batch) {
+          for (size_t k = first; k < first + q.starts.size() && k < lead; ++k) {
+            const FitResult& fit = fits[k];
+            if (fit.abandoned_horizon == 0.0 && std::isfinite(fit.bic) && fit.bic < level &&
+                ImplausibleValue(q.candidate.name, fit, q.starts[k - first]).empty()) {
+              level = fit.bic;
+              level_name = q.candidate.name + "'s BIC";
+            }
+          }
+          first += q.starts.size();
+        }
+        std::vector<FitJob> rest(jobs.begin() + lead, jobs.end());
+        for (FitJob& j : rest) j.solver.abandon_above_bic = kStopFactor * level;
+        for (size_t k = lead; k < jobs.size(); ++k) {
+          level_of[k] = level;
+          level_name_of[k] = level_name;
+        }
+        std::vector<double> rest_seconds;
+        std::vector<FitResult> rest_fits = FitConcurrently(rest, job->solver.threads, &rest_seconds);
+        fits.insert(fits.end(), rest_fits.begin(), rest_fits.end());
+        seconds.insert(seconds.end(), rest_seconds.begin(), rest_seconds.end());
+      }
       size_t first = 0;  // q's first start in `jobs`
       for (size_t b = 0; b < batch.size(); ++b) {
         Pending& q = batch[b];
         const size_t n = q.starts.size();
         std::vector<FitResult> own(fits.begin() + first, fits.begin() + first + n);
+        std::vector<double> own_level(level_of.begin() + first, level_of.begin() + first + n);
+        std::vector<std::string> own_level_name(level_name_of.begin() + first,
+                                                level_name_of.begin() + first + n);
         DiscoveryStep record;
         for (size_t k = 0; k < n; ++k) record.seconds += seconds[first + k];
         first += n;
@@ -639,8 +722,12 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
           for (double& x : damped.step) x *= 0.1;
           for (double& x : damped.single_step) x *= 0.1;
           q.starts = refit_jobs(q.candidate, damped);
+          std::vector<FitJob> retry = q.starts;
+          for (FitJob& j : retry) j.solver.abandon_above_bic = kStopFactor * level;
+          own_level.assign(n, level);
+          own_level_name.assign(n, level_name);
           std::vector<double> again;
-          own = FitConcurrently(q.starts, job->solver.threads, &again);
+          own = FitConcurrently(retry, job->solver.threads, &again);
           for (double s : again) record.seconds += s;
           best = LowestFiniteBic(own);
           record.retried = "refit from the score step failed; retried from a tenth of it";
@@ -649,8 +736,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
           std::ostringstream starts;
           starts << std::setprecision(4) << n << " starts, BIC";
           for (size_t k = 0; k < n; ++k) {
-            starts << (k == 0 ? " " : ", ") << own[k].bic << " from "
-                   << StartLabel(q.candidate, k);
+            starts << (k == 0 ? " " : ", ") << (own[k].abandoned_horizon > 0.0 ? ">= " : "")
+                   << own[k].bic << " from " << StartLabel(q.candidate, k);
           }
           if (best < n) starts << "; kept the start from " << StartLabel(q.candidate, best);
           record.starts = starts.str();
@@ -665,20 +752,25 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
         record.p_value = q.score->p_value;
         record.bic_before = result->bic;
         record.bic_after = refit.bic;
-        record.implausible = ImplausibleValue(q.candidate.name, refit, refit_job);
-        record.kept = refit.bic < result->bic && record.implausible.empty();
-        for (const ParameterEstimate& e : refit.parameters) {
-          if (e.free && std::find(q.names.begin(), q.names.end(), e.name) != q.names.end()) {
-            record.parameters.push_back(e);
+        record.stopped = StoppedText(refit, own_level[best], own_level_name[best]);
+        if (record.stopped.empty()) {
+          record.implausible = ImplausibleValue(q.candidate.name, refit, refit_job);
+          for (const ParameterEstimate& e : refit.parameters) {
+            if (e.free && std::find(q.names.begin(), q.names.end(), e.name) != q.names.end()) {
+              record.parameters.push_back(e);
+            }
           }
+          record.channels = Changes(*result, refit);
         }
-        record.channels = Changes(*result, refit);
+        record.kept =
+            refit.bic < result->bic && record.implausible.empty() && record.stopped.empty();
         report.steps.push_back(record);
         if (progress) {
           *progress << "  refit with " << q.candidate.name << ": BIC " << record.bic_before
-                    << " -> " << record.bic_after
+                    << " -> " << (record.stopped.empty() ? "" : ">= ") << record.bic_after
                     << (record.kept ? " (improves)" : " (rejected)")
                     << (record.implausible.empty() ? "" : ": " + record.implausible)
+                    << (record.stopped.empty() ? "" : ": stopped " + record.stopped)
                     << (record.retried.empty() ? "" : " (" + record.retried + ")")
                     << (record.starts.empty() ? "" : " (" + record.starts + ")")
                     << " (" << record.seconds << " s)\n";
@@ -773,8 +865,9 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     report.steps.push_back(record);
     if (progress) {
       *progress << "  refit without " << candidate.name << ": BIC " << record.bic_before
-                << " -> " << record.bic_after
-                << (record.kept ? " (removed)" : " (stays)") << "\n";
+                << " -> " << (record.stopped.empty() ? "" : ">= ") << record.bic_after
+                << (record.kept ? " (removed)" : " (stays)")
+                << (record.stopped.empty() ? "" : ": stopped " + record.stopped) << "\n";
     }
     if (record.kept) {
       DropEffect(candidate.name, std::move(without), std::move(refit), job, result, &report);
@@ -931,13 +1024,16 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
     if (s.removal) {
       out << "\nStep " << k + 1 << ": without " << s.effect
           << (s.kept ? " (removed)" : " (stays)") << "  BIC " << s.bic_before
-          << " -> " << s.bic_after << "  (refit " << s.seconds << " s)\n";
+          << " -> " << (s.stopped.empty() ? "" : ">= ") << s.bic_after << "  (refit "
+          << s.seconds << " s)\n";
+      if (!s.stopped.empty()) out << "  stopped " << s.stopped << "\n";
       if (!s.insignificant.empty()) out << "  not significant: " << s.insignificant << "\n";
     } else {
       out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
           << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
-          << ")  BIC " << s.bic_before << " -> " << s.bic_after << "  (refit " << s.seconds
-          << " s)\n";
+          << ")  BIC " << s.bic_before << " -> " << (s.stopped.empty() ? "" : ">= ")
+          << s.bic_after << "  (refit " << s.seconds << " s)\n";
+      if (!s.stopped.empty()) out << "  stopped " << s.stopped << "\n";
       if (!s.implausible.empty()) out << "  not physical: " << s.implausible << "\n";
       if (!s.outranked.empty()) out << "  outranked: " << s.outranked << "\n";
       if (!s.starts.empty()) out << "  starts: " << s.starts << "\n";
@@ -1026,6 +1122,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     if (!s.outranked.empty()) step["outranked"] = s.outranked;
     if (!s.starts.empty()) step["starts"] = s.starts;
     if (!s.retried.empty()) step["retried"] = s.retried;
+    if (!s.stopped.empty()) step["stopped"] = s.stopped;
     step["channels"] = nlohmann::json::array();
     for (const ChannelChange& c : s.channels) {
       step["channels"].push_back({{"experiment", c.experiment},

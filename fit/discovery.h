@@ -135,6 +135,16 @@ struct DiscoveryStep {
   // the score test's grid): each start's BIC and which was kept (the
   // lowest); empty for one start.
   std::string starts;
+  // A refit stopped on a shorter horizon because the lower bound of its BIC
+  // there was already more than twice the level that decides the step (the
+  // BIC before it, or the lowest BIC a refit of the step has already
+  // reached; for a removal, the BIC with the effect; fit/fit.h
+  // FitParameters, SolverSettings::abandon_above_bic): where and why, e.g.
+  // "at the 0.2 s horizon: BIC >= 3.868e+04 there already, more than 2
+  // times coulomb's BIC (1.192e+04)". Then bic_after is that lower bound
+  // and `parameters` and `channels` are empty. Empty for a refit that ran
+  // to the whole record.
+  std::string stopped;
   std::vector<ChannelChange> channels;
   double seconds = 0.0;  // s, the step's refits (summed over its starts)
 };
@@ -221,7 +231,7 @@ std::string FormatDiscovery(const DiscoveryReport& report);
 
 // report.json's "discovery" block: {"selected", "steps": [{"effect",
 // "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
-// "bic_before", "bic_after", "kept", "removal", "implausible", "insignificant", "rule", "outranked", "starts" (if any), "channels": [...]}],
+// "bic_before", "bic_after", "kept", "removal", "implausible", "insignificant", "rule", "outranked", "starts", "stopped" (if any), "channels": [...]}],
 // "removed": [names], "level", "significance": [{"effect", "chi2", "dof",
 // "p_value"}], "verdict": "explained" | "incomplete", "verdict_detail":
 // {"s2", "s2_p_value", "tests", "threshold", "channels", "remains",

@@ -289,6 +289,11 @@ class AbsoluteDecreaseStop : public ceres::IterationCallback {
   double tolerance_;
 };
 
+// The relative function and parameter tolerance of the continuation's
+// shorter horizons (at least; the job's if larger): they only deliver a warm
+// start for the next.
+constexpr double kStageParameterTolerance = 1e-4;
+
 // A point counts as lower than the estimate if its cost (½Σr² of σ-weighted
 // residuals, i.e. half a χ²) is below by more than 1e-9 relative plus 1e-6
 // absolute: a χ² difference of 2e-6 means nothing statistically, and on
@@ -496,6 +501,55 @@ ExperimentFit EvaluateExperiment(const AxisStructure& structure,
   return out;
 }
 
+namespace {
+
+// Appends the fixed parameters (those not in result->free_names) at their
+// values in `fitted`, standard errors and intervals NaN; only those the model
+// configuration uses (no per-channel sensor parameters).
+void AppendFixedEstimates(AxisParams<double> fitted, FitResult* result) {
+  for (const ParamInfo& info : ListParams()) {
+    if (std::find(result->free_names.begin(), result->free_names.end(),
+                  info.name) != result->free_names.end()) {
+      continue;
+    }
+    if (info.name.find('.') != std::string::npos) continue;
+    ParameterEstimate e;
+    e.name = info.name;
+    e.unit = info.unit;
+    e.value = *FindParam(&fitted, info.name);
+    e.initial = e.value;
+    e.free = false;
+    e.std_error = e.ci95_low = e.ci95_high = e.std_error_gauss_newton =
+        e.std_error_bootstrap = e.bootstrap_low = e.bootstrap_high =
+            std::numeric_limits<double>::quiet_NaN();
+    result->parameters.push_back(e);
+  }
+}
+
+// The parameters of a fit stopped before the whole record (FitResult::
+// abandoned_horizon): every one at its value at θ (internal coordinates),
+// no standard errors.
+void AppendEstimates(const FitJob& job, const ParameterMap& map,
+                     const std::vector<double>& theta, FitResult* result) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 0; k < map.num_free(); ++k) {
+    ParameterEstimate e;
+    e.name = job.free[k].name;
+    e.unit = job.free[k].unit;
+    e.value = map.FromInternal(k, theta[k]);
+    e.initial = job.free[k].initial;
+    e.free = true;
+    e.std_error = e.std_error_gauss_newton = e.std_error_bootstrap = e.bootstrap_low =
+        e.bootstrap_high = e.ci95_low = e.ci95_high = nan;
+    e.determined = false;
+    result->free_names.push_back(e.name);
+    result->parameters.push_back(e);
+  }
+  AppendFixedEstimates(map.Apply(theta.data()), result);
+}
+
+}  // namespace
+
 FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   Problem p;
   p.map = std::make_unique<ParameterMap>(job.model.params, job.free);
@@ -597,6 +651,14 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     std::vector<double> previous_start;
     ceres::Solver::Summary summary;
     bool usable = true;
+    // Stopped by solver.abandon_above_bic: the horizon (s) and the BIC's
+    // lower bound there; 0 and +inf while it runs.
+    double abandoned_horizon = 0.0;
+    double bic_bound = std::numeric_limits<double>::infinity();
+    // Joined the path of an earlier start (see `joined` below): its index
+    // and the horizon (s); −1 and 0 otherwise.
+    int joined = -1;
+    double joined_horizon = 0.0;
   };
   std::vector<StartRun> runs(starts.size());
   // For the progress: the starts that will run the last stage, and how many have.
@@ -651,8 +713,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     o.callbacks.push_back(&printer);
     if (i + 1 < stages.size()) {
       // Intermediate horizons only deliver a warm start for the next.
-      o.function_tolerance = std::max(o.function_tolerance, 1e-4);
-      o.parameter_tolerance = std::max(o.parameter_tolerance, 1e-4);
+      o.function_tolerance = std::max(o.function_tolerance, kStageParameterTolerance);
+      o.parameter_tolerance = std::max(o.parameter_tolerance, kStageParameterTolerance);
       o.max_num_iterations = std::min(o.max_num_iterations, 30);
     }
     ceres::Solve(o, stage.problem.get(), &run->summary);
@@ -677,13 +739,65 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // starts differed by 50 % and more). Without shorter stages every start
   // is a finalist.
   const size_t last = stages.size() - 1;
+  // A start that can no longer end below solver.abandon_above_bic stops.
+  // A stage sums the same σ-weighted residuals as the whole record over a
+  // prefix of every experiment, so at any θ its cost is at most the whole
+  // record's, and 2·(the stage's minimum) + n·ln(m) bounds the BIC the start
+  // can end with from below. The stage's minimum is taken as the lower of its
+  // end point and the start itself (the last stage may go back to the
+  // start); a local minimum makes this a heuristic bound, checked on the
+  // discovery cases (tests/discovery_test.cc) and campaigns (README).
+  const double bic_penalty = n_free * std::log(static_cast<double>(num_residuals));
+  const double abandon_above = job.solver.abandon_above_bic;
+  const auto passed_bound = [&](size_t s, size_t i, StartRun* run) {
+    if (!run->usable || !(abandon_above < std::numeric_limits<double>::infinity())) {
+      return false;
+    }
+    const std::vector<double> end = p.theta;
+    const double at_start = CostAt(stages[i].problem.get(), starts[s], &p.theta);
+    std::copy(end.begin(), end.end(), p.theta.begin());
+    const double bound =
+        2.0 * std::min(run->summary.final_cost, at_start) + bic_penalty;
+    if (!(bound > abandon_above)) return false;
+    run->abandoned_horizon = stages[i].horizon;
+    run->bic_bound = bound;
+    return true;
+  };
+  // A start whose point after a stage lies within that stage's parameter
+  // tolerance of an earlier start's point after the same stage has joined
+  // that start's path (the solver cannot tell the two points apart; seen on
+  // the discovery cases, where most random starts meet the job's start
+  // after the first or second horizon): it stops there, and only the
+  // earlier start goes on. ends[s][i]: start s's point after stage i.
+  std::vector<std::vector<std::vector<double>>> ends(starts.size());
+  const auto joined = [&](size_t s, size_t i, StartRun* run) {
+    const double tol = std::max(options.parameter_tolerance, kStageParameterTolerance);
+    for (size_t j = 0; j < s; ++j) {
+      if (runs[j].joined >= 0 || ends[j].size() <= i) continue;
+      bool same = true;
+      for (size_t k = 0; k < p.theta.size() && same; ++k) {
+        same = std::abs(p.theta[k] - ends[j][i][k]) <= tol * (1.0 + std::abs(ends[j][i][k]));
+      }
+      if (same) {
+        run->joined = static_cast<int>(j);
+        run->joined_horizon = stages[i].horizon;
+        return true;
+      }
+    }
+    return false;
+  };
   {
     PhaseTimer timer("starts", p.counter, &result);
     for (size_t s = 0; s < starts.size(); ++s) {
       StartRun& run = runs[s];
       std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
       run.previous_start = p.theta;
-      for (size_t i = 0; i < last && run.usable; ++i) run_stage(s, i, &run);
+      for (size_t i = 0; i < last && run.usable; ++i) {
+        run_stage(s, i, &run);
+        if (!run.usable) break;
+        ends[s].push_back(p.theta);
+        if (joined(s, i, &run) || passed_bound(s, i, &run)) break;
+      }
       run.theta = p.theta;
       if (s == 0) {
         // The cost of the job's initial point on all the data.
@@ -693,8 +807,35 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     }
   }
   std::vector<size_t> order;
+  size_t abandoned = starts.size();  // the stopped start with the lowest bound
+  result.start_joined.assign(starts.size(), -1);
+  result.start_joined_horizon.assign(starts.size(), 0.0);
   for (size_t s = 0; s < starts.size(); ++s) {
-    if (runs[s].usable) order.push_back(s);
+    if (runs[s].joined >= 0) {
+      result.start_joined[s] = runs[s].joined;
+      result.start_joined_horizon[s] = runs[s].joined_horizon;
+    } else if (runs[s].abandoned_horizon > 0.0) {
+      if (abandoned == starts.size() || runs[s].bic_bound < runs[abandoned].bic_bound) {
+        abandoned = s;
+      }
+    } else if (runs[s].usable) {
+      order.push_back(s);
+    }
+  }
+  if (order.empty() && abandoned < starts.size()) {
+    const StartRun& run = runs[abandoned];
+    result.abandoned_horizon = run.abandoned_horizon;
+    result.bic = run.bic_bound;
+    result.final_cost = result.aic = result.residual_variance =
+        std::numeric_limits<double>::quiet_NaN();
+    std::ostringstream why;
+    why << "stopped at the " << run.abandoned_horizon << " s horizon: BIC >= "
+        << run.bic_bound << ", above " << abandon_above;
+    result.termination = why.str();
+    AppendEstimates(job, *p.map, run.theta, &result);
+    result.simulations = p.counter.simulations;
+    result.jacobian_evaluations = p.counter.jacobians;
+    return result;
   }
   if (last > 0) {
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
@@ -709,13 +850,25 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.start_screen_costs.assign(starts.size(), std::numeric_limits<double>::quiet_NaN());
   for (size_t s = 0; s < starts.size(); ++s) {
     if (!runs[s].usable) result.start_costs[s] = std::numeric_limits<double>::infinity();
-    if (last > 0 && runs[s].usable) result.start_screen_costs[s] = runs[s].summary.final_cost;
+    if (last > 0 && runs[s].usable && runs[s].abandoned_horizon == 0.0 && runs[s].joined < 0) {
+      result.start_screen_costs[s] = runs[s].summary.final_cost;
+    }
   }
-  std::sort(order.begin(), order.end());  // the finals in start order
+  // The finals from the lowest cost on the screen horizon up. A finalist
+  // whose cost there (the lower of its end point and its start, as for
+  // solver.abandon_above_bic above) is already above the best final cost
+  // cannot end below it and does not run (its start_costs entry stays NaN).
   finals_total = order.size();
   for (size_t s : order) {
     PhaseTimer timer("starts", p.counter, &result);
     StartRun& run = runs[s];
+    if (last > 0 && std::isfinite(best_cost)) {
+      const double at_start = CostAt(stages[last - 1].problem.get(), starts[s], &p.theta);
+      if (std::min(run.summary.final_cost, at_start) > best_cost) {
+        --finals_total;
+        continue;
+      }
+    }
     std::copy(run.theta.begin(), run.theta.end(), p.theta.begin());
     run_stage(s, last, &run);
     ++finals_done;
@@ -1107,24 +1260,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     result.free_names.push_back(e.name);
     result.parameters.push_back(e);
   }
-  for (const ParamInfo& info : ListParams()) {
-    if (std::find(result.free_names.begin(), result.free_names.end(),
-                  info.name) != result.free_names.end()) {
-      continue;
-    }
-    // Fixed parameters: only those the model configuration uses.
-    if (info.name.find('.') != std::string::npos) continue;
-    ParameterEstimate e;
-    e.name = info.name;
-    e.unit = info.unit;
-    e.value = *FindParam(&fitted, info.name);
-    e.initial = e.value;
-    e.free = false;
-    e.std_error = e.ci95_low = e.ci95_high = e.std_error_gauss_newton =
-        e.std_error_bootstrap = e.bootstrap_low = e.bootstrap_high =
-            std::numeric_limits<double>::quiet_NaN();
-    result.parameters.push_back(e);
-  }
+  AppendFixedEstimates(fitted, &result);
 
   const int n = n_free;
   result.aic = 2.0 * best_cost + 2.0 * n;

@@ -22,6 +22,12 @@ namespace axis {
 // job.solver.progress. Starts: the job's initial point, then job.solver.starts
 // points drawn (seeded by job.solver.seed) log-uniformly within the bounds of
 // positive parameters and uniformly otherwise; the lowest final cost wins.
+// With a finite job.solver.abandon_above_bic (the discovery loop's refits),
+// a start whose BIC can no longer end below it stops on a shorter horizon of
+// the continuation (a stage's cost is a prefix of the whole record's, so
+// 2·(its minimum) + n·ln(m) bounds the final BIC from below; the minimum
+// taken as the lower of the stage's end point and the start); if every
+// start stops, the result says where (FitResult::abandoned_horizon).
 // Throws std::invalid_argument only for an inconsistent job (LoadFitJob has
 // checked); the solver itself never throws.
 FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);

@@ -91,11 +91,23 @@ struct FitResult {
   // Each start's cost at the end of the longest shorter horizon
   // (screen_horizon, s) that ranked them; NaN without continuation stages.
   std::vector<double> start_screen_costs;
+  // Per start: the earlier start whose path it joined (its point after a
+  // shorter horizon within that stage's parameter tolerance of the earlier
+  // start's; it went no further) and that horizon (s); −1 and 0 for a start
+  // that went its own way.
+  std::vector<int> start_joined;
+  std::vector<double> start_joined_horizon;
   double screen_horizon = 0.0;
   int num_residuals = 0;
   double residual_variance = 0.0;  // 2·final_cost/(m − n)
   double aic = 0.0;   // Σr² + 2n (Gaussian, σ known up to the weights)
   double bic = 0.0;   // Σr² + n·ln(m)
+  // A fit stopped by solver.abandon_above_bic (fit/fit.h FitParameters):
+  // the horizon (s) of the stage where its BIC's lower bound passed that
+  // level; 0 for a fit that ran to the whole record. Then `bic` is that
+  // lower bound, `parameters` hold the values at the stop (standard errors
+  // NaN), `experiments` is empty and the other figures are NaN.
+  double abandoned_horizon = 0.0;
   int iterations = 0;
   int simulations = 0;            // residual-only evaluations
   int jacobian_evaluations = 0;   // evaluations with derivatives

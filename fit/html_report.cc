@@ -442,8 +442,10 @@ std::string StepHtml(size_t index, const DiscoveryStep& s) {
     out += Tag("li", "score test: χ² " + Number(s.chi2, 4) + " (dof " + std::to_string(s.dof) +
                          ", p " + Number(s.p_value, 3) + ")");
   }
-  out += Tag("li", "BIC " + Number(s.bic_before, 6) + " → " + Number(s.bic_after, 6) +
+  out += Tag("li", "BIC " + Number(s.bic_before, 6) + " → " +
+                       (s.stopped.empty() ? "" : "≥ ") + Number(s.bic_after, 6) +
                        " (refit " + Number(s.seconds, 3) + " s)");
+  if (!s.stopped.empty()) out += Tag("li", "stopped " + s.stopped);
   if (!s.rule.empty()) out += Tag("li", "rule: " + s.rule);
   if (!s.outranked.empty()) out += Tag("li", "outranked: " + s.outranked);
   if (!s.starts.empty()) out += Tag("li", "starts: " + s.starts);

@@ -6,6 +6,7 @@
 #define FIT_JOB_H_
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,11 @@ struct SolverSettings {
   // skipped when discovery is enabled (fit/fit.cc).
   double local_starts = 3.0;
   bool progress = true;         // print one line per iteration
+  // Set by the discovery loop (fit/discovery.cc), not a job key: a refit
+  // that can no longer reach a BIC below this is stopped on a shorter
+  // horizon (fit/fit.h FitParameters, FitResult::abandoned_horizon);
+  // +inf never stops.
+  double abandon_above_bic = std::numeric_limits<double>::infinity();
 };
 
 // How the estimate's uncertainty is computed (job key `uncertainty:`;

@@ -465,7 +465,10 @@ std::string FormatStartCosts(const FitResult& result) {
   std::string out;
   for (size_t k = 0; k < result.start_costs.size(); ++k) {
     if (k > 0) out += ", ";
-    if (std::isnan(result.start_costs[k]) && k < result.start_screen_costs.size()) {
+    if (k < result.start_joined.size() && result.start_joined[k] >= 0) {
+      out += "joined start " + std::to_string(result.start_joined[k]) + " after " +
+             Num(result.start_joined_horizon[k], 4) + " s";
+    } else if (std::isnan(result.start_costs[k]) && k < result.start_screen_costs.size()) {
       out += "not continued (" + Num(result.start_screen_costs[k], 10) + " on the first " +
              Num(result.screen_horizon, 4) + " s)";
     } else {
@@ -688,6 +691,10 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
   Json screen = Json::array();
   for (double c : result.start_screen_costs) screen.push_back(JsonNumber<Json>(c));
   j["start_screen_costs"] = screen;
+  j["start_joined"] = result.start_joined;
+  Json joined_horizon = Json::array();
+  for (double h : result.start_joined_horizon) joined_horizon.push_back(JsonNumber<Json>(h));
+  j["start_joined_horizon"] = joined_horizon;
   j["screen_horizon"] = JsonNumber<Json>(result.screen_horizon);
   j["aic"] = JsonNumber<Json>(result.aic);
   j["bic"] = JsonNumber<Json>(result.bic);

@@ -68,7 +68,9 @@ std::string FormatPhases(const FitResult& result);
 
 // The final cost (½Σr²) of every start, the job's first, comma-separated;
 // a start not continued to the whole record (solver.finalists) shows its
-// cost at the end of the shorter horizons instead; "none" without starts.
+// cost at the end of the shorter horizons instead, and one that joined an
+// earlier start's path (FitResult::start_joined) says which and where;
+// "none" without starts.
 std::string FormatStartCosts(const FitResult& result);
 
 // The base names "fit_<name>" of the per-experiment files, one per entry of
@@ -111,7 +113,10 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
 //                                   "ljung_box_p", "input_xcorr_peak",
 //                                   "input_xcorr_lag", "sigma", "fitted"}]}],
 //    "cost": {"initial", "final"}, "converged": bool,
-//    "starts": [final cost of every start], "aic", "bic", "num_residuals",
+//    "starts": [final cost of every start], "start_screen_costs": [...],
+//    "screen_horizon", "start_joined": [earlier start whose path each
+//    joined, or -1], "start_joined_horizon": [s, 0 if none], "aic", "bic",
+//    "num_residuals",
 //    "residual_variance", "iterations", "simulations",
 //    "jacobian_evaluations", "termination",
 //    "correlation": {"names": [...], "matrix": [[...], ...]},
