@@ -139,6 +139,19 @@ TEST(DiscoveryTest, Coulomb) {
   const AxisConfig discovered = LoadAxisConfig(out + "/model_discovered.yaml");
   EXPECT_TRUE(discovered.structure.effects.coulomb);
   EXPECT_NEAR(discovered.params.F_c, 30.0, 3.0);
+  // Every significant candidate is refitted here (s² = 26.5): those whose
+  // BIC's lower bound passes twice Coulomb friction's on a shorter horizon
+  // stop there (issue 11), with no values or channels reported.
+  int stopped = 0;
+  for (const DiscoveryStep& s : run.discovery.steps) {
+    if (s.stopped.empty()) continue;
+    ++stopped;
+    EXPECT_FALSE(s.kept) << s.effect;
+    EXPECT_GT(s.bic_after, 2.0 * run.result.bic) << s.effect;
+    EXPECT_TRUE(s.parameters.empty()) << s.effect;
+    EXPECT_TRUE(s.channels.empty()) << s.effect;
+  }
+  EXPECT_GE(stopped, 1);
 }
 // A 60 N offset preloads the gear backlash: from the job's start the base
 // fit ends in a local minimum (T_p at its bound) where the score test ranks

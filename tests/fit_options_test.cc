@@ -206,6 +206,27 @@ TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
   EXPECT_NE(std::find(names.begin(), names.end(), "evaluation"), names.end());
 }
 
+// A job of 4 starts (the job's and 3 random, seed 7) fitting B_a and k_g
+// to 0.3 s of the 10 V step, `finalists` of them to the whole window after
+// the shorter horizons (0.05, 0.1, 0.2 s); no optimum check.
+std::string ScreenedJob(int finalists) {
+  return Write("finalists_" + std::to_string(finalists) + ".yaml",
+      "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
+      "free:\n"
+      "  B_a: {initial: 300, lower: 10, upper: 2000}\n"
+      "  k_g: {initial: 3.0e6, lower: 5.0e5, upper: 5.0e7}\n"
+      "experiments:\n"
+      "  - name: step\n"
+      "    data: " + kRoot + "/testdata/x_step_10V.csv\n"
+      "    window: [0, 0.3]\n"
+      "    channels: {u: u, a: a, tach: tach}\n"
+      "    input: {column: u}\n"
+      "    fit: {a: 0.02, tach: 0.005}\n"
+      "solver: {starts: 3, finalists: " + std::to_string(finalists) +
+      ", probe_rounds: 0, seed: 7}\n"
+      "uncertainty: {method: gauss_newton}\n");
+}
+
 // Multi-start with screening (solver.finalists): every start runs the
 // shorter horizons (0.05, 0.1, 0.2 s of a 0.3 s window) unless it joins an
 // earlier start's path (its point after a horizon within the stage's
@@ -217,24 +238,7 @@ TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
 // job's initial point on the whole record (the stage guard of
 // FitParameters).
 TEST(FitOptionsTest, FinalistsAreTheLowestAfterTheShorterHorizons) {
-  const auto job_with = [&](int finalists) {
-    return Write("finalists_" + std::to_string(finalists) + ".yaml",
-        "model: " + kRoot + "/configs/axes/x_axis.yaml\n"
-        "free:\n"
-        "  B_a: {initial: 300, lower: 10, upper: 2000}\n"
-        "  k_g: {initial: 3.0e6, lower: 5.0e5, upper: 5.0e7}\n"
-        "experiments:\n"
-        "  - name: step\n"
-        "    data: " + kRoot + "/testdata/x_step_10V.csv\n"
-        "    window: [0, 0.3]\n"
-        "    channels: {u: u, a: a, tach: tach}\n"
-        "    input: {column: u}\n"
-        "    fit: {a: 0.02, tach: 0.005}\n"
-        "solver: {starts: 3, finalists: " + std::to_string(finalists) +
-        ", probe_rounds: 0, seed: 7}\n"
-        "uncertainty: {method: gauss_newton}\n");
-  };
-  const FitResult one = Fit(job_with(1));
+  const FitResult one = Fit(ScreenedJob(1));
   ASSERT_EQ(one.start_costs.size(), 4u);
   ASSERT_EQ(one.start_screen_costs.size(), 4u);
   ASSERT_EQ(one.start_joined.size(), 4u);
@@ -254,12 +258,16 @@ TEST(FitOptionsTest, FinalistsAreTheLowestAfterTheShorterHorizons) {
     if (lowest == 4 || one.start_screen_costs[s] < one.start_screen_costs[lowest]) lowest = s;
   }
   ASSERT_LT(lowest, 4u);
+  // On this job the random starts meet: at least one joins another's path.
+  EXPECT_GE(std::count_if(one.start_joined.begin(), one.start_joined.end(),
+                          [](int j) { return j >= 0; }),
+            1);
   for (size_t s = 0; s < 4; ++s) {
     EXPECT_EQ(std::isnan(one.start_costs[s]), s != lowest) << s;
   }
   EXPECT_DOUBLE_EQ(one.final_cost, one.start_costs[lowest]);
 
-  const FitResult all = Fit(job_with(4));
+  const FitResult all = Fit(ScreenedJob(4));
   size_t best = lowest;
   for (size_t s = 0; s < 4; ++s) {
     EXPECT_EQ(all.start_joined[s], one.start_joined[s]) << s;
@@ -275,6 +283,40 @@ TEST(FitOptionsTest, FinalistsAreTheLowestAfterTheShorterHorizons) {
   EXPECT_EQ(best, lowest);
   EXPECT_DOUBLE_EQ(all.start_costs[lowest], one.start_costs[lowest]);
   if (std::isfinite(all.start_costs[0])) EXPECT_LE(all.start_costs[0], all.initial_cost);
+}
+
+// solver.abandon_above_bic (the discovery loop's early stop, fit/fit.h): a
+// level just above the BIC the fit reaches leaves the fit as it was; a level
+// below the bound of the first horizon stops every start there, with that
+// bound below the whole fit's BIC (a stage's cost sums a prefix of the
+// whole record's residuals) and the values at the stop, without standard
+// errors or goodness of fit.
+TEST(FitOptionsTest, AFitThatCannotReachTheLevelStopsOnAShorterHorizon) {
+  FitJob job = LoadFitJob(ScreenedJob(2));
+  job.solver.progress = false;
+  const FitResult whole = FitParameters(job);
+  ASSERT_TRUE(std::isfinite(whole.bic));
+  EXPECT_EQ(whole.abandoned_horizon, 0.0);
+
+  job.solver.abandon_above_bic = whole.bic * (1.0 + 1e-9);
+  const FitResult above = FitParameters(job);
+  EXPECT_EQ(above.abandoned_horizon, 0.0);
+  EXPECT_DOUBLE_EQ(above.final_cost, whole.final_cost);
+  EXPECT_DOUBLE_EQ(above.bic, whole.bic);
+
+  job.solver.abandon_above_bic = 1.0;
+  const FitResult stopped = FitParameters(job);
+  EXPECT_DOUBLE_EQ(stopped.abandoned_horizon, 0.05);
+  EXPECT_GT(stopped.bic, 1.0);
+  EXPECT_LT(stopped.bic, whole.bic);
+  EXPECT_TRUE(stopped.experiments.empty());
+  EXPECT_TRUE(std::isnan(stopped.final_cost));
+  for (const char* name : {"B_a", "k_g"}) {
+    const ParameterEstimate& e = Estimate(stopped, name);
+    EXPECT_TRUE(e.free) << name;
+    EXPECT_TRUE(std::isfinite(e.value)) << name;
+    EXPECT_TRUE(std::isnan(e.std_error)) << name;
+  }
 }
 
 TEST(FitOptionsTest, QuickFormWritesTheReport) {
