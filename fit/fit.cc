@@ -749,8 +749,13 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // discovery cases (tests/discovery_test.cc) and campaigns (README).
   const double bic_penalty = n_free * std::log(static_cast<double>(num_residuals));
   const double abandon_above = job.solver.abandon_above_bic;
+  // With solver.stop_after_horizon every start also stops, with its bound,
+  // after the stage of that horizon (a screen of the refits: fit/discovery.cc).
+  const double stop_after = job.solver.stop_after_horizon;
   const auto passed_bound = [&](size_t s, size_t i, StartRun* run) {
-    if (!run->usable || !(abandon_above < std::numeric_limits<double>::infinity())) {
+    const bool screen_end = stop_after > 0.0 && stages[i].horizon >= stop_after * (1.0 - 1e-9);
+    if (!run->usable ||
+        (!screen_end && !(abandon_above < std::numeric_limits<double>::infinity()))) {
       return false;
     }
     const std::vector<double> end = p.theta;
@@ -758,7 +763,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     std::copy(end.begin(), end.end(), p.theta.begin());
     const double bound =
         2.0 * std::min(run->summary.final_cost, at_start) + bic_penalty;
-    if (!(bound > abandon_above)) return false;
+    if (!screen_end && !(bound > abandon_above)) return false;
     run->abandoned_horizon = stages[i].horizon;
     run->bic_bound = bound;
     return true;
@@ -830,7 +835,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         std::numeric_limits<double>::quiet_NaN();
     std::ostringstream why;
     why << "stopped at the " << run.abandoned_horizon << " s horizon: BIC >= "
-        << run.bic_bound << ", above " << abandon_above;
+        << run.bic_bound;
+    if (run.bic_bound > abandon_above) why << ", above " << abandon_above;
     result.termination = why.str();
     AppendEstimates(job, *p.map, run.theta, &result);
     result.simulations = p.counter.simulations;

@@ -92,6 +92,11 @@ struct SolverSettings {
   // horizon (fit/fit.h FitParameters, FitResult::abandoned_horizon);
   // +inf never stops.
   double abandon_above_bic = std::numeric_limits<double>::infinity();
+  // Set by the discovery loop's screen of its refits, not a job key: if
+  // > 0, every start stops after the shorter horizon of this length (s) as
+  // if it had passed abandon_above_bic there, the result carrying that
+  // horizon and its BIC's lower bound; 0 fits to the end.
+  double stop_after_horizon = 0.0;
 };
 
 // How the estimate's uncertainty is computed (job key `uncertainty:`;
