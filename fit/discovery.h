@@ -212,7 +212,12 @@ void DropInsignificant(double level, FitJob* job, FitResult* result,
 // left, the last added first, must pass EffectWald at alpha / (number of
 // candidates at the first step), or is refitted away and dropped whatever
 // BIC says. Last, the final model's residuals are diagnosed and judged
-// (JudgeResiduals at alpha). Progress lines go to `progress`.
+// (JudgeResiduals at alpha). Progress lines go to `progress`. Refits that
+// cannot win stop early (issue 11): a refit whose BIC's lower bound on a
+// shorter horizon passes twice the deciding level stops there
+// (DiscoveryStep::stopped); when several candidates are refitted at once
+// (s² far above 1), a screen of their first four horizons orders them, and
+// the lowest there runs first and alone to set that level.
 DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                          FitResult* result, std::ostream* progress);
 
