@@ -269,8 +269,8 @@ constexpr double kStopFactor = 2.0;
 // How many horizons of the continuation (first_horizon, 2·, 4·, 8·) the
 // screen of a batch of refits runs before ordering them (run_batch in
 // Discover): on the load_offset case the true offset, seventh by score,
-// is one of the two leading refits after the screen (with
-// viscous_asymmetry), and the other seven stop at the first horizon.
+// comes first after the screen, and seven of the eight others stop at the
+// first horizon.
 constexpr int kScreenStages = 4;
 
 // Why a refit stopped early (FitResult::abandoned_horizon), for
@@ -284,6 +284,10 @@ std::string StoppedText(const FitResult& fit, double level, const std::string& l
       << " times " << level_name << " (" << level << ")";
   return out.str();
 }
+
+// ">= " before a step's bic_after that is a lower bound (a stopped refit,
+// DiscoveryStep::stopped), else "".
+const char* BoundMark(const DiscoveryStep& s) { return s.stopped.empty() ? "" : ">= "; }
 
 // Switches candidate `c` off in `job` and fixes its parameters `params`.
 void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
@@ -649,12 +653,15 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     };
     // The level a refit must end below to matter (issue 11): a refit whose
     // BIC's lower bound passes kStopFactor times it stops on a shorter
-    // horizon (SolverSettings::abandon_above_bic). First the BIC before the step
-    // (a refit above it is rejected); once the batch's leading refits have
-    // run, the lowest BIC among those that would be kept (no other refit
-    // above it can win the step).
-    double level = result->bic;
-    std::string level_name = "the BIC before the step";
+    // horizon (SolverSettings::abandon_above_bic). First the BIC before the
+    // step (a refit above it is rejected); once a batch's leading refit has
+    // run, its BIC if it would be kept (no other refit above it can win the
+    // step).
+    struct Level {
+      double bic;
+      std::string name;  // for DiscoveryStep::stopped
+    };
+    Level level{result->bic, "the BIC before the step"};
     const auto run_batch = [&]() {
       std::string names;
       for (const Pending& q : batch) names += (names.empty() ? "" : ", ") + q.candidate.name;
@@ -699,62 +706,55 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
         std::stable_sort(order.begin(), order.end(),
                          [&](size_t x, size_t y) { return key[x] < key[y]; });
       }
-      // The jobs in that order; pos[c]: candidate c's first start in `jobs`.
-      // The leading refit: the first candidate's (every start, each fit's
-      // evaluation on the threads left), run before the others so that it
-      // can set the level; the rest run after, stopped above it. (The first
-      // two candidates as leaders, one per core, were slower on the
-      // coulomb_load_offset case, 58.7 against 48.6 s: after the screen the
-      // second leader was the payload, whose refit ran 16 s to BIC 2.6e5
-      // beside Coulomb friction's 1.2e4.)
-      std::vector<FitJob> jobs;
+      // The refits in that order. The leading one, the first candidate's
+      // (every start, each fit's evaluation on the threads left), runs
+      // before the others so that it can set the level; the rest run after,
+      // stopped above it. (The first two candidates as leaders, one per
+      // core, were slower on the coulomb_load_offset case, 58.7 against
+      // 48.6 s: after the screen the second leader was the payload, whose
+      // refit ran 16 s to BIC 2.6e5 beside Coulomb friction's 1.2e4.)
+      // run_candidates fits candidates [from, to) of `order` against the
+      // current level, on copies of their starts (those in `batch`, one of
+      // which the loop may adopt, keep no level); pos[c]: candidate c's
+      // first start in `fits`, level_of[c]: the level it ran against.
       std::vector<size_t> pos(batch.size(), 0);
-      size_t lead = 0;
-      for (size_t c : order) {
-        const Pending& q = batch[c];
-        if (lead == 0) lead = q.starts.size();
-        pos[c] = jobs.size();
-        jobs.insert(jobs.end(), q.starts.begin(), q.starts.end());
-      }
-      // The level each fit runs against (the jobs are copies: the starts
-      // in `batch`, one of which the loop may adopt, keep no level).
-      std::vector<double> level_of(jobs.size(), level);
-      std::vector<std::string> level_name_of(jobs.size(), level_name);
-      for (FitJob& j : jobs) j.solver.abandon_above_bic = kStopFactor * level;
+      std::vector<Level> level_of(batch.size(), level);
+      std::vector<FitResult> fits;
       std::vector<double> seconds;
-      std::vector<FitResult> fits = FitConcurrently(
-          std::vector<FitJob>(jobs.begin(), jobs.begin() + lead), job->solver.threads, &seconds);
-      if (lead < jobs.size()) {
-        for (size_t c = 0; c < batch.size(); ++c) {
-          const Pending& q = batch[c];
-          for (size_t s = 0; s < q.starts.size() && pos[c] + s < lead; ++s) {
-            const FitResult& fit = fits[pos[c] + s];
-            if (fit.abandoned_horizon == 0.0 && std::isfinite(fit.bic) && fit.bic < level &&
-                ImplausibleValue(q.candidate.name, fit, q.starts[s]).empty()) {
-              level = fit.bic;
-              level_name = q.candidate.name + "'s BIC";
-            }
+      const auto run_candidates = [&](std::vector<size_t>::const_iterator from,
+                                      std::vector<size_t>::const_iterator to) {
+        std::vector<FitJob> jobs;
+        for (auto it = from; it != to; ++it) {
+          pos[*it] = fits.size() + jobs.size();
+          level_of[*it] = level;
+          for (FitJob j : batch[*it].starts) {
+            j.solver.abandon_above_bic = kStopFactor * level.bic;
+            jobs.push_back(std::move(j));
           }
         }
-        std::vector<FitJob> rest(jobs.begin() + lead, jobs.end());
-        for (FitJob& j : rest) j.solver.abandon_above_bic = kStopFactor * level;
-        for (size_t k = lead; k < jobs.size(); ++k) {
-          level_of[k] = level;
-          level_name_of[k] = level_name;
+        std::vector<double> secs;
+        std::vector<FitResult> out = FitConcurrently(jobs, job->solver.threads, &secs);
+        fits.insert(fits.end(), std::make_move_iterator(out.begin()),
+                    std::make_move_iterator(out.end()));
+        seconds.insert(seconds.end(), secs.begin(), secs.end());
+      };
+      run_candidates(order.begin(), order.begin() + 1);
+      if (order.size() > 1) {
+        const Pending& q = batch[order[0]];
+        for (size_t s = 0; s < q.starts.size(); ++s) {
+          const FitResult& fit = fits[s];
+          if (fit.abandoned_horizon == 0.0 && std::isfinite(fit.bic) && fit.bic < level.bic &&
+              ImplausibleValue(q.candidate.name, fit, q.starts[s]).empty()) {
+            level = {fit.bic, q.candidate.name + "'s BIC"};
+          }
         }
-        std::vector<double> rest_seconds;
-        std::vector<FitResult> rest_fits = FitConcurrently(rest, job->solver.threads, &rest_seconds);
-        fits.insert(fits.end(), rest_fits.begin(), rest_fits.end());
-        seconds.insert(seconds.end(), rest_seconds.begin(), rest_seconds.end());
+        run_candidates(order.begin() + 1, order.end());
       }
       for (size_t b = 0; b < batch.size(); ++b) {
         Pending& q = batch[b];
         const size_t n = q.starts.size();
         const size_t first = pos[b];  // q's first start in `jobs`
         std::vector<FitResult> own(fits.begin() + first, fits.begin() + first + n);
-        std::vector<double> own_level(level_of.begin() + first, level_of.begin() + first + n);
-        std::vector<std::string> own_level_name(level_name_of.begin() + first,
-                                                level_name_of.begin() + first + n);
         DiscoveryStep record;
         record.seconds = screen_seconds[b];
         for (size_t k = 0; k < n; ++k) record.seconds += seconds[first + k];
@@ -768,9 +768,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
           for (double& x : damped.single_step) x *= 0.1;
           q.starts = refit_jobs(q.candidate, damped);
           std::vector<FitJob> retry = q.starts;
-          for (FitJob& j : retry) j.solver.abandon_above_bic = kStopFactor * level;
-          own_level.assign(n, level);
-          own_level_name.assign(n, level_name);
+          for (FitJob& j : retry) j.solver.abandon_above_bic = kStopFactor * level.bic;
+          level_of[b] = level;
           std::vector<double> again;
           own = FitConcurrently(retry, job->solver.threads, &again);
           for (double s : again) record.seconds += s;
@@ -797,7 +796,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
         record.p_value = q.score->p_value;
         record.bic_before = result->bic;
         record.bic_after = refit.bic;
-        record.stopped = StoppedText(refit, own_level[best], own_level_name[best]);
+        record.stopped = StoppedText(refit, level_of[b].bic, level_of[b].name);
         if (record.stopped.empty()) {
           record.implausible = ImplausibleValue(q.candidate.name, refit, refit_job);
           for (const ParameterEstimate& e : refit.parameters) {
@@ -812,7 +811,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
         report.steps.push_back(record);
         if (progress) {
           *progress << "  refit with " << q.candidate.name << ": BIC " << record.bic_before
-                    << " -> " << (record.stopped.empty() ? "" : ">= ") << record.bic_after
+                    << " -> " << BoundMark(record) << record.bic_after
                     << (record.kept ? " (improves)" : " (rejected)")
                     << (record.implausible.empty() ? "" : ": " + record.implausible)
                     << (record.stopped.empty() ? "" : ": stopped " + record.stopped)
@@ -910,7 +909,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     report.steps.push_back(record);
     if (progress) {
       *progress << "  refit without " << candidate.name << ": BIC " << record.bic_before
-                << " -> " << (record.stopped.empty() ? "" : ">= ") << record.bic_after
+                << " -> " << BoundMark(record) << record.bic_after
                 << (record.kept ? " (removed)" : " (stays)")
                 << (record.stopped.empty() ? "" : ": stopped " + record.stopped) << "\n";
     }
@@ -1069,15 +1068,14 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
     if (s.removal) {
       out << "\nStep " << k + 1 << ": without " << s.effect
           << (s.kept ? " (removed)" : " (stays)") << "  BIC " << s.bic_before
-          << " -> " << (s.stopped.empty() ? "" : ">= ") << s.bic_after << "  (refit "
+          << " -> " << BoundMark(s) << s.bic_after << "  (refit "
           << s.seconds << " s)\n";
       if (!s.stopped.empty()) out << "  stopped " << s.stopped << "\n";
       if (!s.insignificant.empty()) out << "  not significant: " << s.insignificant << "\n";
     } else {
       out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
           << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
-          << ")  BIC " << s.bic_before << " -> " << (s.stopped.empty() ? "" : ">= ")
-          << s.bic_after << "  (refit " << s.seconds << " s)\n";
+          << ")  BIC " << s.bic_before << " -> " << BoundMark(s) << s.bic_after << "  (refit " << s.seconds << " s)\n";
       if (!s.stopped.empty()) out << "  stopped " << s.stopped << "\n";
       if (!s.implausible.empty()) out << "  not physical: " << s.implausible << "\n";
       if (!s.outranked.empty()) out << "  outranked: " << s.outranked << "\n";

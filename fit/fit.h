@@ -28,6 +28,9 @@ namespace axis {
 // 2·(its minimum) + n·ln(m) bounds the final BIC from below; the minimum
 // taken as the lower of the stage's end point and the start); if every
 // start stops, the result says where (FitResult::abandoned_horizon).
+// job.solver.stop_after_horizon > 0 stops every start so after that horizon
+// (a screen). A start that meets an earlier start's point after a shorter
+// horizon (within its parameter tolerance) stops (FitResult::start_joined).
 // Throws std::invalid_argument only for an inconsistent job (LoadFitJob has
 // checked); the solver itself never throws.
 FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
