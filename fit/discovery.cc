@@ -663,6 +663,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     };
     Level level{result->bic, "the BIC before the step"};
     const auto run_batch = [&]() {
+      if (batch.empty()) return;  // the call after the loop, all run already
       std::string names;
       for (const Pending& q : batch) names += (names.empty() ? "" : ", ") + q.candidate.name;
       if (status != nullptr && !batch.empty()) {
