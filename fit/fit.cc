@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -18,6 +19,7 @@
 
 #include <ceres/ceres.h>
 
+#include "fit/benchmark.h"
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/experiment_cost.h"
@@ -1435,46 +1437,58 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
   return run;
 }
 
-std::vector<std::string> WriteJobRun(const JobRun& run, const std::string& dir) {
+namespace {
+
+// WriteJobRun's files, into the existing folder `dir` (no staging).
+void WriteJobRunFiles(const JobRun& run, const std::string& dir,
+                      std::vector<std::string>* warnings) {
+  WriteFitOutputs(dir, run.result, run.job.title, warnings, run.sections);
+  HtmlReportInput html;
+  html.title = run.job.title;
+  html.result = &run.result;
+  html.job = &run.job;
+  html.diagnostics = &run.diagnostics;
+  html.discovery = run.discovered ? &run.discovery : nullptr;
+  html.published = run.has_published ? &run.published : nullptr;
+  html.input_notes = run.input_lines;
+  html.files = {"params.md", "params.csv", "report.json"};
+  for (const std::string& stem : ExperimentFileStems(run.result)) {
+    html.files.push_back(stem + ".csv");
+    html.files.push_back(stem + ".png");
+  }
+  if (run.discovered) {
+    for (const ChannelDiagnostics& d : run.diagnostics) {
+      html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".csv");
+      html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".png");
+    }
+    html.files.push_back("model_discovered.yaml");
+  }
+  WriteHtmlReport(dir + "/report.html", html, warnings);
+  if (run.discovered) {
+    WriteDiagnostics(dir, run.diagnostics, warnings);
+    AxisConfig discovered = run.job.model;
+    discovered.name = run.job.model.name + "_discovered";
+    discovered.source = "fit-params --discover on " + run.job.title;
+    WriteFileAtomic(dir + "/model_discovered.yaml",
+                    "# Written by fit-params --discover: the fitted model with the\n"
+                    "# effects the data asked for. Loadable by simulate-axis and\n"
+                    "# fit-params as a model config.\n" +
+                        AxisConfigToYaml(discovered));
+  }
+}
+
+// Calls `write` on a staging folder of `dir` and moves its contents into
+// place when it returns (an interrupt meanwhile is held, sim/interrupt.h);
+// on an exception the staging folder is removed and the exception passed
+// on. Returns the warnings with the staging folder's path replaced by `dir`.
+std::vector<std::string> WriteStaged(
+    const std::string& dir,
+    const std::function<void(const std::string&, std::vector<std::string>*)>& write) {
   std::vector<std::string> warnings;
-  // Everything goes to a staging folder first and is moved into place at
-  // the end; an interrupt meanwhile is held (sim/interrupt.h).
   DeferInterrupts defer;
   const std::string staging = MakeStagingDirectory(dir);
   try {
-    WriteFitOutputs(staging, run.result, run.job.title, &warnings, run.sections);
-    HtmlReportInput html;
-    html.title = run.job.title;
-    html.result = &run.result;
-    html.job = &run.job;
-    html.diagnostics = &run.diagnostics;
-    html.discovery = run.discovered ? &run.discovery : nullptr;
-    html.published = run.has_published ? &run.published : nullptr;
-    html.input_notes = run.input_lines;
-    html.files = {"params.md", "params.csv", "report.json"};
-    for (const std::string& stem : ExperimentFileStems(run.result)) {
-      html.files.push_back(stem + ".csv");
-      html.files.push_back(stem + ".png");
-    }
-    if (run.discovered) {
-      for (const ChannelDiagnostics& d : run.diagnostics) {
-        html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".csv");
-        html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".png");
-      }
-      html.files.push_back("model_discovered.yaml");
-    }
-    WriteHtmlReport(staging + "/report.html", html, &warnings);
-    if (run.discovered) {
-      WriteDiagnostics(staging, run.diagnostics, &warnings);
-      AxisConfig discovered = run.job.model;
-      discovered.name = run.job.model.name + "_discovered";
-      discovered.source = "fit-params --discover on " + run.job.title;
-      WriteFileAtomic(staging + "/model_discovered.yaml",
-                      "# Written by fit-params --discover: the fitted model with the\n"
-                      "# effects the data asked for. Loadable by simulate-axis and\n"
-                      "# fit-params as a model config.\n" +
-                          AxisConfigToYaml(discovered));
-    }
+    write(staging, &warnings);
     CommitStagingDirectory(staging, dir);
     // Warnings name the files where they end up, not the staging folder.
     for (std::string& w : warnings) {
@@ -1491,6 +1505,69 @@ std::vector<std::string> WriteJobRun(const JobRun& run, const std::string& dir) 
   defer.Committed();
   return warnings;
 }
+
+}  // namespace
+
+std::vector<std::string> WriteJobRun(const JobRun& run, const std::string& dir) {
+  return WriteStaged(dir, [&](const std::string& staging, std::vector<std::string>* warnings) {
+    WriteJobRunFiles(run, staging, warnings);
+  });
+}
+
+std::vector<std::string> WriteJobRuns(
+    const std::vector<JobRun>& runs, const std::vector<std::string>& subdirs,
+    const std::vector<std::pair<std::string, std::string>>& files, const std::string& dir) {
+  if (runs.size() != subdirs.size()) {
+    throw std::invalid_argument("WriteJobRuns: expected a folder name per run, got " +
+                                std::to_string(subdirs.size()) + " for " +
+                                std::to_string(runs.size()) + " runs");
+  }
+  return WriteStaged(dir, [&](const std::string& staging, std::vector<std::string>* warnings) {
+    for (size_t k = 0; k < runs.size(); ++k) {
+      const std::string sub = staging + "/" + subdirs[k];
+      std::error_code ec;
+      std::filesystem::create_directories(sub, ec);
+      if (ec) throw std::runtime_error(sub + ": cannot create the folder: " + ec.message());
+      WriteJobRunFiles(runs[k], sub, warnings);
+    }
+    for (const auto& [name, contents] : files) WriteFileAtomic(staging + "/" + name, contents);
+  });
+}
+
+namespace {
+
+// fit-params on a job with `benchmark:` (fit/benchmark.h): RunJob once per
+// criterion, the benchmark table printed, and everything written as one:
+// <out>/<criterion>/ (each run's files) and <out>/benchmark.md, .json.
+// Returns the first criterion's fit.
+FitResult RunBenchmark(FitJob job, bool discover, ProgressStream& out, std::ostream& err) {
+  std::vector<JobRun> runs;
+  std::vector<std::string> subdirs;
+  for (const BenchmarkCriterion& criterion : job.benchmark.criteria) {
+    std::string fitted;
+    for (const std::string& name : criterion.experiments) fitted += " " + name;
+    out << "\n=== Benchmark criterion " << criterion.name << ": fitted on" << fitted << "\n";
+    runs.push_back(RunJob(CriterionJob(job, criterion), discover, out));
+    subdirs.push_back(criterion.name);
+  }
+  const BenchmarkTable table = MakeBenchmarkTable(job.benchmark, runs);
+  const std::string text = FormatBenchmark(table);
+  out << "\n" << text;
+  if (job.solver.progress) {
+    out.Status("writing the outputs", std::numeric_limits<double>::quiet_NaN());
+  }
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"benchmark.md", "# " + job.title + "\n\n" + text},
+      {"benchmark.json", BenchmarkToJson(table).dump(2) + "\n"}};
+  for (const std::string& w : WriteJobRuns(runs, subdirs, files, job.out_dir)) {
+    err << "fit-params: warning: " << w << "\n";
+  }
+  out << "wrote " << job.out_dir << "/{benchmark.md, benchmark.json, <criterion>/{report.html, "
+      << "params.md, params.csv, report.json, fit_*.csv, fit_*.png}}\n";
+  return std::move(runs.front().result);
+}
+
+}  // namespace
 
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& terminal,
                        std::ostream& err) {
@@ -1518,6 +1595,7 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& terminal,
       << job.validate.size() << " validation experiment(s), "
       << job.free.size() << " free parameter(s), " << job.solver.starts + 1
       << " start(s)\n";
+  if (job.benchmark.present) return RunBenchmark(std::move(job), options.discover, out, err);
   JobRun run = RunJob(std::move(job), options.discover, out);
   if (run.job.solver.progress) {
     out.Status("writing the outputs", std::numeric_limits<double>::quiet_NaN());

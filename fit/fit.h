@@ -7,6 +7,7 @@
 
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fit/diagnostics.h"
@@ -110,6 +111,16 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out);
 // naming what cannot be written (nothing is left in `dir` then).
 std::vector<std::string> WriteJobRun(const JobRun& run, const std::string& dir);
 
+// As WriteJobRun for several runs written as one: run k into
+// `<dir>/<subdirs[k]>`, and each (file name, contents) of `files` into
+// `dir`, all in one staging folder moved into place when complete. Used for
+// a job's benchmark criteria (fit/benchmark.h). Throws std::invalid_argument
+// if the sizes of `runs` and `subdirs` differ, std::runtime_error as
+// WriteJobRun.
+std::vector<std::string> WriteJobRuns(
+    const std::vector<JobRun>& runs, const std::vector<std::string>& subdirs,
+    const std::vector<std::pair<std::string, std::string>>& files, const std::string& dir);
+
 // Options of the fit-params command.
 struct FitParamsOptions {
   std::string job_path;               // a job file, or the quick form below
@@ -128,7 +139,10 @@ struct FitParamsOptions {
 // (fit/html_report.h), params.md, params.csv, report.json and
 // fit_<experiment>.csv/.png into the output directory (WriteJobRun: all into
 // a staging folder first, moved into place when complete); warnings go to
-// `err`. Throws std::invalid_argument on bad input
+// `err`. A job with `benchmark:` (fit/benchmark.h) is run once per
+// criterion, each run's files in `<out>/<criterion>/`, the benchmark table
+// printed and written to `<out>/benchmark.md` and `benchmark.json`
+// (WriteJobRuns); the first criterion's fit is returned. Throws std::invalid_argument on bad input
 // (before anything is written) and std::runtime_error on output failures.
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                        std::ostream& err);

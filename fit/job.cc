@@ -626,6 +626,9 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     ParsePublished(node, path, job.model, job.experiments, job.validate,
                    &job.published);
   }
+  if (const YAML::Node node = root.Optional("benchmark")) {
+    ParseBenchmark(node, path, job.experiments, job.validate, &job.benchmark);
+  }
   root.Finish();
   return job;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fit/discovery_settings.h"
+#include "fit/benchmark.h"
 #include "fit/published.h"
 #include "sim/config.h"
 #include "sim/simulate.h"
@@ -133,6 +134,7 @@ struct FitJob {
   UncertaintySettings uncertainty;
   DiscoverySettings discover;  // `discover:` key (enabled if present)
   PublishedReference published;  // `published:` key (fit/published.h)
+  BenchmarkSettings benchmark;    // `benchmark:` key (fit/benchmark.h)
   std::string out_dir;  // from output.dir (relative to the job file) or --out
 };
 

@@ -988,6 +988,11 @@ void CommitStagingDirectory(const std::string& staging, const std::string& dir) 
   }
   for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
     const fs::path to = fs::path(dir) / entry.path().filename();
+    if (entry.is_directory(ec) && fs::is_directory(to, ec)) {
+      // A subfolder of outputs (a benchmark criterion's run) merges the same way.
+      CommitStagingDirectory(entry.path().string(), to.string());
+      continue;
+    }
     fs::rename(entry.path(), to, ec);
     if (ec) {
       throw std::runtime_error(to.string() + ": cannot move the output from '" +

@@ -214,7 +214,8 @@ std::string MakeStagingDirectory(const std::string& dir);
 
 // Moves the outputs of `staging` to `dir`: a single rename if `dir` does not
 // exist, else file by file (each rename atomic; files of `dir` with other
-// names stay), then removes `staging`. Throws std::runtime_error naming the
+// names stay; a subfolder that exists in both is merged the same way), then
+// removes `staging`. Throws std::runtime_error naming the
 // file that cannot be moved.
 void CommitStagingDirectory(const std::string& staging, const std::string& dir);
 

@@ -1,0 +1,309 @@
+#include "fit/benchmark.h"
+
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "fit/fit.h"
+#include "fit/job.h"
+#include "fit/report.h"
+#include "sim/channels.h"
+#include "sim/config.h"
+#include "sim/yaml_util.h"
+
+namespace axis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+const FitExperiment* FindExperiment(const std::vector<FitExperiment>& list,
+                                    const std::string& name) {
+  for (const FitExperiment& e : list) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
+}
+
+bool IsFileName(const std::string& name) {
+  if (name.empty()) return false;
+  for (char ch : name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.') {
+      return false;
+    }
+  }
+  return name != "." && name != "..";
+}
+
+std::string Join(const std::vector<std::string>& names, const char* separator) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : separator) + n;
+  return out;
+}
+
+// The MODEL.md §7 effects switched on in `model`, in the table's order.
+std::vector<std::string> EffectsOf(const AxisConfig& model) {
+  std::vector<std::string> names;
+  for (const EffectInfo& e : DynamicEffectTable()) {
+    if (model.structure.effects.*e.flag) names.push_back(e.name);
+  }
+  for (int k = 0; k < kNumChannels; ++k) {
+    const std::string channel = ChannelName(static_cast<Channel>(k));
+    if (model.structure.sensors.delay[k]) names.push_back("sensor_delay." + channel);
+    if (model.structure.sensors.bias[k]) names.push_back("sensor_bias." + channel);
+  }
+  return names;
+}
+
+// The column's figure in `fit`, NaN if the experiment or channel is absent.
+double ColumnValue(const BenchmarkColumn& column, const std::vector<ExperimentFit>& fits) {
+  for (const ExperimentFit& e : fits) {
+    if (e.name != column.experiment) continue;
+    for (const ChannelFit& c : e.channels) {
+      if (c.channel != column.channel) continue;
+      return column.scale * (column.measure == "rms" ? c.rms : c.relative_error_percent);
+    }
+  }
+  return kNaN;
+}
+
+std::string ColumnLabel(const BenchmarkColumn& c) {
+  const std::string what = c.measure == "rms" ? "RMS" : "rel. error";
+  return c.experiment + " " + c.channel + " " + what + " (" + c.unit + ")";
+}
+
+}  // namespace
+
+void ParseBenchmark(const YAML::Node& node, const std::string& path,
+                    const std::vector<FitExperiment>& experiments,
+                    const std::vector<FitExperiment>& validate, BenchmarkSettings* out) {
+  YamlMap map(node, path, "benchmark.");
+  out->present = true;
+  out->title = map.String("title");
+  const YAML::Node columns = map.Required("columns");
+  if (!columns.IsSequence() || columns.size() == 0) {
+    ThrowConfigError(path, columns, map.KeyPath("columns"),
+                     "a non-empty list of {experiment, channel, measure, scale, unit}",
+                     Describe(columns));
+  }
+  for (size_t k = 0; k < columns.size(); ++k) {
+    const std::string prefix = map.KeyPath("columns[" + std::to_string(k) + "]");
+    YamlMap entry(columns[k], path, prefix + ".");
+    BenchmarkColumn c;
+    c.experiment = entry.String("experiment");
+    const FitExperiment* fitted = FindExperiment(experiments, c.experiment);
+    const FitExperiment* validated = FindExperiment(validate, c.experiment);
+    if (fitted == nullptr && validated == nullptr) {
+      ThrowConfigError(path, entry.Optional("experiment"), entry.KeyPath("experiment"),
+                       "the name of an experiment of this job", "'" + c.experiment + "'");
+    }
+    if (k == 0 && validated == nullptr) {
+      ThrowConfigError(path, entry.Optional("experiment"), entry.KeyPath("experiment"),
+                       "the score (the first column) on a 'validate:' experiment, which "
+                       "no criterion fits",
+                       "'" + c.experiment + "', a fitted experiment");
+    }
+    const FitExperiment& e = fitted != nullptr ? *fitted : *validated;
+    c.channel = entry.String("channel");
+    const auto channel = ParseChannel(c.channel);
+    bool measured = false;
+    for (Channel m : e.measured_channels) measured = measured || (channel && m == *channel);
+    if (!measured) {
+      std::vector<std::string> names;
+      for (Channel m : e.measured_channels) names.push_back(ChannelName(m));
+      ThrowConfigError(path, entry.Optional("channel"), entry.KeyPath("channel"),
+                       "a channel that experiment '" + c.experiment + "' measures (" +
+                           Join(names, ", ") + ")",
+                       "'" + c.channel + "'");
+    }
+    c.measure = entry.Choice("measure", {"rms", "relative_error_percent"}, "rms");
+    c.scale = entry.Number("scale", 1.0, YamlMap::Range::kFinitePositive);
+    c.unit = entry.String("unit", c.measure == "rms" ? ChannelUnit(*channel) : "%");
+    entry.Finish();
+    out->columns.push_back(c);
+  }
+  const YAML::Node criteria = map.Required("criteria");
+  if (!criteria.IsMap() || criteria.size() == 0) {
+    ThrowConfigError(path, criteria, map.KeyPath("criteria"),
+                     "a non-empty mapping of criterion name -> list of fitted experiments",
+                     Describe(criteria));
+  }
+  YamlMap criteria_map(criteria, path, map.KeyPath("criteria."));
+  for (const auto& item : criteria) {
+    BenchmarkCriterion c;
+    c.name = item.first.Scalar();
+    const std::string key = criteria_map.KeyPath(c.name);
+    if (!IsFileName(c.name)) {
+      ThrowConfigError(path, item.first, key,
+                       "a criterion name of letters, digits, '_', '-', '.' (it names the "
+                       "output folder)",
+                       "'" + c.name + "'");
+    }
+    const YAML::Node list = criteria_map.Required(c.name);
+    if (!list.IsSequence() || list.size() == 0) {
+      ThrowConfigError(path, list, key, "a non-empty list of names of 'experiments:' entries",
+                       Describe(list));
+    }
+    std::set<std::string> seen;
+    for (const YAML::Node& name_node : list) {
+      const std::string name = name_node.IsScalar() ? name_node.Scalar() : Describe(name_node);
+      if (!name_node.IsScalar() || FindExperiment(experiments, name) == nullptr) {
+        ThrowConfigError(path, name_node, key,
+                         "names of 'experiments:' entries (the fitted ones; 'validate:' "
+                         "entries are never fitted)",
+                         "'" + name + "'");
+      }
+      if (!seen.insert(name).second) {
+        ThrowConfigError(path, name_node, key, "each experiment once", "'" + name + "' again");
+      }
+      c.experiments.push_back(name);
+    }
+    for (const FitExperiment& e : experiments) {
+      if (e.estimate_initial_state && seen.count(e.name) == 0) {
+        ThrowConfigError(path, list, key,
+                         "every experiment with 'initial_state: estimate' (its state is "
+                         "fitted, it cannot only be simulated)",
+                         "a list without '" + e.name + "'");
+      }
+    }
+    out->criteria.push_back(c);
+  }
+  if (const YAML::Node quoted = map.Optional("quoted")) {
+    if (!quoted.IsSequence()) {
+      ThrowConfigError(path, quoted, map.KeyPath("quoted"),
+                       "a list of {model, value, source}", Describe(quoted));
+    }
+    for (size_t k = 0; k < quoted.size(); ++k) {
+      YamlMap entry(quoted[k], path, map.KeyPath("quoted[" + std::to_string(k) + "]."));
+      QuotedScore q;
+      q.model = entry.String("model");
+      q.value = entry.Number("value", YamlMap::Range::kNonNegative);
+      q.source = entry.String("source");
+      entry.Finish();
+      out->quoted.push_back(q);
+    }
+  }
+  map.Finish();
+}
+
+FitJob CriterionJob(const FitJob& job, const BenchmarkCriterion& criterion) {
+  FitJob out = job;
+  out.experiments.clear();
+  std::vector<FitExperiment> simulated;
+  for (const std::string& name : criterion.experiments) {
+    const FitExperiment* e = FindExperiment(job.experiments, name);
+    if (e == nullptr) {
+      throw std::invalid_argument("benchmark criterion '" + criterion.name +
+                                  "': expected names of the job's fitted experiments, got '" +
+                                  name + "'");
+    }
+    out.experiments.push_back(*e);
+  }
+  for (const FitExperiment& e : job.experiments) {
+    if (FindExperiment(out.experiments, e.name) != nullptr) continue;
+    FitExperiment only_simulated = e;
+    only_simulated.role = "validate";
+    only_simulated.fitted.clear();
+    simulated.push_back(only_simulated);
+  }
+  out.validate.insert(out.validate.begin(), simulated.begin(), simulated.end());
+  out.out_dir = job.out_dir + "/" + criterion.name;
+  out.title = job.title + " [criterion " + criterion.name + ": fitted on " +
+              Join(criterion.experiments, ", ") + "]";
+  return out;
+}
+
+BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
+                                  const std::vector<JobRun>& runs) {
+  BenchmarkTable table;
+  table.title = settings.title;
+  table.columns = settings.columns;
+  for (size_t k = 0; k < runs.size() && k < settings.criteria.size(); ++k) {
+    BenchmarkRow row;
+    row.model = "this tool, criterion " + settings.criteria[k].name;
+    row.fitted_on = Join(settings.criteria[k].experiments, " + ");
+    row.effects = EffectsOf(runs[k].job.model);
+    for (const BenchmarkColumn& c : settings.columns) {
+      row.values.push_back(ColumnValue(c, runs[k].result.experiments));
+    }
+    table.rows.push_back(row);
+  }
+  if (!runs.empty() && runs.front().has_published) {
+    const PublishedComparison& p = runs.front().published;
+    BenchmarkRow row;
+    row.model = "published model, simulated here";
+    row.fitted_on = "-";
+    row.effects = EffectsOf(runs.front().job.published.model);
+    row.source = p.source;
+    for (const BenchmarkColumn& c : settings.columns) {
+      double value = kNaN;
+      for (const ChannelComparison& r : p.channels) {
+        if (r.experiment != c.experiment || r.channel != c.channel) continue;
+        value = c.scale * (c.measure == "rms" ? r.published_rms : r.published_percent);
+      }
+      row.values.push_back(value);
+    }
+    table.rows.push_back(row);
+  }
+  for (const QuotedScore& q : settings.quoted) {
+    BenchmarkRow row;
+    row.model = q.model + " (quoted)";
+    row.fitted_on = "-";
+    row.source = q.source;
+    row.values.assign(settings.columns.size(), kNaN);
+    if (!row.values.empty()) row.values[0] = q.value;
+    table.rows.push_back(row);
+  }
+  return table;
+}
+
+std::string FormatBenchmark(const BenchmarkTable& table) {
+  std::ostringstream out;
+  out << "Benchmark: " << table.title << "\n\n| model | fitted on | effects |";
+  for (const BenchmarkColumn& c : table.columns) out << " " << ColumnLabel(c) << " |";
+  out << "\n|---|---|---|";
+  for (size_t k = 0; k < table.columns.size(); ++k) out << "---:|";
+  out << "\n";
+  for (const BenchmarkRow& r : table.rows) {
+    out << "| " << r.model << " | " << r.fitted_on << " | "
+        << (r.effects.empty() ? std::string("-") : Join(r.effects, ", ")) << " |";
+    for (double v : r.values) out << " " << FormatNumber(v, 4, "-") << " |";
+    out << "\n";
+  }
+  bool any_source = false;
+  for (const BenchmarkRow& r : table.rows) {
+    if (r.source.empty()) continue;
+    if (!any_source) out << "\nSources:\n";
+    any_source = true;
+    out << "- " << r.model << ": " << r.source << "\n";
+  }
+  return out.str();
+}
+
+nlohmann::json BenchmarkToJson(const BenchmarkTable& table) {
+  nlohmann::json out;
+  out["title"] = table.title;
+  out["columns"] = nlohmann::json::array();
+  for (const BenchmarkColumn& c : table.columns) {
+    out["columns"].push_back({{"experiment", c.experiment},
+                              {"channel", c.channel},
+                              {"measure", c.measure},
+                              {"scale", c.scale},
+                              {"unit", c.unit}});
+  }
+  out["rows"] = nlohmann::json::array();
+  for (const BenchmarkRow& r : table.rows) {
+    nlohmann::json values = nlohmann::json::array();
+    for (double v : r.values) values.push_back(JsonNumber(v));
+    out["rows"].push_back({{"model", r.model},
+                           {"fitted_on", r.fitted_on},
+                           {"effects", r.effects},
+                           {"values", values},
+                           {"source", r.source}});
+  }
+  return out;
+}
+
+}  // namespace axis
