@@ -69,6 +69,16 @@ double ColumnValue(const BenchmarkColumn& column, const std::vector<ExperimentFi
   return kNaN;
 }
 
+// `text` as a Markdown table cell: '|' escaped.
+std::string Cell(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    if (ch == '|') out += '\\';
+    out += ch;
+  }
+  return out;
+}
+
 std::string ColumnLabel(const BenchmarkColumn& c) {
   const std::string what = c.measure == "rms" ? "RMS" : "rel. error";
   return c.experiment + " " + c.channel + " " + what + " (" + c.unit + ")";
@@ -99,7 +109,7 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
       ThrowConfigError(path, entry.Optional("experiment"), entry.KeyPath("experiment"),
                        "the name of an experiment of this job", "'" + c.experiment + "'");
     }
-    if (k == 0 && validated == nullptr) {
+    if (k == 0 && (validated == nullptr || fitted != nullptr)) {
       ThrowConfigError(path, entry.Optional("experiment"), entry.KeyPath("experiment"),
                        "the score (the first column) on a 'validate:' experiment, which "
                        "no criterion fits",
@@ -120,6 +130,12 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
     }
     c.measure = entry.Choice("measure", {"rms", "relative_error_percent"}, "rms");
     c.scale = entry.Number("scale", 1.0, YamlMap::Range::kFinitePositive);
+    if (c.scale != 1.0 && !entry.Has("unit")) {
+      ThrowConfigError(path, entry.Optional("scale"), entry.KeyPath("unit"),
+                       "the unit of the scaled figure (e.g. 'mm' with scale 1000) whenever "
+                       "scale is not 1",
+                       "none");
+    }
     c.unit = entry.String("unit", c.measure == "rms" ? ChannelUnit(*channel) : "%");
     entry.Finish();
     out->columns.push_back(c);
@@ -135,10 +151,10 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
     BenchmarkCriterion c;
     c.name = item.first.Scalar();
     const std::string key = criteria_map.KeyPath(c.name);
-    if (!IsFileName(c.name)) {
+    if (!IsFileName(c.name) || c.name == "benchmark.md" || c.name == "benchmark.json") {
       ThrowConfigError(path, item.first, key,
                        "a criterion name of letters, digits, '_', '-', '.' (it names the "
-                       "output folder)",
+                       "output folder; not benchmark.md or benchmark.json)",
                        "'" + c.name + "'");
     }
     const YAML::Node list = criteria_map.Required(c.name);
@@ -203,6 +219,11 @@ FitJob CriterionJob(const FitJob& job, const BenchmarkCriterion& criterion) {
   }
   for (const FitExperiment& e : job.experiments) {
     if (FindExperiment(out.experiments, e.name) != nullptr) continue;
+    if (e.estimate_initial_state) {
+      throw std::invalid_argument("benchmark criterion '" + criterion.name +
+                                  "': expected every experiment with 'initial_state: estimate' "
+                                  "(its state is fitted), got a list without '" + e.name + "'");
+    }
     FitExperiment only_simulated = e;
     only_simulated.role = "validate";
     only_simulated.fitted.clear();
@@ -210,6 +231,7 @@ FitJob CriterionJob(const FitJob& job, const BenchmarkCriterion& criterion) {
   }
   out.validate.insert(out.validate.begin(), simulated.begin(), simulated.end());
   out.out_dir = job.out_dir + "/" + criterion.name;
+  out.benchmark = BenchmarkSettings();  // a plain job: RunJob refuses `benchmark:`
   out.title = job.title + " [criterion " + criterion.name + ": fitted on " +
               Join(criterion.experiments, ", ") + "]";
   return out;
@@ -262,12 +284,12 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
 std::string FormatBenchmark(const BenchmarkTable& table) {
   std::ostringstream out;
   out << "Benchmark: " << table.title << "\n\n| model | fitted on | effects |";
-  for (const BenchmarkColumn& c : table.columns) out << " " << ColumnLabel(c) << " |";
+  for (const BenchmarkColumn& c : table.columns) out << " " << Cell(ColumnLabel(c)) << " |";
   out << "\n|---|---|---|";
   for (size_t k = 0; k < table.columns.size(); ++k) out << "---:|";
   out << "\n";
   for (const BenchmarkRow& r : table.rows) {
-    out << "| " << r.model << " | " << r.fitted_on << " | "
+    out << "| " << Cell(r.model) << " | " << Cell(r.fitted_on) << " | "
         << (r.effects.empty() ? std::string("-") : Join(r.effects, ", ")) << " |";
     for (double v : r.values) out << " " << FormatNumber(v, 4, "-") << " |";
     out << "\n";

@@ -66,7 +66,9 @@ struct BenchmarkSettings {
 // criterion naming no experiment of the job or a channel the experiment does
 // not measure, a score column on a fitted experiment, a criterion that
 // leaves out an experiment with `initial_state: estimate` (its state is
-// fitted, so it cannot be only simulated), a repeated name.
+// fitted, so it cannot be only simulated), a repeated name, a criterion
+// named benchmark.md or benchmark.json (the table's files), a `scale` other
+// than 1 without its `unit`.
 void ParseBenchmark(const YAML::Node& node, const std::string& path,
                     const std::vector<FitExperiment>& experiments,
                     const std::vector<FitExperiment>& validate, BenchmarkSettings* out);
@@ -74,8 +76,10 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
 // `job` with only the criterion's experiments fitted: the job's other fitted
 // experiments are moved to the front of `validate` (role "validate", no
 // fitted channels), the output folder is `<job.out_dir>/<criterion name>`
-// and the title names the criterion. Throws std::invalid_argument for a
-// criterion naming no experiment of `job` (ParseBenchmark has checked).
+// and the title names the criterion; it has no `benchmark:` of its own (a
+// plain job for RunJob, fit/fit.h). Throws std::invalid_argument for a
+// criterion naming no experiment of `job` or leaving out one with
+// `initial_state: estimate` (ParseBenchmark has checked both).
 FitJob CriterionJob(const FitJob& job, const BenchmarkCriterion& criterion);
 
 // One row of the table: a run of this tool, the published model simulated

@@ -302,6 +302,12 @@ CampaignConfig LoadCampaign(const std::string& path) {
   // The job and the generating configs load now, so that a campaign cannot
   // fail on input after hours of fitting.
   YAML::Node job_root = LoadYamlFile(c.job_path);
+  if (const YAML::Node benchmark = job_root["benchmark"]) {
+    ThrowConfigError(c.job_path, benchmark, "benchmark",
+                     "a job without 'benchmark:' (its criteria are run by fit-params, not by "
+                     "a campaign)",
+                     "one");
+  }
   const auto experiments = JobExperiments(job_root);
   for (const auto& experiment : experiments) {
     const std::string& name = experiment.first;

@@ -1339,6 +1339,12 @@ std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int thre
 }
 
 JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
+  if (job.benchmark.present) {
+    throw std::invalid_argument(job.path +
+                                ": key 'benchmark': expected a job without 'benchmark:' here "
+                                "(fit-params runs its criteria, each a job of its own: "
+                                "fit/benchmark.h CriterionJob), got one");
+  }
   JobRun run;
   // Columns read in a way the job did not state (e.g. held inputs).
   nlohmann::json input_notes = nlohmann::json::array();
@@ -1541,6 +1547,10 @@ namespace {
 // <out>/<criterion>/ (each run's files) and <out>/benchmark.md, .json.
 // Returns the first criterion's fit.
 FitResult RunBenchmark(FitJob job, bool discover, ProgressStream& out, std::ostream& err) {
+  if (job.benchmark.criteria.empty()) {
+    throw std::invalid_argument(job.path + ": key 'benchmark.criteria': expected at least one "
+                                "criterion, got none");
+  }
   std::vector<JobRun> runs;
   std::vector<std::string> subdirs;
   for (const BenchmarkCriterion& criterion : job.benchmark.criteria) {

@@ -93,6 +93,8 @@ struct JobRun {
 // `discover` or the job's `discover:`, the residual diagnostics and the
 // discovery loop (Discover); the residual bootstrap if
 // uncertainty.bootstrap > 0; the published comparison if the job has one.
+// A job with `benchmark:` is refused (std::invalid_argument): fit-params runs
+// each of its criteria as a job of its own (CriterionJob, fit/benchmark.h).
 // Prints to `out` what fit-params prints between its two header lines and
 // its "wrote" line: notes on input columns, the solver's progress (if
 // job.solver.progress; from the calling thread only), the discovery tables,

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <iomanip>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -432,7 +433,8 @@ std::vector<FitExperiment> ParseExperimentList(YamlMap& root,
                                                const AxisConfig& model,
                                                double step,
                                                const std::string& base_dir,
-                                               bool required) {
+                                               bool required,
+                                               std::map<std::string, std::string>* names) {
   std::vector<FitExperiment> out;
   const YAML::Node list = required ? root.Required(key) : root.Optional(key);
   if (!list) return out;
@@ -444,6 +446,14 @@ std::vector<FitExperiment> ParseExperimentList(YamlMap& root,
   for (size_t k = 0; k < list.size(); ++k) {
     YamlMap map(list[k], root.file(), key + "[" + std::to_string(k) + "].");
     out.push_back(ParseExperiment(map, role, model, step, base_dir));
+    // Names are unique over experiments: and validate: together: they name
+    // the output files, and reports find a run by its name.
+    const auto [first, inserted] = names->emplace(out.back().name, map.KeyPath("name"));
+    if (!inserted) {
+      ThrowConfigError(root.file(), list[k]["name"], map.KeyPath("name"),
+                       "a name no other experiment of the job has", "'" + out.back().name +
+                       "', the name of " + first->second);
+    }
   }
   return out;
 }
@@ -602,10 +612,11 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     job.out_dir = ResolvePath(dir, map.String("dir"));
     map.Finish();
   }
+  std::map<std::string, std::string> names;  // experiment name -> its key
   job.experiments = ParseExperimentList(root, "experiments", "fit", job.model,
-                                        step, dir, true);
+                                        step, dir, true, &names);
   job.validate = ParseExperimentList(root, "validate", "validate", job.model,
-                                     step, dir, false);
+                                     step, dir, false, &names);
   {
     // Per fitted experiment, a Jacobian evaluation holds the simulated
     // channels and the residuals as Jets of 1 + |θ| doubles, and Ceres the

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "fit/discovery_settings.h"
 #include "fit/benchmark.h"
+#include "fit/discovery_settings.h"
 #include "fit/published.h"
 #include "sim/config.h"
 #include "sim/simulate.h"
@@ -146,7 +146,8 @@ struct FitJob {
 // keys, a missing column, NaN or empty cells, time not strictly increasing,
 // an empty file, a MAT variable that is not a vector as long as the time, a
 // free parameter the model does not have, reversed bounds, an initial value
-// outside its bounds, a fitted channel that is not measured.
+// outside its bounds, a fitted channel that is not measured, two experiments
+// (fitted or validated) of the same name.
 FitJob LoadFitJob(const std::string& path);
 
 // As LoadFitJob, from a parsed YAML document; `path` names it in messages

@@ -970,16 +970,16 @@ TEST(QuasiSteadyCurrentLoopTest, At50And100MicrosecondsMatchesTheFullModelWithin
   sine.input.frequency = 1.0;
   drives.push_back(sine);
   for (const Drive& drive : drives) {
+    SimulationOptions full;
+    full.duration = 2.0;
+    full.step = 1e-5;
+    full.output_period = 1e-3;
+    full.channels = {Channel::kA, Channel::kTach, Channel::kI};
+    const Trace<double> ref = Simulate(AxisStructure(), p, State::Zero().eval(), drive, full,
+                                       MakeGrid(full, drive));
     for (const double step : {5e-5, 1e-4}) {
-      SimulationOptions full;
-      full.duration = 2.0;
-      full.step = 1e-5;
-      full.output_period = 1e-3;
-      full.channels = {Channel::kA, Channel::kTach, Channel::kI};
       SimulationOptions fast = full;
       fast.step = step;
-      const Trace<double> ref = Simulate(AxisStructure(), p, State::Zero().eval(), drive, full,
-                                         MakeGrid(full, drive));
       const Trace<double> qs = Simulate(QuasiSteady(), p, State::Zero().eval(), drive, fast,
                                         MakeGrid(fast, drive));
       ASSERT_TRUE(ref.finite && qs.finite);

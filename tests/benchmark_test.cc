@@ -2,6 +2,7 @@
 // configs/jobs/emps_benchmark.yaml: its strict loader, the criteria's jobs,
 // the table against the runs it reports, and the benchmark's rule that the
 // test run is never fitted and never chooses an effect.
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -97,12 +98,30 @@ TEST(BenchmarkJobTest, BadKeysNameTheKeyAndWhatWasExpected) {
       {"  criteria:\n", "  critera: {}\n  criteria:\n", "critera"},
       {"closed_loop: [emps]", "closed/loop: [emps]", "key 'benchmark.criteria.closed/loop'"},
       {"      value: 2.64\n", "      value: -2.64\n", "key 'benchmark.quoted[0].value'"},
+      {"closed_loop: [emps]", "closed_loop: []",
+       "key 'benchmark.criteria.closed_loop': expected a non-empty list"},
+      {"joint: [emps, emps_open_loop]", "benchmark.md: [emps, emps_open_loop]",
+       "key 'benchmark.criteria.benchmark.md': expected a criterion name"},
+      {"scale: 1000, unit: mm}", "scale: 1000}",
+       "key 'benchmark.columns[0].unit': expected the unit of the scaled figure"},
+      {"    reference: {column: qg_m}\n    fit: {x: 5.0e-6, u: 0.1}\n",
+       "    reference: {column: qg_m}\n    fit: {x: 5.0e-6, u: 0.1}\n    initial_state: estimate\n",
+       "key 'benchmark.criteria.open_loop': expected every experiment with 'initial_state: "
+       "estimate' (its state is fitted, it cannot only be simulated), got a list without 'emps'"},
+      // Names are unique over both lists (fit/job.cc), so the score cannot
+      // find a fitted run by a shared name.
+      {"  - name: emps_pulses_open_loop\n", "  - name: emps_open_loop\n",
+       "key 'validate[1].name': expected a name no other experiment of the job has, got "
+       "'emps_open_loop', the name of experiments[1].name"},
   };
   for (size_t k = 0; k < cases.size(); ++k) {
     const std::string path =
         BenchmarkJobText(2.0, "bad_" + std::to_string(k) + ".yaml", {{cases[k].from, cases[k].to}});
     const std::string error = LoadError(path);
-    EXPECT_NE(error.find(path + ":"), std::string::npos) << error;
+    // "<file>:<line>: key '…'" — the line of the offending entry.
+    const size_t at = error.find(path + ":");
+    ASSERT_NE(at, std::string::npos) << error;
+    EXPECT_TRUE(std::isdigit(static_cast<unsigned char>(error[at + path.size() + 1]))) << error;
     EXPECT_NE(error.find(cases[k].expected), std::string::npos) << error;
   }
 }
@@ -123,6 +142,10 @@ TEST(BenchmarkJobTest, CriterionJobFitsOnlyItsExperiments) {
   EXPECT_EQ(open_loop.out_dir, job.out_dir + "/open_loop");
   BenchmarkCriterion unknown{"x", {"nope"}};
   EXPECT_THROW(CriterionJob(job, unknown), std::invalid_argument);
+  // A criterion's job is a plain job; the benchmark job itself is not one.
+  EXPECT_FALSE(open_loop.benchmark.present);
+  std::ostringstream quiet;
+  EXPECT_THROW(RunJob(job, false, quiet), std::invalid_argument);
 }
 
 // The whole command on 3 s of both runs (one effect per criterion): the
