@@ -67,6 +67,15 @@ TEST(CampaignTest, StrictLoader) {
   std::ofstream(path) << "job: job.yaml\ngenerate: {other: sine.yaml}\n" << ok;
   e = ErrorLoading(path);
   EXPECT_NE(e.find("experiment 'sine'"), std::string::npos) << e;
+  // A job with benchmark criteria (fit/benchmark.h): fit-params runs them,
+  // a campaign would fit all its experiments at once; refused by name.
+  std::ofstream(path) << "job: job.yaml\ngenerate: {sine: sine.yaml}\n" << ok;
+  std::ofstream(testing_files::TestTempDir() + "job.yaml", std::ios::app)
+      << "benchmark: {title: t, columns: [], criteria: {}}\n";
+  e = ErrorLoading(path);
+  EXPECT_NE(e.find("job.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("key 'benchmark': expected a job without 'benchmark:'"), std::string::npos)
+      << e;
 }
 
 // Every committed campaign (configs/campaigns/*.yaml) loads: its job, its
