@@ -1,6 +1,5 @@
 #include "fit/benchmark.h"
 
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -8,6 +7,7 @@
 #include <stdexcept>
 
 #include "fit/fit.h"
+#include "fit/progress.h"
 #include "fit/job.h"
 #include "fit/report.h"
 #include "sim/channels.h"
@@ -27,34 +27,9 @@ const FitExperiment* FindExperiment(const std::vector<FitExperiment>& list,
   return nullptr;
 }
 
-bool IsFileName(const std::string& name) {
-  if (name.empty()) return false;
-  for (char ch : name) {
-    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.') {
-      return false;
-    }
-  }
-  return name != "." && name != "..";
-}
-
-std::string Join(const std::vector<std::string>& names, const char* separator) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : separator) + n;
-  return out;
-}
-
-// The MODEL.md §7 effects switched on in `model`, in the table's order.
-std::vector<std::string> EffectsOf(const AxisConfig& model) {
-  std::vector<std::string> names;
-  for (const EffectInfo& e : DynamicEffectTable()) {
-    if (model.structure.effects.*e.flag) names.push_back(e.name);
-  }
-  for (int k = 0; k < kNumChannels; ++k) {
-    const std::string channel = ChannelName(static_cast<Channel>(k));
-    if (model.structure.sensors.delay[k]) names.push_back("sensor_delay." + channel);
-    if (model.structure.sensors.bias[k]) names.push_back("sensor_bias." + channel);
-  }
-  return names;
+// A figure of `column` from a channel's RMS error and relative error.
+double Figure(const BenchmarkColumn& column, double rms, double relative_error_percent) {
+  return column.scale * (column.measure == "rms" ? rms : relative_error_percent);
 }
 
 // The column's figure in `fit`, NaN if the experiment or channel is absent.
@@ -62,21 +37,10 @@ double ColumnValue(const BenchmarkColumn& column, const std::vector<ExperimentFi
   for (const ExperimentFit& e : fits) {
     if (e.name != column.experiment) continue;
     for (const ChannelFit& c : e.channels) {
-      if (c.channel != column.channel) continue;
-      return column.scale * (column.measure == "rms" ? c.rms : c.relative_error_percent);
+      if (c.channel == column.channel) return Figure(column, c.rms, c.relative_error_percent);
     }
   }
   return kNaN;
-}
-
-// `text` as a Markdown table cell: '|' escaped.
-std::string Cell(const std::string& text) {
-  std::string out;
-  for (char ch : text) {
-    if (ch == '|') out += '\\';
-    out += ch;
-  }
-  return out;
 }
 
 std::string ColumnLabel(const BenchmarkColumn& c) {
@@ -151,7 +115,8 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
     BenchmarkCriterion c;
     c.name = item.first.Scalar();
     const std::string key = criteria_map.KeyPath(c.name);
-    if (!IsFileName(c.name) || c.name == "benchmark.md" || c.name == "benchmark.json") {
+    if (!IsOutputName(c.name) || c.name == "." || c.name == ".." || c.name == "benchmark.md" ||
+        c.name == "benchmark.json") {
       ThrowConfigError(path, item.first, key,
                        "a criterion name of letters, digits, '_', '-', '.' (it names the "
                        "output folder; not benchmark.md or benchmark.json)",
@@ -246,7 +211,7 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
     BenchmarkRow row;
     row.model = "this tool, criterion " + settings.criteria[k].name;
     row.fitted_on = Join(settings.criteria[k].experiments, " + ");
-    row.effects = EffectsOf(runs[k].job.model);
+    row.effects = EnabledEffectNames(runs[k].job.model.structure);
     for (const BenchmarkColumn& c : settings.columns) {
       row.values.push_back(ColumnValue(c, runs[k].result.experiments));
     }
@@ -257,13 +222,13 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
     BenchmarkRow row;
     row.model = "published model, simulated here";
     row.fitted_on = "-";
-    row.effects = EffectsOf(runs.front().job.published.model);
+    row.effects = EnabledEffectNames(runs.front().job.published.model.structure);
     row.source = p.source;
     for (const BenchmarkColumn& c : settings.columns) {
       double value = kNaN;
       for (const ChannelComparison& r : p.channels) {
         if (r.experiment != c.experiment || r.channel != c.channel) continue;
-        value = c.scale * (c.measure == "rms" ? r.published_rms : r.published_percent);
+        value = Figure(c, r.published_rms, r.published_percent);
       }
       row.values.push_back(value);
     }
@@ -282,18 +247,21 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
 }
 
 std::string FormatBenchmark(const BenchmarkTable& table) {
-  std::ostringstream out;
-  out << "Benchmark: " << table.title << "\n\n| model | fitted on | effects |";
-  for (const BenchmarkColumn& c : table.columns) out << " " << Cell(ColumnLabel(c)) << " |";
-  out << "\n|---|---|---|";
-  for (size_t k = 0; k < table.columns.size(); ++k) out << "---:|";
-  out << "\n";
-  for (const BenchmarkRow& r : table.rows) {
-    out << "| " << Cell(r.model) << " | " << Cell(r.fitted_on) << " | "
-        << (r.effects.empty() ? std::string("-") : Join(r.effects, ", ")) << " |";
-    for (double v : r.values) out << " " << FormatNumber(v, 4, "-") << " |";
-    out << "\n";
+  TextTable text;
+  text.headers = {"model", "fitted on", "effects"};
+  text.right = {false, false, false};
+  for (const BenchmarkColumn& c : table.columns) {
+    text.headers.push_back(ColumnLabel(c));
+    text.right.push_back(true);
   }
+  for (const BenchmarkRow& r : table.rows) {
+    std::vector<std::string> cells = {r.model, r.fitted_on,
+                                      r.effects.empty() ? "-" : Join(r.effects, ", ")};
+    for (double v : r.values) cells.push_back(FormatNumber(v, 4, "-"));
+    text.rows.push_back(cells);
+  }
+  std::ostringstream out;
+  out << "Benchmark: " << table.title << "\n\n" << RenderMarkdown(text);
   bool any_source = false;
   for (const BenchmarkRow& r : table.rows) {
     if (r.source.empty()) continue;
@@ -327,5 +295,37 @@ nlohmann::json BenchmarkToJson(const BenchmarkTable& table) {
   }
   return out;
 }
+
+FitResult RunBenchmark(FitJob job, bool discover, ProgressStream& out, std::ostream& err) {
+  if (job.benchmark.criteria.empty()) {
+    throw std::invalid_argument(job.path + ": key 'benchmark.criteria': expected at least one "
+                                "criterion, got none");
+  }
+  std::vector<JobRun> runs;
+  std::vector<std::string> subdirs;
+  for (const BenchmarkCriterion& criterion : job.benchmark.criteria) {
+    std::string fitted;
+    for (const std::string& name : criterion.experiments) fitted += " " + name;
+    out << "\n=== Benchmark criterion " << criterion.name << ": fitted on" << fitted << "\n";
+    runs.push_back(RunJob(CriterionJob(job, criterion), discover, out));
+    subdirs.push_back(criterion.name);
+  }
+  const BenchmarkTable table = MakeBenchmarkTable(job.benchmark, runs);
+  const std::string text = FormatBenchmark(table);
+  out << "\n" << text;
+  if (job.solver.progress) {
+    out.Status("writing the outputs", std::numeric_limits<double>::quiet_NaN());
+  }
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"benchmark.md", "# " + job.title + "\n\n" + text},
+      {"benchmark.json", BenchmarkToJson(table).dump(2) + "\n"}};
+  for (const std::string& w : WriteJobRuns(runs, subdirs, files, job.out_dir)) {
+    err << "fit-params: warning: " << w << "\n";
+  }
+  out << "wrote " << job.out_dir << "/{benchmark.md, benchmark.json, <criterion>/{report.html, "
+      << "params.md, params.csv, report.json, fit_*.csv, fit_*.png}}\n";
+  return std::move(runs.front().result);
+}
+
 
 }  // namespace axis

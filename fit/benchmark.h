@@ -10,6 +10,7 @@
 #ifndef FIT_BENCHMARK_H_
 #define FIT_BENCHMARK_H_
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@ namespace axis {
 struct FitExperiment;  // fit/job.h
 struct FitJob;         // fit/job.h
 struct JobRun;         // fit/fit.h
+class ProgressStream;  // fit/progress.h
+struct FitResult;      // fit/fit_result.h
 
 // One column of the benchmark table: a goodness-of-fit figure of one
 // channel (MODEL.md §6 name) of one experiment of the job (ChannelFit,
@@ -97,6 +100,16 @@ struct BenchmarkTable {
   std::vector<BenchmarkColumn> columns;
   std::vector<BenchmarkRow> rows;
 };
+
+// fit-params on a job with `benchmark:`: RunJob (fit/fit.h) once per
+// criterion on CriterionJob's job, with the discovery loop if `discover` or
+// the job's `discover:`; the table (MakeBenchmarkTable) printed to `out`;
+// everything written as one staging folder moved into place (WriteJobRuns,
+// fit/fit.h): `<job.out_dir>/<criterion>/` (each run's files) and
+// `<job.out_dir>/benchmark.md`, `benchmark.json`; warnings to `err`.
+// Returns the first criterion's fit. Throws std::invalid_argument for a job
+// without criteria, std::runtime_error as WriteJobRuns.
+FitResult RunBenchmark(FitJob job, bool discover, ProgressStream& out, std::ostream& err);
 
 // The table of `runs` (one per criterion of `settings`, in order), the
 // published model's row from the first run's published comparison if the

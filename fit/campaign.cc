@@ -88,12 +88,6 @@ FitJob JobForSeed(const CampaignConfig& c, int seed, const std::string& dir) {
   return ParseFitJob(root, c.job_path, DirectoryOf(c.job_path));
 }
 
-std::string Join(const std::vector<std::string>& list, const std::string& separator) {
-  std::string out;
-  for (size_t k = 0; k < list.size(); ++k) out += (k ? separator : "") + list[k];
-  return out;
-}
-
 std::string FormatRate(const Rate& r) {
   if (r.n == 0) return "—";
   std::ostringstream out;

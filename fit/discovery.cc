@@ -1076,7 +1076,8 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
     } else {
       out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
           << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
-          << ")  BIC " << s.bic_before << " -> " << BoundMark(s) << s.bic_after << "  (refit " << s.seconds << " s)\n";
+          << ")  BIC " << s.bic_before << " -> " << BoundMark(s) << s.bic_after << "  (refit "
+          << s.seconds << " s)\n";
       if (!s.stopped.empty()) out << "  stopped " << s.stopped << "\n";
       if (!s.implausible.empty()) out << "  not physical: " << s.implausible << "\n";
       if (!s.outranked.empty()) out << "  outranked: " << s.outranked << "\n";

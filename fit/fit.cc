@@ -1540,45 +1540,6 @@ std::vector<std::string> WriteJobRuns(
   });
 }
 
-namespace {
-
-// fit-params on a job with `benchmark:` (fit/benchmark.h): RunJob once per
-// criterion, the benchmark table printed, and everything written as one:
-// <out>/<criterion>/ (each run's files) and <out>/benchmark.md, .json.
-// Returns the first criterion's fit.
-FitResult RunBenchmark(FitJob job, bool discover, ProgressStream& out, std::ostream& err) {
-  if (job.benchmark.criteria.empty()) {
-    throw std::invalid_argument(job.path + ": key 'benchmark.criteria': expected at least one "
-                                "criterion, got none");
-  }
-  std::vector<JobRun> runs;
-  std::vector<std::string> subdirs;
-  for (const BenchmarkCriterion& criterion : job.benchmark.criteria) {
-    std::string fitted;
-    for (const std::string& name : criterion.experiments) fitted += " " + name;
-    out << "\n=== Benchmark criterion " << criterion.name << ": fitted on" << fitted << "\n";
-    runs.push_back(RunJob(CriterionJob(job, criterion), discover, out));
-    subdirs.push_back(criterion.name);
-  }
-  const BenchmarkTable table = MakeBenchmarkTable(job.benchmark, runs);
-  const std::string text = FormatBenchmark(table);
-  out << "\n" << text;
-  if (job.solver.progress) {
-    out.Status("writing the outputs", std::numeric_limits<double>::quiet_NaN());
-  }
-  const std::vector<std::pair<std::string, std::string>> files = {
-      {"benchmark.md", "# " + job.title + "\n\n" + text},
-      {"benchmark.json", BenchmarkToJson(table).dump(2) + "\n"}};
-  for (const std::string& w : WriteJobRuns(runs, subdirs, files, job.out_dir)) {
-    err << "fit-params: warning: " << w << "\n";
-  }
-  out << "wrote " << job.out_dir << "/{benchmark.md, benchmark.json, <criterion>/{report.html, "
-      << "params.md, params.csv, report.json, fit_*.csv, fit_*.png}}\n";
-  return std::move(runs.front().result);
-}
-
-}  // namespace
-
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& terminal,
                        std::ostream& err) {
   // Everything printed goes through the progress stream, so that on a

@@ -144,8 +144,9 @@ struct FitParamsOptions {
 // `err`. A job with `benchmark:` (fit/benchmark.h) is run once per
 // criterion, each run's files in `<out>/<criterion>/`, the benchmark table
 // printed and written to `<out>/benchmark.md` and `benchmark.json`
-// (WriteJobRuns); the first criterion's fit is returned. Throws std::invalid_argument on bad input
-// (before anything is written) and std::runtime_error on output failures.
+// (RunBenchmark); the first criterion's fit is returned. Throws
+// std::invalid_argument on bad input (before anything is written) and
+// std::runtime_error on output failures.
 FitResult RunFitParams(const FitParamsOptions& options, std::ostream& out,
                        std::ostream& err);
 

@@ -196,20 +196,31 @@ void ParsePublished(const YAML::Node& node, const std::string& path,
   map.Finish();
 }
 
+}  // namespace
+
+bool IsOutputName(const std::string& name) {
+  if (name.empty()) return false;
+  for (char ch : name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.') {
+      return false;
+    }
+  }
+  return true;
+}
+
+namespace {
+
 FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
                               const AxisConfig& model, double step,
                               const std::string& base_dir) {
   FitExperiment e;
   e.role = role;
   e.name = map.String("name");
-  for (char ch : e.name) {
-    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' &&
-        ch != '.') {
-      ThrowConfigError(map.file(), map.Optional("name"), map.KeyPath("name"),
-                       "a name of letters, digits, '_', '-', '.' (it names "
-                       "output files)",
-                       "'" + e.name + "'");
-    }
+  if (!IsOutputName(e.name)) {
+    ThrowConfigError(map.file(), map.Optional("name"), map.KeyPath("name"),
+                     "a name of letters, digits, '_', '-', '.' (it names "
+                     "output files)",
+                     "'" + e.name + "'");
   }
   e.data_path = ResolvePath(base_dir, map.String("data"));
   const std::string time_column = map.String("time", "t");

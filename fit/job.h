@@ -150,6 +150,11 @@ struct FitJob {
 // (fitted or validated) of the same name.
 FitJob LoadFitJob(const std::string& path);
 
+// Whether `name` may name outputs (an experiment's fit_<name>.csv, a
+// benchmark criterion's folder): non-empty, of letters, digits, '_', '-',
+// '.'. Never throws.
+bool IsOutputName(const std::string& name);
+
 // As LoadFitJob, from a parsed YAML document; `path` names it in messages
 // and relative file names are resolved against `base_dir`.
 FitJob ParseFitJob(const YAML::Node& root, const std::string& path,

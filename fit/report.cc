@@ -75,13 +75,6 @@ std::vector<size_t> ParameterOrder(const FitResult& result) {
   return order;
 }
 
-// A table of text cells, rendered fixed-width or as Markdown.
-struct Table {
-  std::vector<std::string> headers;
-  std::vector<bool> right;  // right-align the column (numbers)
-  std::vector<std::vector<std::string>> rows;
-};
-
 // Length of `s` in UTF-8 code points (for column widths with "±", "σ").
 size_t DisplayWidth(const std::string& s) {
   size_t n = 0;
@@ -106,7 +99,7 @@ std::string OneLine(std::string s) {
   return s;
 }
 
-std::string RenderText(const Table& table) {
+std::string RenderText(const TextTable& table) {
   const size_t n = table.headers.size();
   std::vector<size_t> width(n, 0);
   for (size_t j = 0; j < n; ++j) width[j] = DisplayWidth(table.headers[j]);
@@ -143,7 +136,15 @@ std::string MarkdownCell(const std::string& s) {
   return out;
 }
 
-std::string RenderMarkdown(const Table& table) {
+}  // namespace
+
+std::string Join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string out;
+  for (size_t k = 0; k < items.size(); ++k) out += (k ? separator : "") + items[k];
+  return out;
+}
+
+std::string RenderMarkdown(const TextTable& table) {
   std::string out = "|";
   for (const std::string& h : table.headers) out += " " + MarkdownCell(h) + " |";
   out += "\n|";
@@ -159,10 +160,12 @@ std::string RenderMarkdown(const Table& table) {
   return out;
 }
 
+namespace {
+
 constexpr const char* kNotDetermined = "(not determined by the data)";
 
-Table ParameterTable(const FitResult& result) {
-  Table table;
+TextTable ParameterTable(const FitResult& result) {
+  TextTable table;
   table.headers = {"name",     "unit",    "value", "std error",
                    "95 % interval", "initial", "free/fixed"};
   table.right = {false, false, true, true, false, true, false};
@@ -178,8 +181,8 @@ Table ParameterTable(const FitResult& result) {
   return table;
 }
 
-Table FitTable(const FitResult& result) {
-  Table table;
+TextTable FitTable(const FitResult& result) {
+  TextTable table;
   table.headers = {"experiment", "role",    "channel", "unit",
                    "fitted",     "rms",     "fit %",   "max error",
                    "rel. err %", "LB p",    "xcorr u", "lag"};
@@ -548,7 +551,7 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
   if (r.rows() == 0 || r.cols() == 0) {
     out += "No free parameters.\n\n";
   } else {
-    Table table;
+    TextTable table;
     table.headers.push_back("");
     table.right.push_back(false);
     for (Eigen::Index j = 0; j < r.cols(); ++j) {

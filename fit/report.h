@@ -34,6 +34,23 @@ JsonT JsonNumber(double value) {
   return std::isfinite(value) ? JsonT(value) : JsonT(nullptr);
 }
 
+// `items` joined by `separator` ("a, b, c"); "" for none. Never throws.
+std::string Join(const std::vector<std::string>& items, const std::string& separator);
+
+// A table of text cells, rendered fixed-width (params.md, the terminal) or
+// as Markdown (RenderMarkdown): the header row, per column whether it is
+// right-aligned (numbers), and the rows (a short row is padded with empty
+// cells).
+struct TextTable {
+  std::vector<std::string> headers;
+  std::vector<bool> right;  // one per header
+  std::vector<std::vector<std::string>> rows;
+};
+
+// `table` as a Markdown table: cells on one line with '|' escaped,
+// right-aligned columns marked "---:". Never throws.
+std::string RenderMarkdown(const TextTable& table);
+
 struct ReportSections {
   std::string markdown;
   nlohmann::json json = nlohmann::json::object();

@@ -27,20 +27,6 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The effects the final model has switched on.
-std::vector<std::string> EnabledEffects(const AxisStructure& s) {
-  std::vector<std::string> out;
-  for (const EffectInfo& e : DynamicEffectTable()) {
-    if (s.effects.*(e.flag)) out.push_back(e.name);
-  }
-  for (int c = 0; c < kNumChannels; ++c) {
-    const std::string channel = ChannelName(static_cast<Channel>(c));
-    if (s.sensors.delay[static_cast<size_t>(c)]) out.push_back("sensor_delay." + channel);
-    if (s.sensors.bias[static_cast<size_t>(c)]) out.push_back("sensor_bias." + channel);
-  }
-  return out;
-}
-
 void FillRow(const JobRun& run, FleetRow* row) {
   const FitResult& r = run.result;
   row->status = r.converged ? "ok" : "not converged";
@@ -49,7 +35,7 @@ void FillRow(const JobRun& run, FleetRow* row) {
     row->parameters.push_back(
         {p.name, p.unit, p.value, p.std_error, p.ci95_low, p.ci95_high, p.determined});
   }
-  row->effects = EnabledEffects(run.job.model.structure);
+  row->effects = EnabledEffectNames(run.job.model.structure);
   row->discovery = run.discovered;
   ResidualVerdict verdict;
   if (run.discovered) {
@@ -90,12 +76,6 @@ std::string ValueText(double value, double se, const std::string& unit) {
 }
 
 // ------------------------------------------------------------- files
-
-std::string Join(const std::vector<std::string>& items, const std::string& separator) {
-  std::string out;
-  for (size_t k = 0; k < items.size(); ++k) out += (k ? separator : "") + items[k];
-  return out;
-}
 
 std::string CsvNumber(double v) { return std::isfinite(v) ? FormatNumber(v, 17) : ""; }
 

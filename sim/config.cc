@@ -185,6 +185,19 @@ std::string GeneratorOnlyEffectNameList() {
   return list;
 }
 
+std::vector<std::string> EnabledEffectNames(const AxisStructure& s) {
+  std::vector<std::string> out;
+  for (const EffectInfo& e : DynamicEffectTable()) {
+    if (s.effects.*(e.flag)) out.push_back(e.name);
+  }
+  for (int c = 0; c < kNumChannels; ++c) {
+    const std::string channel = ChannelName(static_cast<Channel>(c));
+    if (s.sensors.delay[static_cast<size_t>(c)]) out.push_back("sensor_delay." + channel);
+    if (s.sensors.bias[static_cast<size_t>(c)]) out.push_back("sensor_bias." + channel);
+  }
+  return out;
+}
+
 std::string EffectNameList() {
   std::string list;
   for (const EffectInfo& e : DynamicEffectTable()) list += std::string(e.name) + ", ";

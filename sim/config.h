@@ -66,6 +66,11 @@ const std::vector<EffectInfo>& GeneratorOnlyEffectTable();
 // Their names for messages: "friction_patch, quadratic_drag, position_ripple".
 std::string GeneratorOnlyEffectNameList();
 
+// The effects switched on in `s`, as the discovery loop names them: the
+// DynamicEffectTable names in its order, then sensor_delay.<channel> and
+// sensor_bias.<channel> in channel order. Never throws.
+std::vector<std::string> EnabledEffectNames(const AxisStructure& s);
+
 // Whether `name` names one effect the way the discovery loop does: a
 // DynamicEffectTable name ("coulomb"), or sensor_delay / sensor_bias with a
 // MODEL.md §6 channel ("sensor_delay.a"); with `allow_bare_sensor` also

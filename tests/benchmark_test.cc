@@ -32,12 +32,7 @@ const std::string kRoot = PROJECT_SOURCE_DIR;
 std::string BenchmarkJobText(double seconds, const std::string& name,
                              const std::vector<std::pair<std::string, std::string>>& replace = {},
                              const std::string& extra = "") {
-  std::ifstream in(kRoot + "/configs/jobs/emps_benchmark.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), {});
-  for (const std::string rel : {"../../", "../axes"}) {
-    const std::string abs = rel == "../axes" ? kRoot + "/configs/axes" : kRoot + "/";
-    for (size_t at; (at = text.find(rel)) != std::string::npos;) text.replace(at, rel.size(), abs);
-  }
+  std::string text = testing_files::JobTextWithAbsolutePaths("emps_benchmark.yaml");
   const std::string window = "    window: [0, " + std::to_string(seconds) + "]\n";
   for (size_t at = 0; (at = text.find("\n  - name: ", at)) != std::string::npos;) {
     at = text.find('\n', at + 1) + 1;

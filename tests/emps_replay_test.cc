@@ -50,14 +50,7 @@ TEST(EmpsReplayTest, PublishedModelReproducesTheMeasuredRun) {
 // to [0, `seconds`] s, and `extra` YAML appended; written to `name` in the
 // test's temporary folder and loaded.
 FitJob ShortEmpsJob(double seconds, const std::string& name, const std::string& extra = "") {
-  std::ifstream in(kRoot + "/configs/jobs/emps.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), {});
-  for (const std::string rel : {"../../", "../axes"}) {
-    const std::string abs = rel == "../axes" ? kRoot + "/configs/axes" : kRoot + "/";
-    for (size_t at; (at = text.find(rel)) != std::string::npos;) {
-      text.replace(at, rel.size(), abs);
-    }
-  }
+  std::string text = axis::testing_files::JobTextWithAbsolutePaths("emps.yaml");
   const std::string window = "    window: [0, " + std::to_string(seconds) + "]\n";
   for (size_t at = 0; (at = text.find("    reference: {column: qg_m}", at)) != std::string::npos;) {
     text.insert(at, window);
@@ -183,13 +176,9 @@ TEST(EmpsReplayTest, OneMillisecondStepMatchesATenthOfIt) {
     const ExperimentFit a = EvaluateExperiment(job.model.structure, job.model.params, e);
     const ExperimentFit b = EvaluateExperiment(job.model.structure, job.model.params, fine);
     for (size_t c = 0; c < a.channels.size(); ++c) {
-      if (a.channels[c].channel != channel) continue;
-      const std::vector<double>& x = a.channels[c].simulated;
-      const std::vector<double>& y = b.channels[c].simulated;
-      EXPECT_EQ(x.size(), y.size());
-      double sum = 0.0;
-      for (size_t k = 0; k < x.size() && k < y.size(); ++k) sum += (x[k] - y[k]) * (x[k] - y[k]);
-      return std::sqrt(sum / static_cast<double>(x.size()));
+      if (a.channels[c].channel == channel) {
+        return Rms(b.channels[c].simulated, a.channels[c].simulated);
+      }
     }
     ADD_FAILURE() << e.name << " has no channel " << channel;
     return 0.0;

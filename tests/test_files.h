@@ -37,6 +37,20 @@ inline std::string WriteTemp(const std::string& name, const std::string& text) {
   return path;
 }
 
+// The text of a job file of configs/jobs/ (`name` relative to it) with its
+// relative paths ("../../" to the project root, "../axes" to configs/axes)
+// made absolute, so that it loads from the test's folder.
+inline std::string JobTextWithAbsolutePaths(const std::string& name) {
+  const std::string root = PROJECT_SOURCE_DIR;
+  std::ifstream in(root + "/configs/jobs/" + name);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  for (const std::string rel : {"../../", "../axes"}) {
+    const std::string abs = rel == "../axes" ? root + "/configs/axes" : root + "/";
+    for (size_t at; (at = text.find(rel)) != std::string::npos;) text.replace(at, rel.size(), abs);
+  }
+  return text;
+}
+
 // Exit code (-1 if it did not exit) and standard error of a command.
 struct CommandResult {
   int exit_code;
