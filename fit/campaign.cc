@@ -20,6 +20,7 @@
 
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
+#include "fit/force_map.h"
 #include "fit/fit.h"
 #include "fit/job.h"
 #include "fit/json_fields.h"
@@ -122,6 +123,10 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
       settings.enabled = true;
       const DiscoveryReport report = Discover(settings, &job, &result, nullptr);
       o.selected = report.selected;
+      if (settings.force_map) {
+        const ForceMapReport map = AddForceMap(settings, report, &job, &result, nullptr);
+        if (map.kept) o.force_map = "force_map." + map.kind;
+      }
       for (const DiscoveryStep& s : report.steps) {
         if (!s.removal && s.kept && o.first_added.empty()) o.first_added = s.effect;
       }
@@ -150,7 +155,8 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
 std::string FormatSeedLine(const SeedOutcome& o) {
   std::ostringstream out;
   out << "seed " << o.seed << ": "
-      << (o.error.empty() ? "selected {" + Join(o.selected, ", ") + "}, verdict " + o.verdict
+      << (o.error.empty() ? "selected {" + Join(o.selected, ", ") + "}, verdict " + o.verdict +
+                                (o.force_map.empty() ? "" : ", kept " + o.force_map)
                           : "failed: " + o.error)
       << " (" << std::fixed << std::setprecision(0) << o.seconds << " s)";
   return out.str();
@@ -168,6 +174,7 @@ nlohmann::json SeedOutcomeToJson(const SeedOutcome& o) {
           {"first_added", o.first_added},
           {"verdict", o.verdict},
           {"s2", JsonNumber(o.s2)},
+          {"force_map", o.force_map},
           {"value", numbers(o.value)},
           {"ci95_low", numbers(o.ci95_low)},
           {"ci95_high", numbers(o.ci95_high)},
@@ -182,6 +189,7 @@ SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& wher
   o.first_added = JsonStringField(j, "first_added", where);
   o.verdict = JsonStringField(j, "verdict", where);
   o.s2 = JsonNumberField(j, "s2", where);
+  o.force_map = JsonStringField(j, "force_map", where);
   o.value = JsonNumbers(j, "value", where);
   o.ci95_low = JsonNumbers(j, "ci95_low", where);
   o.ci95_high = JsonNumbers(j, "ci95_high", where);

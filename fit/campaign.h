@@ -70,6 +70,9 @@ struct SeedOutcome {
   std::string first_added;             // the first effect the loop kept, or ""
   std::string verdict;                 // "explained" / "incomplete"
   double s2 = 0.0;                     // residual variance in σ units
+  // With discover.force_map (fit/force_map.h): the map the step kept
+  // ("force_map.x_friction"), "" if none; `verdict` stays the library's.
+  std::string force_map;
   // Per truth value (same order): estimate, 95 % interval; NaN if the
   // parameter is not in the final model.
   std::vector<double> value, ci95_low, ci95_high;

@@ -71,45 +71,11 @@ AxisStructure WithEffect(AxisStructure s, const Candidate& c, bool on = true) {
   const int ch = static_cast<int>(c.channel);
   if (c.effect == "sensor_delay") s.sensors.delay[ch] = on;
   if (c.effect == "sensor_bias") s.sensors.bias[ch] = on;
+  if (c.effect == "force_map") {
+    s.force_map = c.force_map;
+    s.force_map.enabled = on;
+  }
   return s;
-}
-
-// Weighted residuals r (m) and their Jacobian J (m × n) in the optimiser's
-// coordinates θ, stacked over the fitted experiments.
-void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac) {
-  const ParameterMap map(job.model.params, job.free);
-  const int n = map.num_free();
-  std::vector<double> theta(n);
-  for (int k = 0; k < n; ++k) theta[k] = map.ToInternal(k, job.free[k].initial);
-  EvaluationCounter counter;
-  std::vector<Eigen::VectorXd> rs;
-  std::vector<Eigen::MatrixXd> js;
-  int m = 0;
-  for (const FitExperiment& e : job.experiments) {
-    std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
-        job.model.structure, map, e, n, -1, &counter));
-    const int me = cost->num_residuals();
-    Eigen::VectorXd re(me);
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> je(me, n);
-    const double* params[] = {theta.data()};
-    double* jacobians[] = {je.data()};
-    if (!cost->Evaluate(params, re.data(), jacobians)) {
-      throw std::runtime_error("experiment '" + e.name +
-                               "': the simulation at the fitted parameters "
-                               "failed; no score test possible");
-    }
-    rs.push_back(re);
-    js.push_back(je);
-    m += me;
-  }
-  r->resize(m);
-  jac->resize(m, n);
-  int row = 0;
-  for (size_t j = 0; j < rs.size(); ++j) {
-    r->segment(row, rs[j].size()) = rs[j];
-    jac->middleRows(row, rs[j].size()) = js[j];
-    row += static_cast<int>(rs[j].size());
-  }
 }
 
 // The candidate's Jacobian columns (m × k), stacked like StackedJacobian.
@@ -300,37 +266,7 @@ void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
   job->free = kept;
 }
 
-// Writes the estimates of `result` into the job as model values and initial
-// values (the warm start of the next fit).
-void ApplyEstimates(const FitResult& result, FitJob* job) {
-  for (FreeParameter& f : job->free) {
-    for (const ParameterEstimate& e : result.parameters) {
-      if (e.free && e.name == f.name) {
-        f.initial = std::clamp(e.value, f.lower, f.upper);
-        *FindParam(&job->model.params, f.name) = e.value;
-      }
-    }
-  }
-}
 
-std::vector<ChannelChange> Changes(const FitResult& before, const FitResult& after) {
-  std::vector<ChannelChange> out;
-  for (const ExperimentFit& b : before.experiments) {
-    for (const ExperimentFit& a : after.experiments) {
-      if (a.name != b.name) continue;
-      for (const ChannelFit& cb : b.channels) {
-        for (const ChannelFit& ca : a.channels) {
-          if (ca.channel != cb.channel) continue;
-          // An open-loop input is replayed exactly: nothing to compare.
-          if (cb.rms == 0.0 && ca.rms == 0.0) continue;
-          out.push_back({b.name, cb.channel, cb.rms, ca.rms, cb.fit_percent,
-                         ca.fit_percent});
-        }
-      }
-    }
-  }
-  return out;
-}
 
 // The candidate of a Candidate::name ("coulomb", "sensor_delay.a"); throws
 // std::invalid_argument for a name that is not one.
@@ -386,7 +322,7 @@ std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
   record.bic_after = refit.bic;
   record.stopped = StoppedText(refit, result.bic, "the BIC with the effect");
   record.kept = refit.bic < result.bic && record.stopped.empty();
-  record.channels = Changes(result, refit);
+  record.channels = ChannelChanges(result, refit);
   return {record, refit};
 }
 
@@ -410,6 +346,79 @@ void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, Fi
 
 }  // namespace
 
+FitJob JobWithout(const FitJob& job, const std::string& effect) {
+  const Candidate c = CandidateNamed(effect);
+  FitJob out = job;
+  RemoveEffect(c, EffectParameters(c), &out);
+  return out;
+}
+
+void ApplyEstimates(const FitResult& result, FitJob* job) {
+  for (FreeParameter& f : job->free) {
+    for (const ParameterEstimate& e : result.parameters) {
+      if (e.free && e.name == f.name) {
+        f.initial = std::clamp(e.value, f.lower, f.upper);
+        *FindParam(&job->model.params, f.name) = e.value;
+      }
+    }
+  }
+}
+
+std::vector<ChannelChange> ChannelChanges(const FitResult& before, const FitResult& after) {
+  std::vector<ChannelChange> out;
+  for (const ExperimentFit& b : before.experiments) {
+    for (const ExperimentFit& a : after.experiments) {
+      if (a.name != b.name) continue;
+      for (const ChannelFit& cb : b.channels) {
+        for (const ChannelFit& ca : a.channels) {
+          if (ca.channel != cb.channel) continue;
+          // An open-loop input is replayed exactly: nothing to compare.
+          if (cb.rms == 0.0 && ca.rms == 0.0) continue;
+          out.push_back({b.name, cb.channel, cb.rms, ca.rms, cb.fit_percent,
+                         ca.fit_percent});
+        }
+      }
+    }
+  }
+  return out;
+}
+
+void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac) {
+  const ParameterMap map(job.model.params, job.free);
+  const int n = map.num_free();
+  std::vector<double> theta(n);
+  for (int k = 0; k < n; ++k) theta[k] = map.ToInternal(k, job.free[k].initial);
+  EvaluationCounter counter;
+  std::vector<Eigen::VectorXd> rs;
+  std::vector<Eigen::MatrixXd> js;
+  int m = 0;
+  for (const FitExperiment& e : job.experiments) {
+    std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
+        job.model.structure, map, e, n, -1, &counter));
+    const int me = cost->num_residuals();
+    Eigen::VectorXd re(me);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> je(me, n);
+    const double* params[] = {theta.data()};
+    double* jacobians[] = {je.data()};
+    if (!cost->Evaluate(params, re.data(), jacobians)) {
+      throw std::runtime_error("experiment '" + e.name +
+                               "': the simulation at the fitted parameters "
+                               "failed; no score test possible");
+    }
+    rs.push_back(re);
+    js.push_back(je);
+    m += me;
+  }
+  r->resize(m);
+  jac->resize(m, n);
+  int row = 0;
+  for (size_t j = 0; j < rs.size(); ++j) {
+    r->segment(row, rs[j].size()) = rs[j];
+    jac->middleRows(row, rs[j].size()) = js[j];
+    row += static_cast<int>(rs[j].size());
+  }
+}
+
 std::vector<Candidate> ListCandidates(const FitJob& job,
                                       const std::vector<std::string>& only) {
   std::vector<Candidate> all;
@@ -425,7 +434,7 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
     // step and it outranks Coulomb on the extra shapes (EMPS: log10 p
     // −44280 vs −43230) while its refit, without the Coulomb term, fails.
     if (name == "stribeck" && !job.model.structure.effects.coulomb) continue;
-    all.push_back({e.name, e.name, Channel::kT, ColumnsOf(e.name, "")});
+    all.push_back({e.name, e.name, Channel::kT, ColumnsOf(e.name, ""), {}});
   }
   std::vector<Channel> fitted;
   for (const FitExperiment& e : job.experiments) {
@@ -443,7 +452,7 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
                            : job.model.structure.sensors.bias[c];
       if (has) continue;
       const std::string name = std::string(effect) + "." + ChannelName(ch);
-      all.push_back({name, effect, ch, ColumnsOf(effect, ChannelName(ch))});
+      all.push_back({name, effect, ch, ColumnsOf(effect, ChannelName(ch)), {}});
     }
   }
   if (only.empty()) return all;
@@ -805,7 +814,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
               record.parameters.push_back(e);
             }
           }
-          record.channels = Changes(*result, refit);
+          record.channels = ChannelChanges(*result, refit);
         }
         record.kept =
             refit.bic < result->bic && record.implausible.empty() && record.stopped.empty();

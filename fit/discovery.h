@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "fit/discovery_settings.h"
@@ -39,6 +40,9 @@ struct Candidate {
   std::string effect;
   Channel channel = Channel::kT;  // sensor effects only
   std::vector<CandidateColumn> columns;
+  // effect "force_map" only (fit/force_map.h): the map switched on (name
+  // "force_map.<kind>", columns its values f_map.<k>).
+  ForceMap force_map;
 };
 
 // Score test of one candidate at the current fit.
@@ -102,6 +106,27 @@ struct ChannelChange {
   double rms_before = 0.0, rms_after = 0.0;
   double fit_percent_before = 0.0, fit_percent_after = 0.0;
 };
+
+// The channels of `before` and `after` (same experiments), RMS and fit %
+// side by side; channels replayed exactly in both (RMS 0) are left out.
+std::vector<ChannelChange> ChannelChanges(const FitResult& before, const FitResult& after);
+
+// `job` with `effect` (a Candidate::name, e.g. "coulomb", "sensor_delay.a")
+// switched off and the parameters the loop frees for it fixed. Throws
+// std::invalid_argument for a name that is not an effect.
+FitJob JobWithout(const FitJob& job, const std::string& effect);
+
+// Writes the free parameters' estimates of `result` into `job` as model
+// values and as initial values (clamped to their bounds): the warm start of
+// the next fit. Never throws.
+void ApplyEstimates(const FitResult& result, FitJob* job);
+
+// The σ-weighted residuals r (m) of the job's fitted experiments at its
+// free parameters' initial values (FreeParameter::initial) and their
+// Jacobian (m × n) in the optimiser's coordinates θ (fit/experiment_cost.h
+// ParameterMap), stacked in experiment order. Throws std::runtime_error if
+// a simulation fails.
+void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac);
 
 struct DiscoveryStep {
   std::string effect;

@@ -23,6 +23,11 @@ struct DiscoverySettings {
   // against 1.03e5 for the best of the others).
   int misspecified_tries = 20;
   std::vector<std::string> candidates;  // restrict the list (empty: all)
+  // The force-map step after the loop (fit/force_map.h, issue 15): when
+  // the verdict is `incomplete` with binned structure against x or v, learn
+  // the missing force as a spline of `force_map_knots` knots.
+  bool force_map = false;
+  int force_map_knots = 24;
 };
 
 }  // namespace axis

@@ -23,6 +23,7 @@
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/experiment_cost.h"
+#include "fit/force_map.h"
 #include "fit/html_report.h"
 #include "fit/progress.h"
 #include "fit/published.h"
@@ -238,6 +239,13 @@ void BuildStage(const FitJob& job, const ParameterMap& map,
                                theta_size, state_index[j], counter);
     stage->num_residuals += cost->num_residuals();
     stage->problem->AddResidualBlock(cost, nullptr, theta);
+  }
+  // A force map's roughness penalty (fit/force_map.h): in the cost, not in
+  // the residual count (it is a prior on the map, not data).
+  if (ceres::CostFunction* roughness = RoughnessCost::Create(
+          job.model.structure.force_map, map, theta_size, job.force_map_lambda,
+          job.force_map_anchor)) {
+    stage->problem->AddResidualBlock(roughness, nullptr, theta);
   }
   for (int k = 0; k < theta_size; ++k) {
     if (std::isfinite(lower[k])) stage->problem->SetParameterLowerBound(theta, k, lower[k]);
@@ -1388,7 +1396,13 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     run.discovery = Discover(settings, &job, &result, &out);
     run.discovery.base_fit_seconds = base_fit_seconds;
     out << "\nFinal model:\n" << FormatDiagnostics(run.discovery.final_diagnostics) << "\n"
-        << FormatDiscovery(run.discovery) << "\nAfter discovery:";
+        << FormatDiscovery(run.discovery);
+    if (settings.force_map) {
+      stage("force map");
+      run.force_map = AddForceMap(settings, run.discovery, &job, &result, &out);
+      out << "\n" << FormatForceMap(run.force_map);
+    }
+    out << "\nAfter discovery:";
   } else {
     // The residual diagnostics of the fitted model, for report.html (with
     // discovery they are those of the declared model, above).
@@ -1437,6 +1451,10 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
                       "\n## Residual diagnostics (final model)\n\n```\n" +
                       FormatDiagnostics(run.discovery.final_diagnostics) + "```\n";
     extra.json["discovery"] = DiscoveryToJson(run.discovery);
+    if (job.discover.force_map) {
+      extra.markdown += "\n## Force map\n\n```\n" + FormatForceMap(run.force_map) + "```\n";
+      extra.json["force_map"] = ForceMapToJson(run.force_map);
+    }
   }
   run.job = std::move(job);
   run.result = std::move(result);
@@ -1468,10 +1486,15 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
       html.files.push_back("diag_" + d.experiment + "_" + d.channel + ".png");
     }
     html.files.push_back("model_discovered.yaml");
+    if (!run.force_map.curve.z.empty()) {
+      html.files.push_back("force_map.csv");
+      html.files.push_back("force_map.png");
+    }
   }
   WriteHtmlReport(dir + "/report.html", html, warnings);
   if (run.discovered) {
     WriteDiagnostics(dir, run.diagnostics, warnings);
+    WriteForceMap(dir, run.force_map, warnings);
     AxisConfig discovered = run.job.model;
     discovered.name = run.job.model.name + "_discovered";
     discovered.source = "fit-params --discover on " + run.job.title;

@@ -600,6 +600,11 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
           map.Integer("tries", job.discover.tries, 1, 20));
       job.discover.misspecified_tries = static_cast<int>(
           map.Integer("misspecified_tries", job.discover.misspecified_tries, 1, 40));
+      job.discover.force_map =
+          map.Choice("force_map", {"false", "true"}, job.discover.force_map ? "true" : "false") ==
+          "true";
+      job.discover.force_map_knots = static_cast<int>(map.Integer(
+          "force_map_knots", job.discover.force_map_knots, kMinForceMapKnots, kMaxForceMapKnots));
       if (const YAML::Node list = map.Optional("candidates")) {
         if (!list.IsSequence()) {
           ThrowConfigError(path, list, "discover.candidates",

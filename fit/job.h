@@ -135,6 +135,14 @@ struct FitJob {
   DiscoverySettings discover;  // `discover:` key (enabled if present)
   PublishedReference published;  // `published:` key (fit/published.h)
   BenchmarkSettings benchmark;    // `benchmark:` key (fit/benchmark.h)
+  // Set by the force-map step of the discovery loop (fit/force_map.h), not
+  // a job key: λ (1/N²) of the roughness penalty ½λ‖D·f‖² on the second
+  // differences of a free force map's values; 0 for none.
+  double force_map_lambda = 0.0;
+  // Weight (1/N²) of the rows that hold the map's components that a free
+  // parameter produces exactly (its mean with F_0, its slope with B_a or
+  // k_x; fit/force_map.h ConfoundedComponents) at zero; 0 for none.
+  double force_map_anchor = 0.0;
   std::string out_dir;  // from output.dir (relative to the job file) or --out
 };
 

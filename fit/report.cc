@@ -99,6 +99,17 @@ std::string OneLine(std::string s) {
   return s;
 }
 
+std::string MarkdownCell(const std::string& s) {
+  std::string out;
+  for (char c : OneLine(s)) {
+    if (c == '|') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string RenderText(const TextTable& table) {
   const size_t n = table.headers.size();
   std::vector<size_t> width(n, 0);
@@ -126,17 +137,6 @@ std::string RenderText(const TextTable& table) {
   for (const auto& row : table.rows) out += line(row);
   return out;
 }
-
-std::string MarkdownCell(const std::string& s) {
-  std::string out;
-  for (char c : OneLine(s)) {
-    if (c == '|') out += '\\';
-    out += c;
-  }
-  return out;
-}
-
-}  // namespace
 
 std::string Join(const std::vector<std::string>& items, const std::string& separator) {
   std::string out;

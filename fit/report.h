@@ -47,6 +47,10 @@ struct TextTable {
   std::vector<std::vector<std::string>> rows;
 };
 
+// `table` as fixed-width text: columns padded to their widest cell, a rule
+// under the header. Never throws.
+std::string RenderText(const TextTable& table);
+
 // `table` as a Markdown table: cells on one line with '|' escaped,
 // right-aligned columns marked "---:". Never throws.
 std::string RenderMarkdown(const TextTable& table);

@@ -165,6 +165,9 @@ struct AxisCoefficients {
   Coefficient<T> r_g;            // gear radius r_g (eq. 4–5)
   Coefficient<T> k_g;            // gear stiffness k_g (eq. 5)
   Coefficient<T> b_g;            // gear friction b_g (eq. 5)
+  // MODEL.md §7 force_map (if enabled): the spline's second derivatives at
+  // its knots (ForceMapSecondDerivatives, sim/force_map.h), N/unit².
+  std::array<T, kMaxForceMapKnots> f_map_m{};
 };
 
 // The coefficients of `p` for `structure`. Never throws.
@@ -206,14 +209,19 @@ AxisCoefficients<T> MakeAxisCoefficients(const AxisStructure& structure,
   c.r_g = C(p.r_g);
   c.k_g = C(p.k_g);
   c.b_g = C(p.b_g);
+  if (structure.force_map.enabled) {
+    ForceMapSecondDerivatives(structure.force_map.knots, p.f_map, &c.f_map_m);
+  }
   return c;
 }
 
 namespace internal {
 
-inline bool AnyLoadEffect(const EffectSwitches& e) {
+inline bool AnyLoadEffect(const AxisStructure& s) {
+  const EffectSwitches& e = s.effects;
   return e.coulomb || e.stribeck || e.viscous_asymmetry || e.load_offset ||
-         e.spring || e.friction_patch || e.quadratic_drag || e.position_ripple;
+         e.spring || e.friction_patch || e.quadratic_drag || e.position_ripple ||
+         e.velocity_bump || s.force_map.enabled;
 }
 
 }  // namespace internal
@@ -254,7 +262,7 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
   // Load-side friction: static friction eq. 6 and the §7 force effects.
   const bool static_friction = p.F_s != 0.0 && v < p.w && v > -p.w &&
                                v != 0.0;
-  const bool has_load_force = static_friction || internal::AnyLoadEffect(e);
+  const bool has_load_force = static_friction || internal::AnyLoadEffect(structure);
   T f_load(0.0);
   if (has_load_force) {
     if (static_friction) f_load += v > 0.0 ? p.F_s : T(-p.F_s);
@@ -284,6 +292,19 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
     // the motor angle, its period λ_rp is the job's to choose.
     if (e.position_ripple) {
       f_load += p.F_rp * sin(T(6.283185307179586476925) * x / p.lambda_rp + p.phi_rp);
+    }
+    // A friction that peaks at a speed and fades above it (a lubrication
+    // regime change): F_vb·exp(−((|v| − v_vb)/w_vb)²)·sgn_ε(v).
+    if (e.velocity_bump) {
+      const T r = (abs(v) - p.v_vb) / p.w_vb;
+      f_load += p.F_vb * exp(-r * r) * tanh(v / p.v_eps);
+    }
+    // MODEL.md §7 force_map: f(x), f(v) or f(x)·sgn_ε(v) (sim/force_map.h).
+    const ForceMap& map = structure.force_map;
+    if (map.enabled) {
+      const T& z = map.variable == ForceMapVariable::kV ? v : x;
+      const T f = ForceMapValue(map.knots, p.f_map, c.f_map_m, z);
+      f_load += map.friction ? T(f * tanh(v / p.v_eps)) : f;
     }
   }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "sim/channels.h"
+#include "sim/force_map.h"
 
 namespace axis {
 
@@ -49,6 +50,7 @@ struct EffectSwitches {
   bool friction_patch = false;  // F_pt·sgn_ε(v) inside x_pt0 < x < x_pt1
   bool quadratic_drag = false;  // C_d·v·|v|
   bool position_ripple = false;  // F_rp·sin(2π·x/λ_rp + φ_rp)
+  bool velocity_bump = false;  // F_vb·exp(−((|v| − v_vb)/w_vb)²)·sgn_ε(v)
 };
 
 // Per-channel sensor effects of MODEL.md §7, indexed by Channel.
@@ -90,6 +92,9 @@ struct AxisStructure {
   SensorSwitches sensors;
   AccelerometerSampling accelerometer = AccelerometerSampling::kPeriodMean;
   int N_cog = 6;  // cogging periods per motor revolution (fixed, §7)
+  // MODEL.md §7 force_map: its variable and knots (sim/force_map.h); its
+  // values are AxisParams::f_map.
+  ForceMap force_map;
 };
 
 // Numerical parameters. Defaults are the X axis of MODEL.md §2 and the
@@ -138,7 +143,7 @@ struct AxisParams {
   T A_cog{0.0};
   T phi_cog{0.0};
   // Generator-only forces (EffectSwitches::friction_patch, quadratic_drag,
-  // position_ripple).
+  // position_ripple, velocity_bump).
   T F_pt{0.0};    // friction inside the patch (N)
   T x_pt0{0.0};   // patch start (m)
   T x_pt1{0.0};   // patch end (m), above x_pt0
@@ -147,9 +152,15 @@ struct AxisParams {
   T F_rp{0.0};        // position ripple amplitude (N)
   T lambda_rp{0.05};  // its period in the load position x (m), positive
   T phi_rp{0.0};      // its phase (rad)
+  T F_vb{0.0};    // velocity bump's peak friction (N)
+  T v_vb{0.1};    // the speed of its peak (m/s), non-negative
+  T w_vb{0.05};   // its width in speed (m/s), positive
   // Sensor effects, per channel (index Channel): tau_d.<channel>, b.<channel>.
   std::array<T, kNumChannels> tau_d{};
   std::array<T, kNumChannels> b{};
+  // MODEL.md §7 force_map: the force at knot k (N), "f_map.<k>"; entries at
+  // and past AxisStructure::force_map.knots.size() are unused.
+  std::array<T, kMaxForceMapKnots> f_map{};
 
   // Element-wise conversion, e.g. AxisParams<double> → AxisParams<Jet>.
   template <typename U>
@@ -160,7 +171,7 @@ struct AxisParams {
 // same field of each of the structs `params...` (all AxisParams of any
 // scalar). Names are the config names of MODEL.md §2/§7; per-channel sensor
 // parameters are named "tau_d.<channel>" and "b.<channel>" (unit of the
-// channel for b). This is the only list of parameter names in the project.
+// channel for b), the force map's values "f_map.<k>" (N). This is the only list of parameter names in the project.
 template <typename Visitor, typename... Params>
 void VisitParams(Visitor&& visit, Params&... params) {
   visit("R", "Ohm", params.R...);
@@ -209,12 +220,18 @@ void VisitParams(Visitor&& visit, Params&... params) {
   visit("F_rp", "N", params.F_rp...);
   visit("lambda_rp", "m", params.lambda_rp...);
   visit("phi_rp", "rad", params.phi_rp...);
+  visit("F_vb", "N", params.F_vb...);
+  visit("v_vb", "m/s", params.v_vb...);
+  visit("w_vb", "m/s", params.w_vb...);
   for (int c = 0; c < kNumChannels; ++c) {
     const Channel ch = static_cast<Channel>(c);
     if (ch == Channel::kT) continue;
     const std::string name = ChannelName(ch);
     visit(("tau_d." + name).c_str(), "s", params.tau_d[c]...);
     visit(("b." + name).c_str(), ChannelUnit(ch), params.b[c]...);
+  }
+  for (int k = 0; k < kMaxForceMapKnots; ++k) {
+    visit(("f_map." + std::to_string(k)).c_str(), "N", params.f_map[k]...);
   }
 }
 

@@ -68,7 +68,8 @@ Range ParamRange(const std::string& name) {
       "w", "v_eps", "omega_eps", "v_st"};
   static const std::set<std::string> non_negative = {
       "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
-  if (name == "w_pt" || name == "lambda_rp") return Range::kFinitePositive;
+  if (name == "w_pt" || name == "lambda_rp" || name == "w_vb") return Range::kFinitePositive;
+  if (name == "v_vb") return Range::kNonNegative;
   if (positive.count(name)) return Range::kPositive;
   if (non_negative.count(name)) return Range::kNonNegative;
   if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
@@ -117,6 +118,49 @@ void ParseParameters(YamlMap& map, AxisConfig* config) {
   map.Finish();
 }
 
+// A list of numbers under `key` of `map` (at least one).
+std::vector<double> NumberList(YamlMap& map, const std::string& key) {
+  const YAML::Node list = map.Required(key);
+  if (!list.IsSequence() || list.size() == 0) {
+    ThrowConfigError(map.file(), list, map.KeyPath(key), "a list of numbers", Describe(list));
+  }
+  std::vector<double> out;
+  for (const YAML::Node& item : list) {
+    out.push_back(map.NumberFrom(item, map.KeyPath(key), Range::kAny));
+  }
+  return out;
+}
+
+// `force_map: {variable: x|v, friction: bool, knots: [...], values: [...]}`
+// (MODEL.md §7, sim/force_map.h).
+void ParseForceMap(YamlMap& map, AxisConfig* config) {
+  ForceMap& f = config->structure.force_map;
+  f.enabled = true;
+  f.variable = map.Choice("variable", {"x", "v"}) == "v" ? ForceMapVariable::kV
+                                                          : ForceMapVariable::kX;
+  f.friction = map.Choice("friction", {"false", "true"}, "false") == "true";
+  if (f.friction && f.variable == ForceMapVariable::kV) {
+    ThrowConfigError(map.file(), map.Optional("friction"), map.KeyPath("friction"),
+                     "false with variable v (f(v) is already a friction law)", "true");
+  }
+  f.knots = NumberList(map, "knots");
+  const std::string problem = ForceMapKnotsProblem(f.knots);
+  if (!problem.empty()) {
+    const size_t got = problem.find(", got ");
+    ThrowConfigError(map.file(), map.Optional("knots"), map.KeyPath("knots"),
+                     problem.substr(9, got - 9), problem.substr(got + 6));
+  }
+  const std::vector<double> values = NumberList(map, "values");
+  if (values.size() != f.knots.size()) {
+    ThrowConfigError(map.file(), map.Optional("values"), map.KeyPath("values"),
+                     "one value (N) per knot (" + std::to_string(f.knots.size()) + ")",
+                     std::to_string(values.size()) + " values");
+  }
+  config->params.f_map.fill(0.0);
+  for (size_t k = 0; k < values.size(); ++k) config->params.f_map[k] = values[k];
+  map.Finish();
+}
+
 void ParseSensorEffect(YamlMap& map, bool delay, AxisConfig* config) {
   for (const auto& entry : map.node()) {
     const std::string channel_name = entry.first.Scalar();
@@ -159,6 +203,7 @@ const std::vector<EffectInfo>& GeneratorOnlyEffectTable() {
       {"friction_patch", {"F_pt", "x_pt0", "x_pt1", "w_pt"}, &EffectSwitches::friction_patch},
       {"quadratic_drag", {"C_d"}, &EffectSwitches::quadratic_drag},
       {"position_ripple", {"F_rp", "lambda_rp", "phi_rp"}, &EffectSwitches::position_ripple},
+      {"velocity_bump", {"F_vb", "v_vb", "w_vb"}, &EffectSwitches::velocity_bump},
   };
   return effects;
 }
@@ -195,6 +240,7 @@ std::vector<std::string> EnabledEffectNames(const AxisStructure& s) {
     if (s.sensors.delay[static_cast<size_t>(c)]) out.push_back("sensor_delay." + channel);
     if (s.sensors.bias[static_cast<size_t>(c)]) out.push_back("sensor_bias." + channel);
   }
+  if (s.force_map.enabled) out.push_back("force_map." + ForceMapKind(s.force_map));
   return out;
 }
 
@@ -213,6 +259,10 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
       ParseSensorEffect(body, name == "sensor_delay", config);
       continue;
     }
+    if (name == "force_map") {
+      ParseForceMap(body, config);
+      continue;
+    }
     const EffectInfo* spec = nullptr;
     for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
       for (const EffectInfo& e : *table) {
@@ -222,7 +272,7 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
     if (spec == nullptr) {
       std::string known;
       for (const EffectInfo& e : DynamicEffectTable()) known += std::string(e.name) + ", ";
-      known += "sensor_delay, sensor_bias; or, to generate data, " +
+      known += "sensor_delay, sensor_bias, force_map; or, to generate data, " +
                GeneratorOnlyEffectNameList();
       ThrowConfigError(effects.file(), entry.first, effects.KeyPath(name),
                        "an effect of MODEL.md section 7 (" + known + ")",
@@ -283,7 +333,7 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
   const SensorSwitches& sensors = config.structure.sensors;
   bool any_sensor = false;
   for (int c = 0; c < kNumChannels; ++c) any_sensor = any_sensor || sensors.delay[c] || sensors.bias[c];
-  bool any = any_sensor;
+  bool any = any_sensor || config.structure.force_map.enabled;
   std::vector<const EffectInfo*> switched;
   for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
     for (const EffectInfo& e : *table) {
@@ -303,6 +353,16 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
         out << YAML::Key << "N_cog" << YAML::Value << config.structure.N_cog;
       }
       out << YAML::EndMap;
+    }
+    if (config.structure.force_map.enabled) {
+      const ForceMap& f = config.structure.force_map;
+      out << YAML::Key << "force_map" << YAML::Value << YAML::BeginMap << YAML::Key
+          << "variable" << YAML::Value << (f.variable == ForceMapVariable::kV ? "v" : "x")
+          << YAML::Key << "friction" << YAML::Value << (f.friction ? "true" : "false")
+          << YAML::Key << "knots" << YAML::Value << YAML::Flow << f.knots << YAML::Key
+          << "values" << YAML::Value << YAML::Flow
+          << std::vector<double>(params.f_map.begin(), params.f_map.begin() + f.knots.size())
+          << YAML::EndMap;
     }
     for (const char* kind : {"sensor_delay", "sensor_bias"}) {
       const bool delay = std::string(kind) == "sensor_delay";

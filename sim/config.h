@@ -58,12 +58,16 @@ const std::vector<EffectInfo>& DynamicEffectTable();
 //   quadratic_drag: {C_d: N*s^2/m^2}                        C_d·v·|v|
 //   position_ripple: {F_rp: N, lambda_rp: m, phi_rp: rad}
 //       F_rp·sin(2π·x/λ_rp + φ_rp): periodic in the load position, λ_rp > 0.
+//   velocity_bump: {F_vb: N, v_vb: m/s, w_vb: m/s}
+//       F_vb·exp(−((|v| − v_vb)/w_vb)²)·sgn_ε(v): friction peaking at one
+//       speed (issue 15's force-map tests), v_vb ≥ 0, w_vb > 0.
 // Not effects in the sense of IsEffectName: never discovery candidates, and
 // a fit job cannot name them in discover.candidates (sim/axis_model.h has
 // their equations).
 const std::vector<EffectInfo>& GeneratorOnlyEffectTable();
 
-// Their names for messages: "friction_patch, quadratic_drag, position_ripple".
+// Their names for messages: "friction_patch, quadratic_drag, position_ripple,
+// velocity_bump".
 std::string GeneratorOnlyEffectNameList();
 
 // The effects switched on in `s`, as the discovery loop names them: the
@@ -84,7 +88,8 @@ std::string EffectNameList();
 // Parses the `effects:` mapping of a model config or experiment into
 // `config` (switches on the named effects and sets their parameters).
 // Effect names are those of MODEL.md §7; sensor_delay and sensor_bias take a
-// mapping of channel name to value.
+// mapping of channel name to value; force_map a mapping {variable, friction,
+// knots, values} (sim/force_map.h).
 void ParseEffects(YamlMap& effects, AxisConfig* config);
 
 // Checks the parameters of `config` against the ranges of MODEL.md §2

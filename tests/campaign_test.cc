@@ -258,6 +258,7 @@ TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
   o.first_added = "coulomb";
   o.verdict = "explained";
   o.s2 = 1.0 / 3.0;
+  o.force_map = "force_map.x_friction";
   o.value = {0.1 + 0.2, std::nan("")};
   o.ci95_low = {std::nextafter(0.3, 0.0), std::nan("")};
   o.ci95_high = {1e-300, std::nan("")};
@@ -270,6 +271,7 @@ TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
   EXPECT_EQ(back.first_added, "coulomb");
   EXPECT_EQ(back.verdict, "explained");
   EXPECT_EQ(back.s2, o.s2);
+  EXPECT_EQ(back.force_map, "force_map.x_friction");
   ASSERT_EQ(back.value.size(), 2u);
   for (size_t k : {size_t{0}}) {
     EXPECT_EQ(back.value[k], o.value[k]);

@@ -1,0 +1,801 @@
+#include "fit/force_map.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/Dense>
+
+#include "fit/fit.h"
+#include "fit/report.h"
+#include "fit/statistics.h"
+#include "sim/csv.h"
+#include "sim/simulate.h"
+
+namespace axis {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Bounds (N) of a map value in the refits: wide enough never to bind for a
+// servo axis (its forces are far below), finite for Ceres' bounds.
+constexpr double kForceBound = 1.0e6;
+
+// The two-sided 95 % point of the normal distribution: the pointwise band
+// of the map (its Bayesian posterior is Gaussian given s²).
+constexpr double kZ975 = 1.959963984540054;
+
+// Points of the reported curve over the knots' range.
+constexpr int kCurvePoints = 201;
+
+// The λ grid, in units of the mean information per knot (the diagonal of
+// JᵀJ over the map's values): from practically unpenalised (10⁻⁶) to a map
+// held nearly straight (10²).
+constexpr double kLambdaGrid[] = {1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0};
+// The first refit's λ (same units): little smoothing, so that the
+// linearised choice starts from a map that follows the data.
+constexpr double kFirstLambda = 1e-3;
+// The anchor's weight α in units of the mean information per knot times
+// the number of knots (about the data's information along a component
+// spread over all knots): 10³ holds a confounded component at 10⁻³ of
+// what the data alone would put there.
+constexpr double kAnchorFactor = 1e3;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The weights w_k(z) with f(z) = Σ_k w_k·f_k: the spline is linear in its
+// values, so w_k is the spline through the k-th unit vector.
+std::vector<double> CardinalWeights(const std::vector<double>& knots, double z) {
+  const int n = static_cast<int>(knots.size());
+  std::vector<double> w(n);
+  for (int k = 0; k < n; ++k) {
+    std::array<double, kMaxForceMapKnots> unit{}, m{};
+    unit[k] = 1.0;
+    ForceMapSecondDerivatives(knots, unit, &m);
+    w[k] = ForceMapValue(knots, unit, m, z);
+  }
+  return w;
+}
+
+std::string Number(double x, int digits = 4) { return FormatNumber(x, digits); }
+
+// The unit of the map's variable.
+const char* VariableUnit(const ForceMap& map) {
+  return map.variable == ForceMapVariable::kV ? "m/s" : "m";
+}
+
+const char* VariableName(const ForceMap& map) {
+  return map.variable == ForceMapVariable::kV ? "v" : "x";
+}
+
+// "f(x)·sgn(v)" style description of the form.
+std::string FormText(const ForceMap& map) {
+  if (map.variable == ForceMapVariable::kV) return "f(v)";
+  return map.friction ? "f(x)*sgn(v)" : "f(x)";
+}
+
+// The values of x and v the fitted experiments visit at the job's values,
+// at their sample instants, pooled.
+struct Visited {
+  std::vector<double> x, v;
+};
+
+Visited VisitedValues(const FitJob& job) {
+  Visited out;
+  for (const FitExperiment& e : job.experiments) {
+    SimulationOptions options = e.options;
+    options.channels = {Channel::kX, Channel::kV};
+    const SimulationGrid grid = MakeGrid(options, e.drive);
+    const Trace<double> trace =
+        Simulate(job.model.structure, job.model.params, e.initial_state, e.drive, options, grid);
+    if (!trace.finite) {
+      throw std::runtime_error("experiment '" + e.name +
+                               "': simulation failed at the fitted parameters");
+    }
+    out.x.insert(out.x.end(), trace[Channel::kX].begin(), trace[Channel::kX].end());
+    out.v.insert(out.v.end(), trace[Channel::kV].begin(), trace[Channel::kV].end());
+  }
+  return out;
+}
+
+// About `count` knots for the values `samples` visits: half at its
+// quantiles (Ruppert, Wand & Carroll 2003, "Semiparametric Regression",
+// §5.5: where the data spend their time, so that every interval holds
+// samples), half spread uniformly over its range (where it passes quickly:
+// a velocity crossed only while accelerating still shapes the response);
+// both ends included, and a knot closer than a quarter of the uniform
+// spacing to the previous one dropped. Empty if fewer than kMinForceMapKnots remain
+// (the variable hardly moves).
+std::vector<double> MapKnots(std::vector<double> samples, int count) {
+  std::vector<double> knots;
+  if (samples.empty()) return knots;
+  std::sort(samples.begin(), samples.end());
+  const double lo = samples.front(), hi = samples.back();
+  if (!(hi - lo > 1e-9 * std::max(1.0, std::abs(lo) + std::abs(hi)))) return knots;
+  const int half = std::max(2, count / 2);
+  std::vector<double> all;
+  for (int k = 0; k < half; ++k) {
+    const double q = static_cast<double>(k) / (half - 1);
+    all.push_back(samples[static_cast<size_t>(std::lround(q * (samples.size() - 1)))]);
+    all.push_back(lo + q * (hi - lo));
+  }
+  std::sort(all.begin(), all.end());
+  const double min_gap = 0.25 * (hi - lo) / (half - 1);
+  for (double t : all) {
+    if (knots.empty() || t - knots.back() >= min_gap) knots.push_back(t);
+  }
+  knots.back() = hi;  // the end of the range, replacing a knot just below it
+  if (knots.size() >= 2 && !(knots.back() > knots[knots.size() - 2])) knots.pop_back();
+  if (static_cast<int>(knots.size()) < kMinForceMapKnots) knots.clear();
+  if (static_cast<int>(knots.size()) > kMaxForceMapKnots) knots.resize(kMaxForceMapKnots);
+  return knots;
+}
+
+Candidate MapCandidate(ForceMapVariable variable, bool friction, std::vector<double> knots) {
+  Candidate c;
+  c.effect = "force_map";
+  c.force_map.enabled = true;
+  c.force_map.variable = variable;
+  c.force_map.friction = friction;
+  c.force_map.knots = std::move(knots);
+  c.name = "force_map." + ForceMapKind(c.force_map);
+  for (size_t k = 0; k < c.force_map.knots.size(); ++k) {
+    c.columns.push_back({"f_map." + std::to_string(k), {}});
+  }
+  return c;
+}
+
+// `job` with the map of `c` switched on at zero and its values free (the
+// last K entries of job.free), as a warm refit with `first_horizon`.
+FitJob MapJob(const FitJob& job, const Candidate& c, double first_horizon) {
+  FitJob out = job;
+  out.model.structure.force_map = c.force_map;
+  out.model.params.f_map.fill(0.0);
+  for (const CandidateColumn& column : c.columns) {
+    FreeParameter f;
+    f.name = column.param;
+    f.unit = "N";
+    f.initial = 0.0;
+    f.lower = -kForceBound;
+    f.upper = kForceBound;
+    f.scale = 1.0;
+    f.log = false;
+    out.free.push_back(f);
+  }
+  AsWarmRefit(&out);
+  out.solver.first_horizon = first_horizon;
+  out.solver.progress = false;
+  return out;
+}
+
+// The penalty's matrix λ·DᵀD + α·CᵀC of `job` (its map, λ, anchor α and
+// confounded components C) embedded in the n × n space of θ: the map's
+// values are the last K entries of θ (MapJob), θ = value.
+Eigen::MatrixXd PenaltyMatrix(const FitJob& job, int n) {
+  const ForceMap& f = job.model.structure.force_map;
+  const int k = static_cast<int>(f.knots.size());
+  std::vector<std::string> names;
+  for (const FreeParameter& p : job.free) names.push_back(p.name);
+  const Eigen::MatrixXd d = SecondDifferences(f.knots);
+  const Eigen::MatrixXd c = ConfoundedComponents(f, names);
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(n, n);
+  p.bottomRightCorner(k, k) =
+      job.force_map_lambda * d.transpose() * d + job.force_map_anchor * c.transpose() * c;
+  return p;
+}
+
+// The penalised Gauss–Newton figures at the residuals r and Jacobian J at
+// θ with penalty matrix P: (JᵀJ + P)⁻¹, edf = tr((JᵀJ + P)⁻¹JᵀJ) and the
+// data χ², at θ or (`step`) predicted at the penalised optimum one
+// Gauss–Newton step away.
+struct Penalised {
+  double chi2 = 0.0;
+  double edf = 0.0;
+  Eigen::MatrixXd inverse;
+};
+
+Penalised AtPenalty(const Eigen::VectorXd& r, const Eigen::MatrixXd& j, const Eigen::MatrixXd& p,
+                    const Eigen::VectorXd& theta, bool step) {
+  const Eigen::MatrixXd jtj = j.transpose() * j;
+  const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj + p);
+  Penalised out;
+  out.inverse = cod.pseudoInverse();
+  out.edf = (out.inverse * jtj).trace();
+  Eigen::VectorXd predicted = r;
+  if (step) predicted -= j * (out.inverse * (j.transpose() * r + p * theta));
+  out.chi2 = predicted.squaredNorm();
+  return out;
+}
+
+// θ of `job`'s free parameters at their initial values.
+Eigen::VectorXd ThetaOf(const FitJob& job) {
+  const ParameterMap map(job.model.params, job.free);
+  Eigen::VectorXd theta(map.num_free());
+  for (int k = 0; k < map.num_free(); ++k) theta[k] = map.ToInternal(k, job.free[k].initial);
+  return theta;
+}
+
+// A map job's figures at its free parameters' initial values (its fitted
+// point after ApplyEstimates): the data χ² = Σr², edf, BIC = χ² + edf·ln(m),
+// s² = χ²/(m − edf) and (JᵀJ + P)⁻¹.
+struct Assessment {
+  double chi2 = 0.0, edf = 0.0, bic = 0.0, s2 = 0.0;
+  Eigen::MatrixXd inverse;
+};
+
+Assessment Assess(const FitJob& job) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd j;
+  StackedJacobian(job, &r, &j);
+  const Penalised at =
+      AtPenalty(r, j, PenaltyMatrix(job, static_cast<int>(j.cols())), ThetaOf(job), false);
+  Assessment out;
+  const double m = static_cast<double>(r.size());
+  out.chi2 = at.chi2;
+  out.edf = at.edf;
+  out.bic = at.chi2 + at.edf * std::log(m);
+  out.s2 = at.chi2 / std::max(1.0, m - at.edf);
+  out.inverse = at.inverse;
+  return out;
+}
+
+// Moves the load force of `effect` (about to be switched off in `job`) into
+// the map where the map can carry it exactly or nearly: Coulomb friction
+// F_c·sgn_ε(v) (and the motor side's T_c/r_g, the same through the gear)
+// into f(x)·sgn_ε(v) or f(v); a load offset F_0 into f(x) or f(v); a
+// spring k_x·(x − x_0) into f(x). The refit without the effect then starts
+// from the same model instead of one missing the effect's share (for
+// f(x)·sgn_ε(v) and F_c the two are the same force). Never throws.
+void TransferToMap(const std::string& effect, FitJob* job) {
+  const AxisParams<double>& p = job->model.params;
+  const ForceMap& f = job->model.structure.force_map;
+  const bool v_map = f.variable == ForceMapVariable::kV;
+  for (size_t k = 0; k < f.knots.size(); ++k) {
+    const double t = f.knots[k];
+    double add = 0.0;
+    if (effect == "coulomb" && (v_map || f.friction)) {
+      add = p.F_c * (v_map ? std::tanh(t / p.v_eps) : 1.0);
+    } else if (effect == "motor_coulomb" && (v_map || f.friction)) {
+      add = p.T_c / p.r_g * (v_map ? std::tanh(t / (p.r_g * p.omega_eps)) : 1.0);
+    } else if (effect == "load_offset" && !f.friction) {
+      add = p.F_0;
+    } else if (effect == "spring" && !v_map && !f.friction) {
+      add = p.k_x * (t - p.x_0);
+    }
+    if (add == 0.0) continue;
+    job->model.params.f_map[k] += add;
+    for (FreeParameter& free : job->free) {
+      if (free.name == "f_map." + std::to_string(k)) {
+        free.initial = std::clamp(job->model.params.f_map[k], free.lower, free.upper);
+      }
+    }
+  }
+}
+
+// Runs of `z` where `inside` holds, as "x in [a, b] m, [c, d] m".
+std::string Runs(const ForceMapCurve& c, const ForceMap& map, const std::vector<bool>& inside) {
+  std::ostringstream out;
+  int runs = 0;
+  for (size_t j = 0; j < inside.size();) {
+    if (!inside[j]) {
+      ++j;
+      continue;
+    }
+    size_t end = j;
+    while (end + 1 < inside.size() && inside[end + 1]) ++end;
+    out << (runs++ ? ", " : "") << "[" << Number(c.z[j]) << ", " << Number(c.z[end]) << "] "
+        << VariableUnit(map);
+    j = end + 1;
+  }
+  return runs ? std::string(VariableName(map)) + " in " + out.str() : "";
+}
+
+}  // namespace
+
+Eigen::MatrixXd SecondDifferences(const std::vector<double>& knots) {
+  const int n = static_cast<int>(knots.size());
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(std::max(0, n - 2), n);
+  if (n < 3) return d;
+  const double mean_h = (knots.back() - knots.front()) / (n - 1);
+  for (int j = 1; j + 1 < n; ++j) {
+    const double h0 = knots[j] - knots[j - 1];
+    const double h1 = knots[j + 1] - knots[j];
+    const double scale = 2.0 * mean_h * mean_h / (h0 + h1);
+    d(j - 1, j - 1) = scale / h0;
+    d(j - 1, j) = -scale * (1.0 / h0 + 1.0 / h1);
+    d(j - 1, j + 1) = scale / h1;
+  }
+  return d;
+}
+
+Eigen::MatrixXd ConfoundedComponents(const ForceMap& f, const std::vector<std::string>& free_names) {
+  const auto is_free = [&](const char* name) {
+    return std::find(free_names.begin(), free_names.end(), name) != free_names.end();
+  };
+  const int n = static_cast<int>(f.knots.size());
+  bool constant = false, slope = false;
+  if (f.variable == ForceMapVariable::kV) {
+    constant = is_free("F_0");
+    slope = is_free("B_a");
+  } else if (f.friction) {
+    constant = is_free("F_c");
+  } else {
+    constant = is_free("F_0") || is_free("x_0");
+    slope = is_free("k_x");
+  }
+  Eigen::MatrixXd c(int(constant) + int(slope), n);
+  int row = 0;
+  if (constant) c.row(row++).setConstant(1.0 / std::sqrt(static_cast<double>(n)));
+  if (slope && n > 0) {
+    const Eigen::Map<const Eigen::VectorXd> t(f.knots.data(), n);
+    const Eigen::VectorXd centred = t.array() - t.mean();
+    c.row(row++) = centred.transpose() / centred.norm();
+  }
+  return c;
+}
+
+ceres::CostFunction* RoughnessCost::Create(const ForceMap& f, const ParameterMap& map,
+                                           int theta_size, double lambda, double anchor) {
+  if (!f.enabled || !(lambda > 0.0 || anchor > 0.0) || f.knots.size() < 3) return nullptr;
+  const int n = static_cast<int>(f.knots.size());
+  std::vector<int> index(n, -1);
+  std::vector<double> fixed(n, 0.0);
+  bool any = false;
+  for (int k = 0; k < n; ++k) {
+    fixed[k] = map.base().f_map[k];
+    const std::string name = "f_map." + std::to_string(k);
+    for (int j = 0; j < map.num_free(); ++j) {
+      if (map.free()[j].name == name) {
+        index[k] = j;
+        any = true;
+      }
+    }
+  }
+  if (!any) return nullptr;
+  std::vector<std::string> names;
+  for (const FreeParameter& p : map.free()) names.push_back(p.name);
+  const Eigen::MatrixXd d = SecondDifferences(f.knots);
+  const Eigen::MatrixXd c = ConfoundedComponents(f, names);
+  Eigen::MatrixXd rows(d.rows() + c.rows(), n);
+  rows << std::sqrt(std::max(0.0, lambda)) * d, std::sqrt(std::max(0.0, anchor)) * c;
+  return new RoughnessCost(rows, index, fixed, map, theta_size);
+}
+
+RoughnessCost::RoughnessCost(const Eigen::MatrixXd& scaled_d, std::vector<int> theta_index,
+                             std::vector<double> fixed, const ParameterMap& map, int theta_size)
+    : d_(scaled_d),
+      theta_index_(std::move(theta_index)),
+      fixed_(std::move(fixed)),
+      map_(map),
+      theta_size_(theta_size) {
+  set_num_residuals(static_cast<int>(d_.rows()));
+  mutable_parameter_block_sizes()->push_back(theta_size);
+}
+
+bool RoughnessCost::Evaluate(double const* const* parameters, double* residuals,
+                             double** jacobians) const {
+  const double* theta = parameters[0];
+  const int n = static_cast<int>(theta_index_.size());
+  Eigen::VectorXd f(n);
+  for (int k = 0; k < n; ++k) {
+    f[k] = theta_index_[k] >= 0 ? map_.FromInternal(theta_index_[k], theta[theta_index_[k]])
+                                : fixed_[k];
+  }
+  Eigen::Map<Eigen::VectorXd>(residuals, d_.rows()) = d_ * f;
+  if (jacobians != nullptr && jacobians[0] != nullptr) {
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(
+        jacobians[0], d_.rows(), theta_size_);
+    jac.setZero();
+    for (int k = 0; k < n; ++k) {
+      const int j = theta_index_[k];
+      if (j >= 0) jac.col(j) = d_.col(k) * map_.Derivative(j, theta[j]);
+    }
+  }
+  return residuals == nullptr || Eigen::Map<Eigen::VectorXd>(residuals, d_.rows()).allFinite();
+}
+
+ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryReport& loop,
+                           FitJob* job, FitResult* result, std::ostream* progress) {
+  const Clock::time_point start = Clock::now();
+  ForceMapReport report;
+  report.bic_before = result->bic;
+  if (loop.verdict.verdict != "incomplete") {
+    report.reason = "not tried: the library's verdict is '" + loop.verdict.verdict + "'";
+    return report;
+  }
+  if (job->model.structure.force_map.enabled) {
+    report.reason = "not tried: the model has a force map already";
+    return report;
+  }
+  for (const ChannelDiagnostics& d : loop.final_diagnostics) {
+    for (const BinnedResidual& b : d.bins) {
+      if ((b.variable == "x" || b.variable == "v") && b.p_value < loop.verdict.threshold) {
+        report.structure.push_back(d.experiment + "/" + d.channel + ": " + b.variable +
+                                   " (chi2 p " + Number(b.p_value, 3) + ")");
+      }
+    }
+  }
+  if (report.structure.empty()) {
+    report.reason =
+        "not tried: no significant binned structure of the residual against x or v "
+        "(threshold " + Number(loop.verdict.threshold, 3) + ")";
+    return report;
+  }
+  ApplyEstimates(*result, job);
+  const Visited visited = VisitedValues(*job);
+  std::vector<Candidate> candidates;
+  const std::vector<double> x_knots = MapKnots(visited.x, settings.force_map_knots);
+  const std::vector<double> v_knots = MapKnots(visited.v, settings.force_map_knots);
+  if (!x_knots.empty()) {
+    candidates.push_back(MapCandidate(ForceMapVariable::kX, false, x_knots));
+    candidates.push_back(MapCandidate(ForceMapVariable::kX, true, x_knots));
+  }
+  if (!v_knots.empty()) candidates.push_back(MapCandidate(ForceMapVariable::kV, false, v_knots));
+  if (candidates.empty()) {
+    report.reason = "not tried: the experiments do not move";
+    return report;
+  }
+  const Ranking ranking = RankCandidates(*job, candidates, settings.alpha);
+  report.scores = ranking.scores;
+  const Score& best = ranking.scores.front();
+  const double threshold = settings.alpha / static_cast<double>(candidates.size());
+  if (!(best.p_value < threshold)) {
+    report.reason = "not tried: no form of the map is significant (best " + best.name +
+                    ", p " + Number(best.p_value, 3) + ", threshold " + Number(threshold, 3) + ")";
+    return report;
+  }
+  report.tried = true;
+  report.reason = "the library's verdict is 'incomplete' with binned structure against x or v";
+
+  // Every significant form refitted at little smoothing (concurrently);
+  // the lowest BIC wins. The score ranking alone is not trusted where the
+  // model is far from the data (the friction patch case: f(v) first by χ²
+  // 4.10e4 against f(x)·sgn(v)'s 4.06e4).
+  std::vector<FitJob> jobs;
+  std::vector<double> info;  // mean information per knot of each form
+  for (const Score& score : ranking.scores) {
+    if (!(score.p_value < threshold)) continue;
+    for (const Candidate& c : candidates) {
+      if (c.name != score.name) continue;
+      FitJob form = MapJob(*job, c, job->solver.first_horizon);
+      Eigen::VectorXd r0;
+      Eigen::MatrixXd j0;
+      StackedJacobian(form, &r0, &j0);
+      const int k = static_cast<int>(c.force_map.knots.size());
+      info.push_back(j0.rightCols(k).colwise().squaredNorm().mean());
+      form.force_map_lambda = kFirstLambda * info.back();
+      form.force_map_anchor = kAnchorFactor * info.back() * k;
+      jobs.push_back(std::move(form));
+    }
+  }
+  std::vector<double> seconds;
+  std::vector<FitResult> fits = FitConcurrently(jobs, std::max(1, job->solver.threads), &seconds);
+  size_t winner = jobs.size();
+  for (size_t f = 0; f < jobs.size(); ++f) {
+    ForceMapForm form;
+    form.name = "force_map." + ForceMapKind(jobs[f].model.structure.force_map);
+    form.seconds = seconds[f];
+    form.bic = std::numeric_limits<double>::infinity();
+    if (std::isfinite(fits[f].final_cost) && fits[f].abandoned_horizon == 0.0) {
+      ApplyEstimates(fits[f], &jobs[f]);
+      const Assessment a = Assess(jobs[f]);
+      form.bic = a.bic;
+      form.edf = a.edf;
+      if (winner == jobs.size() || form.bic < report.forms[winner].bic) winner = f;
+    }
+    report.forms.push_back(form);
+    if (progress) {
+      *progress << "force map: " << form.name << " at lambda " << jobs[f].force_map_lambda
+                << ": BIC " << form.bic << ", edf " << form.edf << "\n";
+    }
+  }
+  if (winner == jobs.size()) {
+    report.reason += "; every refit failed";
+    report.seconds = SecondsSince(start);
+    return report;
+  }
+  FitJob map_job = std::move(jobs[winner]);
+  FitResult fit = std::move(fits[winner]);
+  report.kind = ForceMapKind(map_job.model.structure.force_map);
+  report.map = map_job.model.structure.force_map;
+  const int k_map = static_cast<int>(report.map.knots.size());
+
+  // The λ of the lowest linearised BIC over the grid, refitted there.
+  {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd j;
+    StackedJacobian(map_job, &r, &j);
+    const double log_m = std::log(static_cast<double>(r.size()));
+    const Eigen::VectorXd theta = ThetaOf(map_job);
+    double best_bic = std::numeric_limits<double>::infinity();
+    double lambda = map_job.force_map_lambda;
+    FitJob trial = map_job;
+    for (double g : kLambdaGrid) {
+      SmoothingChoice choice;
+      trial.force_map_lambda = choice.lambda = g * info[winner];
+      const Penalised at = AtPenalty(r, j, PenaltyMatrix(trial, static_cast<int>(j.cols())), theta,
+                                     true);
+      choice.edf = at.edf;
+      choice.chi2 = at.chi2;
+      choice.bic = choice.chi2 + choice.edf * log_m;
+      report.grid.push_back(choice);
+      if (choice.bic < best_bic) {
+        best_bic = choice.bic;
+        lambda = choice.lambda;
+      }
+    }
+    if (lambda != map_job.force_map_lambda) {
+      FitJob refit_job = map_job;
+      refit_job.force_map_lambda = lambda;
+      refit_job.solver.first_horizon = 0.0;  // next to its optimum
+      FitResult refit = FitParameters(refit_job, nullptr);
+      if (std::isfinite(refit.final_cost)) {
+        ApplyEstimates(refit, &refit_job);
+        refit_job.solver.first_horizon = map_job.solver.first_horizon;
+        map_job = std::move(refit_job);
+        fit = std::move(refit);
+      }
+    }
+  }
+  report.lambda = map_job.force_map_lambda;
+  Assessment at = Assess(map_job);
+  report.bic_after = at.bic;
+  report.kept = report.bic_after < report.bic_before;
+  if (progress) {
+    *progress << "force map " << report.kind << ": lambda " << report.lambda << " 1/N^2, edf "
+              << at.edf << ", BIC " << report.bic_before << " -> " << report.bic_after
+              << (report.kept ? " (kept)" : " (not kept)") << "\n";
+  }
+
+  // Backward pass: the loop's effects may stand in for what the map now
+  // carries.
+  if (report.kept) {
+    const std::vector<std::string>& selected = loop.selected;
+    for (auto it = selected.rbegin(); it != selected.rend(); ++it) {
+      const std::string& effect = *it;
+      if (std::find(loop.removed.begin(), loop.removed.end(), effect) != loop.removed.end()) {
+        continue;
+      }
+      if (effect == "coulomb" && map_job.model.structure.effects.stribeck) continue;
+      FitJob without = JobWithout(map_job, effect);
+      TransferToMap(effect, &without);
+      FitResult refit = FitParameters(without, nullptr);
+      ForceMapRemoval removal;
+      removal.effect = effect;
+      removal.bic_with = at.bic;
+      removal.bic_without = std::numeric_limits<double>::infinity();
+      if (std::isfinite(refit.final_cost) && refit.abandoned_horizon == 0.0) {
+        ApplyEstimates(refit, &without);
+        const Assessment a = Assess(without);
+        removal.bic_without = a.bic;
+        if (a.bic < at.bic) {
+          removal.removed = true;
+          map_job = std::move(without);
+          fit = std::move(refit);
+          at = a;
+        }
+      }
+      if (progress) {
+        *progress << "force map: without " << effect << ": BIC " << removal.bic_with << " -> "
+                  << removal.bic_without << (removal.removed ? " (removed)" : " (stays)") << "\n";
+      }
+      report.removals.push_back(removal);
+    }
+    report.bic_after = at.bic;
+  }
+  report.edf = at.edf;
+  report.s2 = at.s2;
+  const Eigen::MatrixXd cov = at.s2 * at.inverse.bottomRightCorner(k_map, k_map);
+  for (int k = 0; k < k_map; ++k) {
+    report.values.push_back(map_job.model.params.f_map[k]);
+    report.std_errors.push_back(std::sqrt(std::max(0.0, cov(k, k))));
+  }
+  report.channels = ChannelChanges(*result, fit);
+
+  // The curve with its band, and where the band excludes zero.
+  const std::vector<double>& kn = report.map.knots;
+  const Eigen::Map<const Eigen::VectorXd> values(report.values.data(), k_map);
+  std::vector<bool> nonzero;
+  for (int q = 0; q < kCurvePoints; ++q) {
+    const double z = kn.front() + (kn.back() - kn.front()) * q / (kCurvePoints - 1);
+    const std::vector<double> w = CardinalWeights(kn, z);
+    const Eigen::Map<const Eigen::VectorXd> wv(w.data(), k_map);
+    const double f = wv.dot(values);
+    const double sd = std::sqrt(std::max(0.0, wv.dot(cov * wv)));
+    report.curve.z.push_back(z);
+    report.curve.force.push_back(f);
+    report.curve.low.push_back(f - kZ975 * sd);
+    report.curve.high.push_back(f + kZ975 * sd);
+    nonzero.push_back(std::abs(f) > kZ975 * sd);
+  }
+  const std::string runs = Runs(report.curve, report.map, nonzero);
+  if (!runs.empty()) report.significant.push_back(runs);
+
+  if (report.kept) {
+    fit.bic = at.bic;
+    fit.aic = at.chi2 + 2.0 * at.edf;
+    *job = std::move(map_job);
+    *result = std::move(fit);
+    report.diagnostics = DiagnoseResiduals(*job);
+    report.verdict = JudgeResiduals(report.diagnostics, *result, settings.alpha);
+  }
+  report.seconds = SecondsSince(start);
+  return report;
+}
+
+std::string FormatForceMap(const ForceMapReport& report) {
+  std::ostringstream out;
+  out << "Force map: " << report.reason << "\n";
+  for (const std::string& s : report.structure) out << "  binned structure: " << s << "\n";
+  if (!report.scores.empty()) {
+    TextTable scores;
+    scores.headers = {"form", "chi2", "dof", "p"};
+    scores.right = {false, true, true, true};
+    for (const Score& s : report.scores) {
+      scores.rows.push_back({s.name, Number(s.chi2), std::to_string(s.dof), Number(s.p_value, 3)});
+    }
+    out << "\nScore tests of the map's forms:\n" << RenderText(scores);
+  }
+  if (!report.tried) return out.str();
+  if (!report.forms.empty()) {
+    TextTable forms;
+    forms.headers = {"form", "BIC (edf)", "edf", "refit (s)"};
+    forms.right = {false, true, true, true};
+    for (const ForceMapForm& f : report.forms) {
+      forms.rows.push_back({f.name, Number(f.bic, 7), Number(f.edf), Number(f.seconds, 3)});
+    }
+    out << "\nThe significant forms refitted (little smoothing; the lowest BIC wins):\n"
+        << RenderText(forms);
+  }
+  if (report.kind.empty()) return out.str();
+  const ForceMap& map = report.map;
+  out << "\nForce map " << FormText(map) << " (" << report.kind << "): " << map.knots.size()
+      << " knots over [" << Number(map.knots.front()) << ", " << Number(map.knots.back()) << "] "
+      << VariableUnit(map) << "\n";
+  TextTable grid;
+  grid.headers = {"lambda (1/N^2)", "edf", "chi2 (linearised)", "BIC", ""};
+  grid.right = {true, true, true, true, false};
+  for (const SmoothingChoice& s : report.grid) {
+    grid.rows.push_back({Number(s.lambda, 3), Number(s.edf), Number(s.chi2, 7), Number(s.bic, 7),
+                         s.lambda == report.lambda ? "chosen" : ""});
+  }
+  out << "\nRoughness penalty, BIC with the effective number of parameters:\n"
+      << RenderText(grid);
+  TextTable values;
+  values.headers = {"knot (" + std::string(VariableUnit(map)) + ")", "force (N)",
+                    "std error (N)"};
+  values.right = {true, true, true};
+  for (size_t k = 0; k < report.values.size(); ++k) {
+    values.rows.push_back({Number(map.knots[k]), Number(report.values[k]),
+                           Number(report.std_errors[k], 3)});
+  }
+  out << "\nLearned force (values at the knots; 95 % band: +-1.96 std error):\n"
+      << RenderText(values);
+  out << "lambda " << Number(report.lambda, 3) << " 1/N^2, edf " << Number(report.edf)
+      << ", s2 " << Number(report.s2) << "; BIC " << Number(report.bic_before, 7) << " -> "
+      << Number(report.bic_after, 7) << (report.kept ? " (kept)" : " (not kept)") << "\n";
+  for (const ForceMapRemoval& r : report.removals) {
+    out << "without " << r.effect << ": BIC " << Number(r.bic_with, 7) << " -> "
+        << Number(r.bic_without, 7) << (r.removed ? " (removed: a stand-in for the map)" : " (stays)")
+        << "\n";
+  }
+  out << "significantly non-zero: "
+      << (report.significant.empty() ? "nowhere" : Join(report.significant, "; ")) << "\n";
+  TextTable channels;
+  channels.headers = {"experiment", "channel", "RMS before", "RMS after", "fit % before",
+                      "fit % after"};
+  channels.right = {false, false, true, true, true, true};
+  for (const ChannelChange& c : report.channels) {
+    channels.rows.push_back({c.experiment, c.channel, Number(c.rms_before), Number(c.rms_after),
+                             Number(c.fit_percent_before), Number(c.fit_percent_after)});
+  }
+  out << "\nBefore (library model) and after (with the map):\n" << RenderText(channels);
+  if (report.kept) out << "\nWith the map: " << FormatVerdict(report.verdict);
+  out << "(" << Number(report.seconds, 3) << " s)\n";
+  return out.str();
+}
+
+nlohmann::json ForceMapToJson(const ForceMapReport& report) {
+  nlohmann::json out;
+  out["tried"] = report.tried;
+  out["kept"] = report.kept;
+  out["reason"] = report.reason;
+  out["structure"] = report.structure;
+  nlohmann::json scores = nlohmann::json::array();
+  for (const Score& s : report.scores) {
+    scores.push_back({{"effect", s.name},
+                      {"chi2", JsonNumber(s.chi2)},
+                      {"dof", s.dof},
+                      {"p_value", JsonNumber(s.p_value)}});
+  }
+  out["scores"] = scores;
+  nlohmann::json forms = nlohmann::json::array();
+  for (const ForceMapForm& f : report.forms) {
+    forms.push_back({{"effect", f.name}, {"bic", JsonNumber(f.bic)}, {"edf", JsonNumber(f.edf)}});
+  }
+  out["forms"] = forms;
+  nlohmann::json removals = nlohmann::json::array();
+  for (const ForceMapRemoval& r : report.removals) {
+    removals.push_back({{"effect", r.effect},
+                        {"bic_with", JsonNumber(r.bic_with)},
+                        {"bic_without", JsonNumber(r.bic_without)},
+                        {"removed", r.removed}});
+  }
+  out["removals"] = removals;
+  if (report.kind.empty()) return out;
+  out["kind"] = report.kind;
+  out["variable"] = VariableName(report.map);
+  out["friction"] = report.map.friction;
+  out["knots"] = report.map.knots;
+  out["values"] = report.values;
+  nlohmann::json se = nlohmann::json::array();
+  for (double s : report.std_errors) se.push_back(JsonNumber(s));
+  out["std_errors"] = se;
+  out["lambda"] = JsonNumber(report.lambda);
+  out["edf"] = JsonNumber(report.edf);
+  out["s2"] = JsonNumber(report.s2);
+  out["bic_before"] = JsonNumber(report.bic_before);
+  out["bic_after"] = JsonNumber(report.bic_after);
+  nlohmann::json grid = nlohmann::json::array();
+  for (const SmoothingChoice& s : report.grid) {
+    grid.push_back({{"lambda", JsonNumber(s.lambda)},
+                    {"edf", JsonNumber(s.edf)},
+                    {"chi2", JsonNumber(s.chi2)},
+                    {"bic", JsonNumber(s.bic)}});
+  }
+  out["grid"] = grid;
+  nlohmann::json channels = nlohmann::json::array();
+  for (const ChannelChange& c : report.channels) {
+    channels.push_back({{"experiment", c.experiment},
+                        {"channel", c.channel},
+                        {"rms_before", JsonNumber(c.rms_before)},
+                        {"rms_after", JsonNumber(c.rms_after)},
+                        {"fit_percent_before", JsonNumber(c.fit_percent_before)},
+                        {"fit_percent_after", JsonNumber(c.fit_percent_after)}});
+  }
+  out["channels"] = channels;
+  out["verdict"] = report.verdict.verdict;
+  out["remains"] = report.verdict.remains;
+  out["significant"] = report.significant;
+  out["seconds"] = JsonNumber(report.seconds);
+  return out;
+}
+
+void WriteForceMap(const std::string& dir, const ForceMapReport& report,
+                   std::vector<std::string>* warnings) {
+  if (report.curve.z.empty()) return;
+  const std::string csv_path = dir + "/force_map.csv";
+  std::ostringstream csv;
+  csv << VariableName(report.map) << ",force,low,high\n" << std::setprecision(12);
+  for (size_t q = 0; q < report.curve.z.size(); ++q) {
+    csv << report.curve.z[q] << "," << report.curve.force[q] << "," << report.curve.low[q] << ","
+        << report.curve.high[q] << "\n";
+  }
+  WriteFileAtomic(csv_path, csv.str());
+  const auto script = [&](const std::string& png) {
+    std::ostringstream s;
+    s << "set terminal pngcairo size 1000,600 noenhanced; set output '" << png
+      << "'; set datafile separator ','; set grid; set key top left; set title 'learned force "
+      << FormText(report.map) << (report.kept ? "" : " (not kept)") << "'; set xlabel '"
+      << VariableName(report.map) << " (" << VariableUnit(report.map)
+      << ")'; set ylabel 'force (N)'; plot '" << csv_path
+      << "' every ::1 using 1:3:4 with filledcurves lc rgb '#c6dbef' title '95 % band', '"
+      << csv_path << "' every ::1 using 1:2 with lines lw 2 lc rgb '#08519c' title 'f', 0 with "
+      << "lines lc rgb 'gray' notitle";
+    return s.str();
+  };
+  std::string warning;
+  if (!RenderGnuplotPng(dir + "/force_map.png", script, "force map", &warning)) {
+    if (warnings) warnings->push_back(warning);
+  }
+}
+
+}  // namespace axis

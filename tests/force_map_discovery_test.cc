@@ -1,0 +1,189 @@
+// The force-map step of the discovery loop (issue 15, fit/force_map.h) on
+// data with a force the library of MODEL.md §7 does not have — a friction
+// patch over part of the travel, a friction bump at one speed
+// (testdata/generate/discover/, generator-only effects) — and on data whose
+// missing force is a library effect (Coulomb friction, a spring), which the
+// library must keep: no map then.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "fit/fit.h"
+#include "fit/force_map.h"
+#include "fit/job.h"
+#include "sim/axis_model.h"
+#include "sim/config.h"
+#include "sim/experiment.h"
+#include "sim/simulate.h"
+#include "tests/test_files.h"
+
+namespace axis {
+namespace {
+
+const std::string kRoot = PROJECT_SOURCE_DIR;
+
+JobRun RunCase(const std::string& name) {
+  FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/" + name + ".yaml");
+  job.solver.progress = false;
+  std::ostringstream out;
+  return RunJob(job, true, out);
+}
+
+// The force a model resists steady motion at (x, v) with, as a load-side
+// force: B_a·v and every load force of MODEL.md §7 (and the generator's),
+// plus the motor side's B_m·ω and torque effects through the gear (/r_g),
+// from AxisDerivative with the gear centred (no contact force), the motor
+// at ω = v/r_g and no current: −M·y1' − J_m·y3'/r_g.
+double LoadForce(const AxisConfig& model, const AxisParams<double>& p, double x, double v) {
+  AxisState<double> y = AxisState<double>::Zero();
+  y[0] = x;
+  y[1] = v;
+  y[2] = x / p.r_g;
+  y[3] = v / p.r_g;
+  AxisState<double> dy;
+  AxisDerivative(model.structure, p, y, 0.0, &dy);
+  const double mass = p.M + (model.structure.effects.payload ? p.Delta_M : 0.0);
+  return -mass * dy[1] - p.J_m * dy[3] / p.r_g;
+}
+
+// RMS over the states (x, v) each fitted experiment's generating model
+// visits (its clean simulation) of the true load force beyond the viscous
+// B_a·v + B_m·ω/r_g (`truth`), and of the error of the learned model's.
+struct ForceError {
+  double truth_rms = 0.0;
+  double error_rms = 0.0;
+};
+
+ForceError CompareLoadForce(const std::string& name, const JobRun& run) {
+  double truth2 = 0.0, error2 = 0.0;
+  int n = 0;
+  for (const FitExperiment& e : run.job.experiments) {
+    const ExperimentConfig generating =
+        LoadExperiment(kRoot + "/testdata/generate/discover/" + name + "_" + e.name + ".yaml");
+    SimulationOptions options = generating.options;
+    options.channels = {Channel::kX, Channel::kV};
+    const Trace<double> trace =
+        Simulate(generating.model.structure, generating.model.params, generating.initial_state,
+                 generating.drive, options, MakeGrid(options, generating.drive));
+    const std::vector<double>& x = trace[Channel::kX];
+    const std::vector<double>& v = trace[Channel::kV];
+    for (size_t k = 0; k < x.size(); ++k) {
+      const double truth = LoadForce(generating.model, generating.model.params, x[k], v[k]);
+      const double learned = LoadForce(run.job.model, run.job.model.params, x[k], v[k]);
+      const AxisParams<double>& p = generating.model.params;
+      const double viscous = p.B_a * v[k] + p.B_m * v[k] / (p.r_g * p.r_g);
+      truth2 += (truth - viscous) * (truth - viscous);
+      error2 += (learned - truth) * (learned - truth);
+      ++n;
+    }
+  }
+  return {std::sqrt(truth2 / n), std::sqrt(error2 / n)};
+}
+
+double SumOfSquaresBefore(const ForceMapReport& r) {
+  double s = 0.0;
+  for (const ChannelChange& c : r.channels) s += c.rms_before * c.rms_before;
+  return s;
+}
+
+double SumOfSquaresAfter(const ForceMapReport& r) {
+  double s = 0.0;
+  for (const ChannelChange& c : r.channels) s += c.rms_after * c.rms_after;
+  return s;
+}
+
+void ExpectLearned(const std::string& name, const std::string& kind) {
+  const JobRun run = RunCase(name);
+  const ForceMapReport& map = run.force_map;
+  EXPECT_EQ(run.discovery.verdict.verdict, "incomplete");  // the library alone
+  ASSERT_TRUE(map.tried) << map.reason;
+  ASSERT_TRUE(map.kept) << FormatForceMap(map);
+  EXPECT_EQ(map.kind, kind) << FormatForceMap(map);
+  EXPECT_LT(map.bic_after, map.bic_before);
+  EXPECT_LT(SumOfSquaresAfter(map), SumOfSquaresBefore(map));
+  EXPECT_TRUE(run.job.model.structure.force_map.enabled);
+  EXPECT_FALSE(map.significant.empty());
+  // The learned load force along the visited states: its error is a small
+  // part of the missing force (the rest of the model, B_a included, takes
+  // part: the comparison is of the whole load force).
+  const ForceError f = CompareLoadForce(name, run);
+  std::cout << name << ": missing force RMS " << f.truth_rms << " N, learned load force error RMS "
+            << f.error_rms << " N\n" << FormatForceMap(map);
+  EXPECT_LT(f.error_rms, 0.35 * f.truth_rms);
+  // The outputs: the force with its band, and model_discovered.yaml, which
+  // carries the map and which simulate-axis replays.
+  const std::string dir = testing_files::TestTempDir() + "out";
+  WriteJobRun(run, dir);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/force_map.csv"));
+  const AxisConfig back = LoadAxisConfig(dir + "/model_discovered.yaml");
+  EXPECT_EQ(back.structure.force_map.knots, run.job.model.structure.force_map.knots);
+  EXPECT_EQ(back.params.f_map, run.job.model.params.f_map);
+  const std::string experiment = testing_files::WriteTemp(
+      "replay.yaml", "model: " + dir +
+                         "/model_discovered.yaml\nduration: 1.0\nstep: 1.0e-4\noutput_rate: "
+                         "1000\nchannels: [u, a, tach, i]\ninput: {type: sine, amplitude: 3, "
+                         "frequency: 1}\n");
+  const auto r = testing_files::RunCommand(std::string(BINARY_DIR) + "/simulate-axis",
+                                           experiment + " --out " + dir + "/replay.csv", true);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST(ForceMapDiscoveryTest, FrictionPatchIsLearnedAsFrictionAlongTheTravel) {
+  ExpectLearned("friction_patch", "x_friction");
+}
+
+TEST(ForceMapDiscoveryTest, VelocityBumpIsLearnedAsAFunctionOfTheVelocity) {
+  ExpectLearned("velocity_bump", "v");
+}
+
+// A library effect as the truth: the loop explains the data with it and no
+// map is fitted.
+TEST(ForceMapDiscoveryTest, CoulombFrictionStaysALibraryEffect) {
+  FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/coulomb.yaml");
+  job.solver.progress = false;
+  job.discover.force_map = true;
+  std::ostringstream out;
+  const JobRun run = RunJob(job, true, out);
+  EXPECT_EQ(run.discovery.selected, std::vector<std::string>{"coulomb"});
+  EXPECT_EQ(run.discovery.verdict.verdict, "explained");
+  EXPECT_FALSE(run.force_map.tried) << run.force_map.reason;
+  EXPECT_FALSE(run.job.model.structure.force_map.enabled);
+}
+
+TEST(ForceMapDiscoveryTest, SpringStaysALibraryEffect) {
+  // The power_spring campaign's data (seed 0: the generating configs' own
+  // seeds), fitted by the "none" job with the force map on.
+  const std::string dir = testing_files::TestTempDir();
+  for (const char* e : {"step_p4V", "step_m2V", "sine", "slow_sine"}) {
+    const std::string config = kRoot + "/configs/campaigns/generate/power/spring_" + e + ".yaml";
+    const auto r = testing_files::RunCommand(std::string(BINARY_DIR) + "/simulate-axis",
+                                             config + " --out " + dir + "spring_" + e + ".csv",
+                                             true);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  std::ifstream in(kRoot + "/configs/jobs/discover/none.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    for (size_t at; (at = text.find(from)) != std::string::npos;) text.replace(at, from.size(), to);
+  };
+  replace("../../../testdata/discover/none_", dir + "spring_");
+  replace("../../axes", kRoot + "/configs/axes");
+  replace("../../../build/fit/discover_none", dir + "out");
+  replace("discover:\n", "discover:\n  force_map: true\n");
+  FitJob job = ParseFitJob(ParseYamlText(text, "spring.yaml"), "spring.yaml", dir);
+  job.solver.progress = false;
+  std::ostringstream out;
+  const JobRun run = RunJob(job, true, out);
+  EXPECT_EQ(run.discovery.selected, std::vector<std::string>{"spring"});
+  EXPECT_EQ(run.discovery.verdict.verdict, "explained");
+  EXPECT_FALSE(run.force_map.tried) << run.force_map.reason;
+}
+
+}  // namespace
+}  // namespace axis
