@@ -51,6 +51,10 @@ Rk4StabilityLimit Rk4StabilityLimitOf(const AxisStructure& structure,
     for (int k = 0; k < kNumStates; ++k) {
       const std::complex<double> lambda = solver.eigenvalues()[k];
       if (std::abs(lambda) < 1e-6) continue;  // rigid-body modes: |R| = 1
+      // A growing mode (negative friction at rest, e.g. a learned force
+      // map's f(0) + F_c below zero) grows in the exact solution too: no
+      // step is "stable" and none is needed, RK4 follows the growth.
+      if (lambda.real() > 0.0) continue;
       double lo = 0.0, hi = 10.0 / std::abs(lambda);
       if (Amplification(hi * lambda) <= 1.0) continue;
       for (int it = 0; it < 100; ++it) {

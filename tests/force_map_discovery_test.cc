@@ -28,9 +28,15 @@ namespace {
 
 const std::string kRoot = PROJECT_SOURCE_DIR;
 
+// The committed job with the library cut to the load-side effects that can
+// stand in for these forces (the whole library, as committed, takes about
+// 120 s a case here: README "Force maps"; its campaigns measure it), at
+// most two of them: the step after the loop is what is tested.
 JobRun RunCase(const std::string& name) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/" + name + ".yaml");
   job.solver.progress = false;
+  job.discover.candidates = {"coulomb", "load_offset", "spring"};
+  job.discover.max_effects = 2;
   std::ostringstream out;
   return RunJob(job, true, out);
 }
@@ -109,9 +115,12 @@ void ExpectLearned(const std::string& name, const std::string& kind) {
   EXPECT_LT(SumOfSquaresAfter(map), SumOfSquaresBefore(map));
   EXPECT_TRUE(run.job.model.structure.force_map.enabled);
   EXPECT_FALSE(map.significant.empty());
-  // The learned load force along the visited states: its error is a small
-  // part of the missing force (the rest of the model, B_a included, takes
-  // part: the comparison is of the whole load force).
+  // The learned load force along the visited states accounts for at least
+  // 65 % of the missing force's RMS (the rest of the model, B_a included,
+  // takes part: the comparison is of the whole load force). Not a noise
+  // bound: the knots (about 2.5 cm apart over the patch) cannot follow the
+  // patch's 5 mm edges. Measured: 74 % (friction patch) and 86 % (velocity
+  // bump) here, 73 % and 86 % with the whole library.
   const ForceError f = CompareLoadForce(name, run);
   std::cout << name << ": missing force RMS " << f.truth_rms << " N, learned load force error RMS "
             << f.error_rms << " N\n" << FormatForceMap(map);
@@ -175,7 +184,7 @@ TEST(ForceMapDiscoveryTest, SpringStaysALibraryEffect) {
   replace("../../../testdata/discover/none_", dir + "spring_");
   replace("../../axes", kRoot + "/configs/axes");
   replace("../../../build/fit/discover_none", dir + "out");
-  replace("discover:\n", "discover:\n  force_map: true\n");
+  text.replace(text.find("discover:\n"), 10, "discover:\n  force_map: true\n");
   FitJob job = ParseFitJob(ParseYamlText(text, "spring.yaml"), "spring.yaml", dir);
   job.solver.progress = false;
   std::ostringstream out;
