@@ -423,6 +423,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
     exact += o.selected == config.truth_effects;
     as_expected += o.verdict == config.truth_verdict;
     s.explained += o.verdict == "explained";
+    if (!o.force_map.empty()) ++s.force_maps[o.force_map];
     s.incomplete += o.verdict == "incomplete";
     for (size_t k = 0; k < covered.size(); ++k) {
       const double truth = config.truth_values[k].second;
@@ -484,6 +485,12 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
   }
   out << "| verdicts | explained " << s.explained << ", incomplete " << s.incomplete
       << " |\n";
+  if (!s.force_maps.empty()) {
+    std::vector<std::string> kinds;
+    for (const auto& [kind, n] : s.force_maps) kinds.push_back(kind + " " + std::to_string(n));
+    out << "| force map kept (fit/force_map.h) | " << Join(kinds, ", ") << " of " << s.seeds
+        << " |\n";
+  }
   std::vector<double> seconds;
   for (const SeedOutcome& o : outcomes) seconds.push_back(o.seconds);
   std::sort(seconds.begin(), seconds.end());
@@ -547,6 +554,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
   if (s.covered_pooled.n) j["coverage_pooled"] = RateJson(s.covered_pooled);
   if (s.verdict_as_expected.n) j["verdict_as_expected"] = RateJson(s.verdict_as_expected);
   j["verdicts"] = {{"explained", s.explained}, {"incomplete", s.incomplete}};
+  j["force_maps"] = s.force_maps;
   WriteFileAtomic(dir + "/results.csv", csv.str());
   WriteFileAtomic(dir + "/summary.md", FormatCampaign(config, s, outcomes));
   WriteFileAtomic(dir + "/summary.json", j.dump(2) + "\n");

@@ -6,6 +6,7 @@
 #ifndef FIT_CAMPAIGN_H_
 #define FIT_CAMPAIGN_H_
 
+#include <map>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -131,6 +132,9 @@ struct CampaignSummary {
   Rate covered_pooled;
   Rate verdict_as_expected;   // only if truth_verdict is set
   int explained = 0, incomplete = 0;
+  // Seeds per force map kept ("force_map.x_friction" → count), with
+  // discover.force_map; empty without.
+  std::map<std::string, int> force_maps;
 };
 CampaignSummary Summarize(const CampaignConfig& config,
                           const std::vector<SeedOutcome>& outcomes);

@@ -769,28 +769,43 @@ nlohmann::json ForceMapToJson(const ForceMapReport& report) {
   return out;
 }
 
-void WriteForceMap(const std::string& dir, const ForceMapReport& report,
-                   std::vector<std::string>* warnings) {
-  if (report.curve.z.empty()) return;
-  const std::string csv_path = dir + "/force_map.csv";
+void WriteForceMapCsv(const std::string& path, const ForceMapReport& report) {
   std::ostringstream csv;
   csv << VariableName(report.map) << ",force,low,high\n" << std::setprecision(12);
   for (size_t q = 0; q < report.curve.z.size(); ++q) {
     csv << report.curve.z[q] << "," << report.curve.force[q] << "," << report.curve.low[q] << ","
         << report.curve.high[q] << "\n";
   }
-  WriteFileAtomic(csv_path, csv.str());
+  WriteFileAtomic(path, csv.str());
+}
+
+std::string ForceMapPlotScript(const ForceMapReport& report, const std::string& csv_path,
+                               const std::string& output, bool svg) {
+  std::ostringstream s;
+  if (svg) {
+    s << "set terminal svg size 1000,560 dynamic noenhanced font 'sans,12' background rgb "
+         "'white'; ";
+  } else {
+    s << "set terminal pngcairo size 1000,600 noenhanced; ";
+  }
+  s << "set output '" << output
+    << "'; set datafile separator ','; set grid; set key top left; set title 'learned force "
+    << FormText(report.map) << (report.kept ? "" : " (not kept)") << "'; set xlabel '"
+    << VariableName(report.map) << " (" << VariableUnit(report.map)
+    << ")'; set ylabel 'force (N)'; plot '" << csv_path
+    << "' every ::1 using 1:3:4 with filledcurves lc rgb '#c6dbef' title '95 % band', '"
+    << csv_path << "' every ::1 using 1:2 with lines lw 2 lc rgb '#08519c' title 'f', 0 with "
+    << "lines lc rgb 'gray' notitle";
+  return s.str();
+}
+
+void WriteForceMap(const std::string& dir, const ForceMapReport& report,
+                   std::vector<std::string>* warnings) {
+  if (report.curve.z.empty()) return;
+  const std::string csv_path = dir + "/force_map.csv";
+  WriteForceMapCsv(csv_path, report);
   const auto script = [&](const std::string& png) {
-    std::ostringstream s;
-    s << "set terminal pngcairo size 1000,600 noenhanced; set output '" << png
-      << "'; set datafile separator ','; set grid; set key top left; set title 'learned force "
-      << FormText(report.map) << (report.kept ? "" : " (not kept)") << "'; set xlabel '"
-      << VariableName(report.map) << " (" << VariableUnit(report.map)
-      << ")'; set ylabel 'force (N)'; plot '" << csv_path
-      << "' every ::1 using 1:3:4 with filledcurves lc rgb '#c6dbef' title '95 % band', '"
-      << csv_path << "' every ::1 using 1:2 with lines lw 2 lc rgb '#08519c' title 'f', 0 with "
-      << "lines lc rgb 'gray' notitle";
-    return s.str();
+    return ForceMapPlotScript(report, csv_path, png, false);
   };
   std::string warning;
   if (!RenderGnuplotPng(dir + "/force_map.png", script, "force map", &warning)) {

@@ -174,6 +174,19 @@ std::string FormatForceMap(const ForceMapReport& report);
 // "channels": [...], "verdict", "remains", "significant"}.
 nlohmann::json ForceMapToJson(const ForceMapReport& report);
 
+// Writes the curve of `report` as CSV: header "<x or v>,force,low,high",
+// one row per point. Throws std::runtime_error naming `path` if it cannot
+// be written.
+void WriteForceMapCsv(const std::string& path, const ForceMapReport& report);
+
+// The gnuplot commands that plot the curve from `csv_path` (written by
+// WriteForceMapCsv) into `output`: the force against its variable with the
+// 95 % band and the zero line, units on the axes. `svg`: gnuplot's svg
+// terminal (RenderGnuplotSvg, fit/report.h), else a 1000×600 PNG. Paths
+// must not contain a quote or a line break.
+std::string ForceMapPlotScript(const ForceMapReport& report, const std::string& csv_path,
+                               const std::string& output, bool svg);
+
 // Writes force_map.csv (z, force, low, high) and force_map.png (the force
 // with its 95 % band against the variable, gnuplot) into `dir` if a map was
 // refitted (report.curve not empty); gnuplot problems are appended to `warnings`. Throws

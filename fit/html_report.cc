@@ -186,6 +186,22 @@ class Plotter {
                       "modulo one revolution, ±1 standard error.");
   }
 
+  // A <figure> with the learned force of `map` and its band.
+  std::string ForceMap(const ForceMapReport& map) {
+    const std::string csv = Scratch("csv");
+    WriteForceMapCsv(csv, map);
+    std::string svg, warning;
+    const bool ok = RenderGnuplotSvg(
+        scratch_dir_,
+        [&](const std::string& output) { return ForceMapPlotScript(map, csv, output, true); },
+        "force map", NextPrefix(), &svg, &warning);
+    std::error_code ec;
+    fs::remove(csv, ec);
+    return Figure(ok, svg, warning,
+                  "The learned load force (N) with its pointwise 95 % band (Bayesian, of the "
+                  "penalised fit).");
+  }
+
  private:
   std::string Scratch(const char* extension) {
     return (fs::path(scratch_dir_) /
@@ -755,6 +771,7 @@ int HtmlReportPlotCount(const HtmlReportInput& input) {
   size_t n = input.result != nullptr ? input.result->experiments.size() : 0;
   if (input.diagnostics != nullptr) n += input.diagnostics->size();
   if (input.discovery != nullptr) n += input.discovery->final_diagnostics.size();
+  if (input.force_map != nullptr && !input.force_map->curve.z.empty()) ++n;
   return static_cast<int>(n);
 }
 
@@ -826,6 +843,11 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
   }
   if (input.discovery != nullptr) {
     sections.push_back({"discovery", "Model discovery", DiscoveryHtml(*input.discovery, &plotter)});
+  }
+  if (input.force_map != nullptr) {
+    std::string body = "<pre>" + HtmlEscape(FormatForceMap(*input.force_map)) + "</pre>\n";
+    if (!input.force_map->curve.z.empty()) body += plotter.ForceMap(*input.force_map);
+    sections.push_back({"force-map", "Force map", body});
   }
   if (input.published != nullptr) {
     sections.push_back({"published", "Published reference", PublishedHtml(*input.published)});

@@ -25,6 +25,7 @@
 
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
+#include "fit/force_map.h"
 #include "fit/fit_result.h"
 #include "fit/job.h"
 #include "fit/published.h"
@@ -43,6 +44,9 @@ struct HtmlReportInput {
   // the loop; without: of the fitted model).
   const std::vector<ChannelDiagnostics>* diagnostics = nullptr;
   const DiscoveryReport* discovery = nullptr;  // the loop ran
+  // The force-map step after the loop (fit/force_map.h), if the job asked
+  // for it: its text and, if a map was refitted, its plot.
+  const ForceMapReport* force_map = nullptr;
   const PublishedComparison* published = nullptr;  // the job has `published:`
   // How drive columns were read where the job did not say, one line each
   // ("<experiment>: <note>").
@@ -53,7 +57,8 @@ struct HtmlReportInput {
 
 // The number of inline SVG plots RenderHtmlReport draws when gnuplot works:
 // one per experiment of the result, one per channel of `diagnostics`, one
-// per channel of the discovery's final diagnostics.
+// per channel of the discovery's final diagnostics, one for a force map
+// with a curve.
 int HtmlReportPlotCount(const HtmlReportInput& input);
 
 // The page as text. Plots are drawn by gnuplot with temporary files in

@@ -53,7 +53,7 @@ TEST(CampaignTest, StrictLoader) {
   // outside_library: a generator-only force, and one the data contain.
   e = LoadError(ok + "truth: {outside_library: [coulomb]}\n");
   EXPECT_NE(e.find("truth.outside_library"), std::string::npos) << e;
-  EXPECT_NE(e.find("expected a generator-only force (friction_patch, quadratic_drag, position_ripple)"),
+  EXPECT_NE(e.find("expected a generator-only force (friction_patch, quadratic_drag, position_ripple, velocity_bump)"),
             std::string::npos) << e;
   e = LoadError(ok + "truth: {outside_library: [quadratic_drag]}\n");
   EXPECT_NE(e.find("a force that a generating config switches on (effects.quadratic_drag)"),

@@ -130,6 +130,10 @@ void ExpectLearned(const std::string& name, const std::string& kind) {
   const std::string dir = testing_files::TestTempDir() + "out";
   WriteJobRun(run, dir);
   EXPECT_TRUE(std::filesystem::exists(dir + "/force_map.csv"));
+  std::ifstream html_file(dir + "/report.html");
+  const std::string html((std::istreambuf_iterator<char>(html_file)), {});
+  EXPECT_NE(html.find("<section id=\"force-map\">"), std::string::npos);
+  EXPECT_NE(html.find("The learned load force (N)"), std::string::npos);
   const AxisConfig back = LoadAxisConfig(dir + "/model_discovered.yaml");
   EXPECT_EQ(back.structure.force_map.knots, run.job.model.structure.force_map.knots);
   EXPECT_EQ(back.params.f_map, run.job.model.params.f_map);
