@@ -121,12 +121,13 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
     if (c.discover) {
       DiscoverySettings settings = job.discover;
       settings.enabled = true;
-      const DiscoveryReport report = Discover(settings, &job, &result, nullptr);
-      o.selected = report.selected;
+      DiscoveryReport report = Discover(settings, &job, &result, nullptr);
       if (settings.force_map) {
         const ForceMapReport map = AddForceMap(settings, report, &job, &result, nullptr);
         if (map.kept) o.force_map = "force_map." + map.kind;
+        ApplyRemovals(map, &report);
       }
+      o.selected = report.selected;
       for (const DiscoveryStep& s : report.steps) {
         if (!s.removal && s.kept && o.first_added.empty()) o.first_added = s.effect;
       }

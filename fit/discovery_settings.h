@@ -25,7 +25,8 @@ struct DiscoverySettings {
   std::vector<std::string> candidates;  // restrict the list (empty: all)
   // The force-map step after the loop (fit/force_map.h, issue 15): when
   // the verdict is `incomplete` with binned structure against x or v, learn
-  // the missing force as a spline of `force_map_knots` knots.
+  // the missing force as a spline of about `force_map_knots` knots
+  // (8..kMaxForceMapKnots: half at quantiles, half uniform, merged).
   bool force_map = false;
   int force_map_knots = 24;
 };

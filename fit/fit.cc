@@ -1400,6 +1400,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     if (settings.force_map) {
       stage("force map");
       run.force_map = AddForceMap(settings, run.discovery, &job, &result, &out);
+      ApplyRemovals(run.force_map, &run.discovery);
       out << "\n" << FormatForceMap(run.force_map);
     }
     out << "\nAfter discovery:";

@@ -430,6 +430,10 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
     return report;
   }
   ApplyEstimates(*result, job);
+  // The library model's BIC from the same residuals as the map's (Assess:
+  // the experiments' declared initial states; FitResult::bic uses fitted
+  // ones where a job estimates them).
+  report.bic_before = Assess(*job).bic;
   const Visited visited = VisitedValues(*job);
   std::vector<Candidate> candidates;
   const std::vector<double> x_knots = MapKnots(visited.x, settings.force_map_knots);
@@ -629,6 +633,15 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
   }
   report.seconds = SecondsSince(start);
   return report;
+}
+
+void ApplyRemovals(const ForceMapReport& report, DiscoveryReport* loop) {
+  for (const ForceMapRemoval& r : report.removals) {
+    if (!r.removed) continue;
+    loop->selected.erase(std::remove(loop->selected.begin(), loop->selected.end(), r.effect),
+                         loop->selected.end());
+    loop->removed.push_back(r.effect);
+  }
 }
 
 std::string FormatForceMap(const ForceMapReport& report) {

@@ -35,9 +35,10 @@
 
 namespace axis {
 
-// The roughness matrix D ((K−2) × K, K = knots.size() ≥ 3): row j − 1 is the
-// divided second difference at knot j times the mean knot spacing squared,
-// i.e. f_{j−1} − 2·f_j + f_{j+1} on uniform knots. Knots as
+// The roughness matrix D ((K−2) × K, K = knots.size() ≥ 3): row j − 1 is
+// twice the divided second difference f[t_{j−1}, t_j, t_{j+1}] times the
+// mean knot spacing squared, i.e. f_{j−1} − 2·f_j + f_{j+1} on uniform
+// knots. Knots as
 // ForceMapKnotsProblem accepts; never throws.
 Eigen::MatrixXd SecondDifferences(const std::vector<double>& knots);
 
@@ -72,7 +73,7 @@ class RoughnessCost : public ceres::CostFunction {
                 double** jacobians) const override;
 
  private:
-  Eigen::MatrixXd d_;             // √λ·D, (K−2) × K
+  Eigen::MatrixXd d_;             // [√λ·D; √α·C], (K − 2 + c) × K
   std::vector<int> theta_index_;  // per knot: index in θ, −1 if fixed
   std::vector<double> fixed_;     // per knot: the value when fixed (N)
   const ParameterMap& map_;
@@ -130,7 +131,10 @@ struct ForceMapReport {
   double lambda = 0.0;  // the chosen λ, 1/N²
   double edf = 0.0;     // effective parameters at the refit
   double s2 = 0.0;      // data Σr²/(m − edf)
-  double bic_before = 0.0, bic_after = 0.0;  // BIC after: Σr² + edf·ln(m)
+  // BIC of the library model (Σr² + n·ln(m)) and of the model with the map
+  // (Σr² + edf·ln(m)), both from the residuals at the experiments' declared
+  // initial states (StackedJacobian, fit/discovery.h).
+  double bic_before = 0.0, bic_after = 0.0;
   std::vector<ChannelChange> channels;
   // The verdict with the map in the model (JudgeResiduals of its
   // diagnostics); the library's own stays DiscoveryReport::verdict.
@@ -149,7 +153,7 @@ struct ForceMapReport {
 // at the verdict's threshold. Then: the score tests of f(x), f(x)·sgn_ε(v)
 // and f(v) (about settings.force_map_knots knots over the values the fitted
 // experiments visit, half at their quantiles, half uniform);
-// every form significant at alpha/3 refitted at a small λ (concurrently),
+// every form significant at alpha/(number of forms) refitted at a small λ (concurrently),
 // the lowest BIC (edf) wins; for it, the λ of the lowest linearised BIC over
 // 10⁻⁶..10² times the mean information per knot, refitted there; kept if
 // its BIC is below the library model's. With the map kept, a backward pass
@@ -159,6 +163,11 @@ struct ForceMapReport {
 // point fails.
 ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryReport& loop,
                            FitJob* job, FitResult* result, std::ostream* progress);
+
+// Moves the effects the step's backward pass removed from loop->selected
+// to loop->removed, so that `selected` names the final model's effects.
+// Never throws.
+void ApplyRemovals(const ForceMapReport& report, DiscoveryReport* loop);
 
 // The step as text for the terminal and params.md: why, the score tests,
 // the λ grid, the before/after table, the verdict and where the force is
@@ -171,7 +180,7 @@ std::string FormatForceMap(const ForceMapReport& report);
 // "removed"}], "kind", "variable",
 // "friction", "knots", "values", "std_errors", "lambda", "edf", "s2",
 // "bic_before", "bic_after", "grid": [{"lambda", "edf", "chi2", "bic"}],
-// "channels": [...], "verdict", "remains", "significant"}.
+// "channels": [...], "verdict", "remains", "significant", "seconds"}.
 nlohmann::json ForceMapToJson(const ForceMapReport& report);
 
 // Writes the curve of `report` as CSV: header "<x or v>,force,low,high",

@@ -604,7 +604,7 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
           map.Choice("force_map", {"false", "true"}, job.discover.force_map ? "true" : "false") ==
           "true";
       job.discover.force_map_knots = static_cast<int>(map.Integer(
-          "force_map_knots", job.discover.force_map_knots, kMinForceMapKnots, kMaxForceMapKnots));
+          "force_map_knots", job.discover.force_map_knots, 8, kMaxForceMapKnots));
       if (const YAML::Node list = map.Optional("candidates")) {
         if (!list.IsSequence()) {
           ThrowConfigError(path, list, "discover.candidates",

@@ -467,7 +467,7 @@ void SetParam(AxisConfig* config, const std::string& name, double value,
     }
     throw std::invalid_argument(where + ": expected a parameter name of the "
                                 "model (" + names + ", tau_d.<channel>, "
-                                "b.<channel>), got '" + name + "'");
+                                "b.<channel>, f_map.<k>), got '" + name + "'");
   }
   *field = value;
 }

@@ -72,7 +72,8 @@ std::string GeneratorOnlyEffectNameList();
 
 // The effects switched on in `s`, as the discovery loop names them: the
 // DynamicEffectTable names in its order, then sensor_delay.<channel> and
-// sensor_bias.<channel> in channel order. Never throws.
+// sensor_bias.<channel> in channel order, then force_map.<kind> (x,
+// x_friction or v; sim/force_map.h). Never throws.
 std::vector<std::string> EnabledEffectNames(const AxisStructure& s);
 
 // Whether `name` names one effect the way the discovery loop does: a

@@ -49,12 +49,17 @@ Rk4StabilityLimit Rk4StabilityLimitOf(const AxisStructure& structure,
     }
     const Eigen::EigenSolver<Eigen::Matrix<double, kNumStates, kNumStates>> solver(jac, false);
     for (int k = 0; k < kNumStates; ++k) {
-      const std::complex<double> lambda = solver.eigenvalues()[k];
+      std::complex<double> lambda = solver.eigenvalues()[k];
       if (std::abs(lambda) < 1e-6) continue;  // rigid-body modes: |R| = 1
       // A growing mode (negative friction at rest, e.g. a learned force
-      // map's f(0) + F_c below zero) grows in the exact solution too: no
-      // step is "stable" and none is needed, RK4 follows the growth.
-      if (lambda.real() > 0.0) continue;
+      // map's f(0) + F_c below zero) grows in the exact solution too. A
+      // real one needs no step limit (RK4 follows the growth); an
+      // oscillating one still limits the step as its undamped twin i·Im λ
+      // does (RK4 is stable on the imaginary axis up to |hλ| = 2√2).
+      if (lambda.real() > 0.0) {
+        if (std::abs(lambda.imag()) < 1e-6 * std::abs(lambda)) continue;
+        lambda = std::complex<double>(0.0, lambda.imag());
+      }
       double lo = 0.0, hi = 10.0 / std::abs(lambda);
       if (Amplification(hi * lambda) <= 1.0) continue;
       for (int it = 0; it < 100; ++it) {

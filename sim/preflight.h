@@ -31,7 +31,8 @@ struct Rk4StabilityLimit {
 
 // The largest RK4 step (s) stable at both linearisation points above, found
 // by bisection on |R(hλ)| ≤ 1 for every eigenvalue with |λ| > 1e-6 1/s
-// and Re λ ≤ 0 (a growing mode grows in the exact solution too).
+// (a growing real mode is skipped: it grows in the exact solution too; a
+// growing oscillation counts as its undamped twin i·Im λ).
 // Never throws; non-finite parameters give a NaN max_step.
 Rk4StabilityLimit Rk4StabilityLimitOf(const AxisStructure& structure,
                                       const AxisParams<double>& params);

@@ -16,6 +16,7 @@
 #include "sim/axis_model.h"
 #include "sim/config.h"
 #include "sim/force_map.h"
+#include "sim/preflight.h"
 #include "sim/yaml_util.h"
 
 namespace axis {
@@ -138,6 +139,24 @@ TEST(ForceMapModelTest, JetDerivativesMatchFiniteDifferences) {
     EXPECT_NEAR(dyj[1].v[5], fd, 1e-6 * (1 + std::abs(fd))) << "form " << form;
     EXPECT_NEAR(dyj[1].a, accel(p, y), 1e-12);
   }
+}
+
+// A learned friction below zero at rest (f(v) falling through v = 0) makes
+// the rest state a growing real mode; the RK4 step check must not demand a
+// vanishing step for it (it did: 3.8e-21 s for a map fitted on the friction
+// patch case).
+TEST(ForceMapModelTest, GrowingRealModeSetsNoStepLimit) {
+  AxisStructure s;
+  s.coupling = Coupling::kRigid;
+  s.amplifier = Amplifier::kForceSource;
+  s.force_map = {true, ForceMapVariable::kV, false, {-0.2, -0.05, 0.05, 0.2}};
+  AxisParams<double> p;
+  p.g_F = 10.0;
+  p.B_a = 0.0;
+  const double values[] = {10.0, 5.0, -5.0, -10.0};  // slope −100 N·s/m at rest
+  for (int k = 0; k < 4; ++k) p.f_map[k] = values[k];
+  const Rk4StabilityLimit limit = Rk4StabilityLimitOf(s, p);
+  EXPECT_FALSE(limit.max_step < 1.0) << limit.max_step;  // +inf: nothing limits it
 }
 
 AxisConfig ConfigWithMap(const std::string& map_yaml) {
