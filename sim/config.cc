@@ -144,11 +144,10 @@ void ParseForceMap(YamlMap& map, AxisConfig* config) {
                      "false with variable v (f(v) is already a friction law)", "true");
   }
   f.knots = NumberList(map, "knots");
-  const std::string problem = ForceMapKnotsProblem(f.knots);
-  if (!problem.empty()) {
-    const size_t got = problem.find(", got ");
-    ThrowConfigError(map.file(), map.Optional("knots"), map.KeyPath("knots"),
-                     problem.substr(9, got - 9), problem.substr(got + 6));
+  const KnotsProblem problem = ForceMapKnotsProblem(f.knots);
+  if (!problem.ok()) {
+    ThrowConfigError(map.file(), map.Optional("knots"), map.KeyPath("knots"), problem.expected,
+                     problem.got);
   }
   const std::vector<double> values = NumberList(map, "values");
   if (values.size() != f.knots.size()) {

@@ -10,25 +10,28 @@ std::string ForceMapKind(const ForceMap& map) {
   return map.friction ? "x_friction" : "x";
 }
 
-std::string ForceMapKnotsProblem(const std::vector<double>& knots) {
-  std::ostringstream out;
+KnotsProblem ForceMapKnotsProblem(const std::vector<double>& knots) {
+  const auto text = [](double x) {
+    std::ostringstream out;
+    out << x;
+    return out.str();
+  };
   const int n = static_cast<int>(knots.size());
   if (n < kMinForceMapKnots || n > kMaxForceMapKnots) {
-    out << "expected " << kMinForceMapKnots << " to " << kMaxForceMapKnots << " knots, got " << n;
-    return out.str();
+    return {std::to_string(kMinForceMapKnots) + " to " + std::to_string(kMaxForceMapKnots) +
+                " knots",
+            std::to_string(n)};
   }
   for (int k = 0; k < n; ++k) {
     if (!std::isfinite(knots[k])) {
-      out << "expected finite knots, got " << knots[k] << " (knot " << k << ")";
-      return out.str();
+      return {"finite knots", text(knots[k]) + " (knot " + std::to_string(k) + ")"};
     }
     if (k > 0 && !(knots[k] > knots[k - 1])) {
-      out << "expected strictly increasing knots, got " << knots[k] << " after "
-          << knots[k - 1] << " (knot " << k << ")";
-      return out.str();
+      return {"strictly increasing knots", text(knots[k]) + " after " + text(knots[k - 1]) +
+                                               " (knot " + std::to_string(k) + ")"};
     }
   }
-  return "";
+  return {};
 }
 
 }  // namespace axis

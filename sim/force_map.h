@@ -50,10 +50,15 @@ struct ForceMap {
 // ("force_map.x_friction"). Never throws.
 std::string ForceMapKind(const ForceMap& map);
 
-// "" if `knots` can carry a map (count within kMinForceMapKnots..
-// kMaxForceMapKnots, finite, strictly increasing), else what is wrong, as
-// "expected …, got …" text. Never throws.
-std::string ForceMapKnotsProblem(const std::vector<double>& knots);
+// What is wrong with `knots` for a map, in the parts of a config error
+// "expected …, got …"; both empty if they can carry one (count within
+// kMinForceMapKnots..kMaxForceMapKnots, finite, strictly increasing).
+// Never throws.
+struct KnotsProblem {
+  std::string expected, got;
+  bool ok() const { return expected.empty(); }
+};
+KnotsProblem ForceMapKnotsProblem(const std::vector<double>& knots);
 
 // The second derivatives m_k of the natural cubic spline through
 // (knots[k], values[k]), k < K = knots.size() (m_0 = m_{K−1} = 0): the

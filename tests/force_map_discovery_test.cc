@@ -92,15 +92,10 @@ ForceError CompareLoadForce(const std::string& name, const JobRun& run) {
   return {std::sqrt(truth2 / n), std::sqrt(error2 / n)};
 }
 
-double SumOfSquaresBefore(const ForceMapReport& r) {
+// Σ RMS² over the report's channels, before (library) or after (map).
+double SumOfSquares(const ForceMapReport& r, double ChannelChange::*rms) {
   double s = 0.0;
-  for (const ChannelChange& c : r.channels) s += c.rms_before * c.rms_before;
-  return s;
-}
-
-double SumOfSquaresAfter(const ForceMapReport& r) {
-  double s = 0.0;
-  for (const ChannelChange& c : r.channels) s += c.rms_after * c.rms_after;
+  for (const ChannelChange& c : r.channels) s += (c.*rms) * (c.*rms);
   return s;
 }
 
@@ -112,7 +107,8 @@ void ExpectLearned(const std::string& name, const std::string& kind) {
   ASSERT_TRUE(map.kept) << FormatForceMap(map);
   EXPECT_EQ(map.kind, kind) << FormatForceMap(map);
   EXPECT_LT(map.bic_after, map.bic_before);
-  EXPECT_LT(SumOfSquaresAfter(map), SumOfSquaresBefore(map));
+  EXPECT_LT(SumOfSquares(map, &ChannelChange::rms_after),
+            SumOfSquares(map, &ChannelChange::rms_before));
   EXPECT_TRUE(run.job.model.structure.force_map.enabled);
   EXPECT_FALSE(map.significant.empty());
   // The learned load force along the visited states accounts for at least
@@ -155,18 +151,23 @@ TEST(ForceMapDiscoveryTest, VelocityBumpIsLearnedAsAFunctionOfTheVelocity) {
   ExpectLearned("velocity_bump", "v");
 }
 
-// A library effect as the truth: the loop explains the data with it and no
-// map is fitted.
+// A library effect as the truth: the loop explains the data with it alone
+// and no map is fitted.
+void ExpectLibraryEffectWins(FitJob job, const std::string& effect) {
+  job.solver.progress = false;
+  std::ostringstream out;
+  const JobRun run = RunJob(job, true, out);
+  EXPECT_EQ(run.discovery.selected, std::vector<std::string>{effect});
+  EXPECT_EQ(run.discovery.verdict.verdict, "explained");
+  EXPECT_FALSE(run.force_map.tried) << run.force_map.reason;
+  EXPECT_FALSE(run.job.model.structure.force_map.enabled);
+}
+
 TEST(ForceMapDiscoveryTest, CoulombFrictionStaysALibraryEffect) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/coulomb.yaml");
   job.solver.progress = false;
   job.discover.force_map = true;
-  std::ostringstream out;
-  const JobRun run = RunJob(job, true, out);
-  EXPECT_EQ(run.discovery.selected, std::vector<std::string>{"coulomb"});
-  EXPECT_EQ(run.discovery.verdict.verdict, "explained");
-  EXPECT_FALSE(run.force_map.tried) << run.force_map.reason;
-  EXPECT_FALSE(run.job.model.structure.force_map.enabled);
+  ExpectLibraryEffectWins(job, "coulomb");
 }
 
 TEST(ForceMapDiscoveryTest, SpringStaysALibraryEffect) {
@@ -191,11 +192,7 @@ TEST(ForceMapDiscoveryTest, SpringStaysALibraryEffect) {
   text.replace(text.find("discover:\n"), 10, "discover:\n  force_map: true\n");
   FitJob job = ParseFitJob(ParseYamlText(text, "spring.yaml"), "spring.yaml", dir);
   job.solver.progress = false;
-  std::ostringstream out;
-  const JobRun run = RunJob(job, true, out);
-  EXPECT_EQ(run.discovery.selected, std::vector<std::string>{"spring"});
-  EXPECT_EQ(run.discovery.verdict.verdict, "explained");
-  EXPECT_FALSE(run.force_map.tried) << run.force_map.reason;
+  ExpectLibraryEffectWins(job, "spring");
 }
 
 }  // namespace

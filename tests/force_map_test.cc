@@ -84,11 +84,11 @@ TEST(ForceMapSplineTest, ReproducesAStraightLineExactly) {
 }
 
 TEST(ForceMapSplineTest, KnotsAreChecked) {
-  EXPECT_EQ(ForceMapKnotsProblem({0, 1, 2, 3}), "");
-  EXPECT_NE(ForceMapKnotsProblem({0, 1, 2}), "");
-  EXPECT_NE(ForceMapKnotsProblem({0, 1, 1, 3}), "");
-  EXPECT_NE(ForceMapKnotsProblem({0, 1, NAN, 3}), "");
-  EXPECT_NE(ForceMapKnotsProblem(std::vector<double>(kMaxForceMapKnots + 1, 0.0)), "");
+  EXPECT_TRUE(ForceMapKnotsProblem({0, 1, 2, 3}).ok());
+  EXPECT_EQ(ForceMapKnotsProblem({0, 1, 2}).got, "3");
+  EXPECT_EQ(ForceMapKnotsProblem({0, 1, 1, 3}).expected, "strictly increasing knots");
+  EXPECT_EQ(ForceMapKnotsProblem({0, 1, NAN, 3}).expected, "finite knots");
+  EXPECT_FALSE(ForceMapKnotsProblem(std::vector<double>(kMaxForceMapKnots + 1, 0.0)).ok());
 }
 
 // The map's force in AxisDerivative: Jet derivatives with respect to the
