@@ -130,6 +130,7 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
       o.selected = report.selected;
       for (const DiscoveryStep& s : report.steps) {
         if (!s.removal && s.kept && o.first_added.empty()) o.first_added = s.effect;
+        if (!s.retried.empty()) o.retried.push_back(s.effect);
       }
       verdict = report.verdict;
     } else {
@@ -173,6 +174,7 @@ nlohmann::json SeedOutcomeToJson(const SeedOutcome& o) {
           {"error", o.error},
           {"selected", o.selected},
           {"first_added", o.first_added},
+          {"retried", o.retried},
           {"verdict", o.verdict},
           {"s2", JsonNumber(o.s2)},
           {"force_map", o.force_map},
@@ -188,6 +190,7 @@ SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& wher
   o.error = JsonStringField(j, "error", where);
   o.selected = JsonStrings(j, "selected", where);
   o.first_added = JsonStringField(j, "first_added", where);
+  o.retried = JsonStrings(j, "retried", where);
   o.verdict = JsonStringField(j, "verdict", where);
   o.s2 = JsonNumberField(j, "s2", where);
   o.force_map = JsonStringField(j, "force_map", where);

@@ -69,6 +69,9 @@ struct SeedOutcome {
   std::string error;                   // non-empty: the seed failed (message)
   std::vector<std::string> selected;   // final selected effects, sorted
   std::string first_added;             // the first effect the loop kept, or ""
+  // Effects whose refit failed from the score step and was retried from a
+  // tenth of it (DiscoveryStep::retried), in the order of the steps.
+  std::vector<std::string> retried;
   std::string verdict;                 // "explained" / "incomplete"
   double s2 = 0.0;                     // residual variance in σ units
   // With discover.force_map (fit/force_map.h): the map the step kept

@@ -498,7 +498,8 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
     report.forms.push_back(form);
     if (progress) {
       *progress << "force map: " << form.name << " at lambda " << jobs[f].force_map_lambda
-                << ": BIC " << form.bic << ", edf " << form.edf << "\n";
+                << ": BIC " << form.bic << ", edf " << form.edf << " (" << Number(form.seconds, 3)
+                << " s)\n";
     }
   }
   if (winner == jobs.size()) {
@@ -540,7 +541,12 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
       FitJob refit_job = map_job;
       refit_job.force_map_lambda = lambda;
       refit_job.solver.first_horizon = 0.0;  // next to its optimum
+      const Clock::time_point refit_start = Clock::now();
       FitResult refit = FitParameters(refit_job, nullptr);
+      if (progress) {
+        *progress << "force map: refit at lambda " << lambda << " (" << Number(SecondsSince(refit_start), 3)
+                  << " s)\n";
+      }
       if (std::isfinite(refit.final_cost)) {
         ApplyEstimates(refit, &refit_job);
         refit_job.solver.first_horizon = map_job.solver.first_horizon;
@@ -571,7 +577,9 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
       if (effect == "coulomb" && map_job.model.structure.effects.stribeck) continue;
       FitJob without = JobWithout(map_job, effect);
       TransferToMap(effect, &without);
+      const Clock::time_point refit_start = Clock::now();
       FitResult refit = FitParameters(without, nullptr);
+      const double refit_seconds = SecondsSince(refit_start);
       ForceMapRemoval removal;
       removal.effect = effect;
       removal.bic_with = at.bic;
@@ -589,7 +597,8 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
       }
       if (progress) {
         *progress << "force map: without " << effect << ": BIC " << removal.bic_with << " -> "
-                  << removal.bic_without << (removal.removed ? " (removed)" : " (stays)") << "\n";
+                  << removal.bic_without << (removal.removed ? " (removed" : " (stays") << ", "
+                  << Number(refit_seconds, 3) << " s)\n";
       }
       report.removals.push_back(removal);
     }

@@ -256,6 +256,7 @@ TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
   o.seed = 17;
   o.selected = {"coulomb", "load_offset"};
   o.first_added = "coulomb";
+  o.retried = {"load_offset"};
   o.verdict = "explained";
   o.s2 = 1.0 / 3.0;
   o.force_map = "force_map.x_friction";
@@ -269,6 +270,7 @@ TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
   EXPECT_EQ(back.error, "");
   EXPECT_EQ(back.selected, o.selected);
   EXPECT_EQ(back.first_added, "coulomb");
+  EXPECT_EQ(back.retried, o.retried);
   EXPECT_EQ(back.verdict, "explained");
   EXPECT_EQ(back.s2, o.s2);
   EXPECT_EQ(back.force_map, "force_map.x_friction");

@@ -28,7 +28,8 @@ const std::map<std::string, double> kTruth = {
 // "_clean" noise-free), with the given initial values.
 std::string PaperJob(const std::string& suffix,
                      const std::map<std::string, double>& initial,
-                     int starts = 0, int seed = 1, double window = 0.0) {
+                     int starts = 0, int seed = 1, double window = 0.0,
+                     int probe_rounds = 8) {
   std::ostringstream y;
   y << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
     << "free:\n"
@@ -47,7 +48,7 @@ std::string PaperJob(const std::string& suffix,
     if (window > 0.0) y << "    window: [0, " << window << "]\n";
   }
   y << "solver: {starts: " << starts << ", seed: " << seed
-    << ", threads: 2, max_iterations: 200}\n";
+    << ", threads: 2, max_iterations: 200, probe_rounds: " << probe_rounds << "}\n";
   const std::string path = axis::testing_files::TestTempDir() + "paper_job_" +
                            std::to_string(std::hash<std::string>()(y.str())) + ".yaml";
   std::ofstream(path) << y.str();
@@ -87,10 +88,13 @@ FitResult Fit(const std::string& job_path,
 // the issue's requirement. Every parameter starts a factor of 2 off,
 // alternating direction, both ways. From the second start a single LM run
 // ends in a T_p local minimum (T_p ≈ 0.018 s): two extra random starts
-// (multi-start, allowed by the issue) find the truth.
+// (multi-start, allowed by the issue) find the truth. The optimum check
+// (solver.probe_rounds) is off: the starts alone must reach it (with the
+// check, the test took 34 s of the suite instead of 8 s).
 TEST(FitTest, NoiseFreeRecoveryFromFactorTwoAboveAndBelow) {
   for (const auto& start : {Scaled(2.0, 0.5), Scaled(0.5, 2.0)}) {
-    const FitResult r = Fit(PaperJob("_clean", start, /*starts=*/2),
+    const FitResult r = Fit(PaperJob("_clean", start, /*starts=*/2, 1, 0.0,
+                                     /*probe_rounds=*/0),
                             UncertaintySettings::Method::kGaussNewton);
     for (const auto& [name, truth] : kTruth) {
       const ParameterEstimate& e = Estimate(r, name);
@@ -112,7 +116,9 @@ TEST(FitTest, NoiseFreeRecoveryFromFactorTwoAboveAndBelow) {
 // drawn by the fit (with one, 9 of 10 seeds reached the truth: not enough);
 // the two lowest after the shorter horizons fit the whole record
 // (solver.finalists). Over seeds 1–10 (commit a113df5) 10 of 10 reached it;
-// larger rates are the optimum campaign's (scripts/optimum-campaign).
+// larger rates are the optimum campaign's (scripts/optimum-campaign). The
+// optimum check is off (probe_rounds: 0), so the starts alone are tested:
+// 5 of 5 without it too (28 s alone instead of about 60 s with it).
 TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
   const int kSeeds = 5;
   int reached = 0;
@@ -127,7 +133,8 @@ TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
     for (const auto& [name, b] : bounds) {
       start[name] = std::exp(UniformReal(std::log(b.first), std::log(b.second), rng));
     }
-    const FitResult r = Fit(PaperJob("_clean", start, /*starts=*/2, seed),
+    const FitResult r = Fit(PaperJob("_clean", start, /*starts=*/2, seed, 0.0,
+                                     /*probe_rounds=*/0),
                             UncertaintySettings::Method::kGaussNewton);
     bool ok = true;
     for (const auto& [name, truth] : kTruth) {
