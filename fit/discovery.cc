@@ -78,6 +78,8 @@ AxisStructure WithEffect(AxisStructure s, const Candidate& c, bool on = true) {
   return s;
 }
 
+}  // namespace
+
 // The candidate's Jacobian columns (m × k), stacked like StackedJacobian.
 Eigen::MatrixXd CandidateColumns(const FitJob& job, const Candidate& c, int m) {
   Eigen::MatrixXd out(m, c.columns.size());
@@ -107,6 +109,8 @@ Eigen::MatrixXd CandidateColumns(const FitJob& job, const Candidate& c, int m) {
   }
   return out;
 }
+
+namespace {
 
 // Orthonormal basis of the columns of a (rank-revealing QR; empty if zero).
 Eigen::MatrixXd Basis(const Eigen::MatrixXd& a) {
@@ -161,6 +165,8 @@ std::string StartLabel(const Candidate& c, size_t start) {
   return out.str();
 }
 
+}  // namespace
+
 // Switches candidate `c` on in `job` and frees its parameters, starting from
 // the score step; `start` < StartsOf(c) picks the start.
 void AddEffect(const Candidate& c, const Score& s, size_t start, FitJob* job) {
@@ -201,6 +207,8 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, FitJob* job) {
     job->free.push_back(f);
   }
 }
+
+namespace {
 
 // The index of the fit with the lowest finite BIC in `fits` among those
 // that ran to the whole record (else among those stopped early, whose BIC
@@ -797,6 +805,46 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
           record.starts = starts.str();
         }
         if (best == n) best = 0;  // none finite: report the first
+        // An added parameter that ended on a bound of its search interval
+        // (Linear: the score step ± 100 times it + 1): the step was too
+        // small a guide (the base fit had absorbed most of the effect:
+        // a record in motion, Coulomb friction's step 0.11 N where the
+        // truth is 40 N, B_a at 455 instead of 200 N·s/m), so that side is
+        // widened 100-fold and the refit continued from where it ended.
+        if (std::isfinite(own[best].bic) && own[best].abandoned_horizon == 0.0) {
+          FitJob wider = q.starts[best];
+          bool widened = false;
+          for (FreeParameter& f : wider.free) {
+            if (f.log || std::find(q.names.begin(), q.names.end(), f.name) == q.names.end() ||
+                f.name == "phi_cog" || f.name == "Delta_B" || f.name == "Delta_M") {
+              continue;  // log-scaled (bounds of their own) or a physical bound
+            }
+            for (const ParameterEstimate& e : own[best].parameters) {
+              if (e.name != f.name) continue;
+              const double width = f.upper - f.lower;
+              if (e.value >= f.upper - 1e-6 * width) {
+                f.upper += 100.0 * width;
+                widened = true;
+              } else if (e.value <= f.lower + 1e-6 * width) {
+                f.lower -= 100.0 * width;
+                widened = true;
+              }
+            }
+          }
+          if (widened) {
+            ApplyEstimates(own[best], &wider);
+            const Clock::time_point again = Clock::now();
+            FitResult further = FitParameters(wider, nullptr);
+            record.seconds += std::chrono::duration<double>(Clock::now() - again).count();
+            if (std::isfinite(further.bic) && further.bic < own[best].bic) {
+              own[best] = std::move(further);
+              q.starts[best] = std::move(wider);
+              record.retried += std::string(record.retried.empty() ? "" : "; ") +
+                                "an added parameter ended on its search bound; refitted "
+                                "with that bound widened 100-fold";
+            }
+          }
+        }
         FitResult& refit = own[best];
         FitJob& refit_job = q.starts[best];
         record.effect = q.candidate.name;

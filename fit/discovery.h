@@ -128,6 +128,18 @@ void ApplyEstimates(const FitResult& result, FitJob* job);
 // a simulation fails.
 void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac);
 
+// The candidate's Jacobian columns (m × number of columns) at the job's
+// model values, stacked like StackedJacobian (m its number of rows): the
+// derivative of the σ-weighted residuals with respect to each column's
+// parameter in its own unit, the effect switched on at the column's
+// settings. A column whose simulation fails is zero. Never throws.
+Eigen::MatrixXd CandidateColumns(const FitJob& job, const Candidate& c, int m);
+
+// Switches candidate `c` on in `job` and frees its parameters, starting from
+// the score step of `s`; `start` < the number of starts of `c` (Stribeck:
+// one per v_st of its grid; 1 for the others) picks the start.
+void AddEffect(const Candidate& c, const Score& s, size_t start, FitJob* job);
+
 struct DiscoveryStep {
   std::string effect;
   std::vector<ParameterEstimate> parameters;  // the effect's fitted parameters

@@ -1426,6 +1426,11 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     }
   }
   ResidualBootstrap(job, &result, &out);
+  if (job.design.enabled) {
+    stage("designing the next experiment");
+    run.proposal = ProposeExperiment(job, result, job.solver.progress ? &out : nullptr);
+    out << "\n" << FormatProposal(run.proposal);
+  }
   out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
   out << "cost " << result.initial_cost << " -> " << result.final_cost
       << (result.converged ? " (converged)" : " (NOT converged)") << ", "
@@ -1464,6 +1469,10 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
       extra.json["force_map"] = ForceMapToJson(run.force_map);
     }
   }
+  if (job.design.enabled) {
+    extra.markdown += "\n## Next experiment\n\n```\n" + FormatProposal(run.proposal) + "```\n";
+    extra.json["next_experiment"] = ProposalToJson(run.proposal);
+  }
   run.job = std::move(job);
   run.result = std::move(result);
   return run;
@@ -1500,7 +1509,14 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
       html.files.push_back("force_map.png");
     }
   }
+  if (run.proposal.proposed) {
+    for (const char* name : {"experiment_proposed.yaml", "experiment_proposed_input.csv",
+                             "experiment_proposed_model.yaml"}) {
+      html.files.push_back(name);
+    }
+  }
   WriteHtmlReport(dir + "/report.html", html, warnings);
+  WriteProposal(dir, run.job, run.result, run.proposal);
   if (run.discovered) {
     WriteDiagnostics(dir, run.diagnostics, warnings);
     WriteForceMap(dir, run.force_map, warnings);

@@ -12,6 +12,7 @@
 
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
+#include "fit/experiment_design.h"
 #include "fit/force_map.h"
 #include "fit/fit_result.h"
 #include "fit/job.h"
@@ -83,6 +84,9 @@ struct JobRun {
   // If discovered with discover.force_map: the force-map step after the
   // loop (fit/force_map.h); with a map kept, `job` and `result` hold it.
   ForceMapReport force_map;
+  // With `design:` (fit/experiment_design.h): the next experiment, at the
+  // final estimates.
+  ExperimentProposal proposal;
   bool has_published = false;     // the job has `published:`
   PublishedComparison published;  // if has_published
   // What params.md and report.json add to the fit's own tables: how input

@@ -254,24 +254,42 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
   // protocol: "the first 20 samples may be used to initialise the state").
   std::string init = "rest";
   long init_samples = 0;
-  if (const YAML::Node node = map.Optional("initial_state"); node && node.IsMap()) {
-    YamlMap spec(node, map.file(), map.KeyPath("initial_state."));
+  const YAML::Node init_node = map.Optional("initial_state");
+  bool declared_state = false;
+  if (init_node && init_node.IsMap()) {
+    for (const auto& entry : init_node) {
+      const std::string key = entry.first.as<std::string>();
+      declared_state = declared_state || (key.size() == 2 && key[0] == 'y');
+    }
+  }
+  if (declared_state) {
+    // A declared state y0..y6 (MODEL.md §1), as in an experiment file: the
+    // record starts from it (a record taken in motion, its state known).
+    YamlMap spec(init_node, map.file(), map.KeyPath("initial_state."));
+    for (int k = 0; k < kNumStates; ++k) {
+      e.initial_state[k] = spec.Number("y" + std::to_string(k), 0.0);
+    }
+    spec.Finish();
+    e.initial_state = ConsistentInitialState(model, e.initial_state);
+    init = "declared";
+  } else if (init_node && init_node.IsMap()) {
+    YamlMap spec(init_node, map.file(), map.KeyPath("initial_state."));
     init_samples = spec.Integer("from_samples", 0, 2, 1000000);
     if (!spec.Has("from_samples")) {
-      ThrowConfigError(map.file(), node, map.KeyPath("initial_state.from_samples"),
-                       "a number of samples >= 2", "none");
+      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
+                       "a number of samples >= 2, or the states y0..y6", "none");
     }
     spec.Finish();
     init = "from_samples";
     YAML::Node channels_node = map.Required("channels");
     YamlMap channels(channels_node, map.file(), map.KeyPath("channels."));
     if (!channels.Has("x")) {
-      ThrowConfigError(map.file(), node, map.KeyPath("initial_state"),
+      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state"),
                        "a measured position channel 'x' under 'channels'",
                        "none");
     }
     if (count < static_cast<size_t>(init_samples) + 3) {
-      ThrowConfigError(map.file(), node, map.KeyPath("initial_state.from_samples"),
+      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
                        "at most the window's " + std::to_string(count) +
                            " samples minus 3",
                        std::to_string(init_samples));
@@ -362,7 +380,7 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     }
   }
 
-  if (init != "from_samples") {
+  if (init != "from_samples" && init != "declared") {
     init = map.Choice("initial_state", {"rest", "estimate"}, "rest");
   }
   e.estimate_initial_state = init == "estimate";
@@ -622,6 +640,34 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
       }
       map.Finish();
     }
+  }
+  if (const YAML::Node node = root.Optional("design")) {
+    YamlMap map(node, path, "design.");
+    DesignSettings& d = job.design;
+    d.enabled = true;
+    d.duration = map.Number("duration", d.duration, Range::kFinitePositive);
+    if (!(d.duration >= 0.5 && d.duration <= 60.0)) {
+      ThrowConfigError(path, map.Optional("duration"), "design.duration",
+                       "a record length in [0.5, 60] s", Num(d.duration));
+    }
+    d.max_voltage = map.Number("max_voltage", d.max_voltage, Range::kFinitePositive);
+    if (!(d.max_voltage <= 10.0)) {
+      ThrowConfigError(path, map.Optional("max_voltage"), "design.max_voltage",
+                       "a voltage in (0, 10] V (the drive's range)", Num(d.max_voltage));
+    }
+    const YAML::Node travel = map.Required("travel");
+    if (!travel.IsSequence() || travel.size() != 2) {
+      ThrowConfigError(path, travel, "design.travel", "[low, high] in m", Describe(travel));
+    }
+    d.travel_low = map.NumberFrom(travel[0], "design.travel", Range::kAny);
+    d.travel_high = map.NumberFrom(travel[1], "design.travel", Range::kAny);
+    if (!(std::isfinite(d.travel_low) && std::isfinite(d.travel_high) &&
+          d.travel_low < d.travel_high)) {
+      ThrowConfigError(path, travel, "design.travel", "finite low < high",
+                       Num(d.travel_low) + " and " + Num(d.travel_high));
+    }
+    d.rel_se = map.Number("rel_se", d.rel_se, Range::kNonNegative);
+    map.Finish();
   }
   if (const YAML::Node node = root.Optional("output")) {
     YamlMap map(node, path, "output.");

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fit/benchmark.h"
+#include "fit/design_settings.h"
 #include "fit/discovery_settings.h"
 #include "fit/published.h"
 #include "sim/config.h"
@@ -133,6 +134,7 @@ struct FitJob {
   SolverSettings solver;
   UncertaintySettings uncertainty;
   DiscoverySettings discover;  // `discover:` key (enabled if present)
+  DesignSettings design;       // `design:` key (fit/experiment_design.h)
   PublishedReference published;  // `published:` key (fit/published.h)
   BenchmarkSettings benchmark;    // `benchmark:` key (fit/benchmark.h)
   // Set by the force-map step of the discovery loop (fit/force_map.h), not

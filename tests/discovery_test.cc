@@ -167,7 +167,9 @@ TEST(DiscoveryTest, LoadOffset) {
   ExpectFound(o, "load_offset", "F_0", 60.0);
   int stopped = 0;
   for (const DiscoveryStep& s : o.report.steps) {
-    if (s.effect == "load_offset") EXPECT_TRUE(s.stopped.empty());
+    if (s.effect == "load_offset") {
+      EXPECT_TRUE(s.stopped.empty());
+    }
     stopped += !s.stopped.empty();
   }
   EXPECT_GE(stopped, 5);

@@ -282,7 +282,9 @@ TEST(FitOptionsTest, FinalistsAreTheLowestAfterTheShorterHorizons) {
   }
   EXPECT_EQ(best, lowest);
   EXPECT_DOUBLE_EQ(all.start_costs[lowest], one.start_costs[lowest]);
-  if (std::isfinite(all.start_costs[0])) EXPECT_LE(all.start_costs[0], all.initial_cost);
+  if (std::isfinite(all.start_costs[0])) {
+    EXPECT_LE(all.start_costs[0], all.initial_cost);
+  }
 }
 
 // solver.abandon_above_bic (the discovery loop's early stop, fit/fit.h): a

@@ -1,0 +1,173 @@
+// The next experiment (issue 15 part 2, fit/experiment_design.h): a record
+// taken in motion (testdata/generate/design/: it starts at 0.3 m/s and
+// never reverses), on which Coulomb friction and a constant load force are
+// the same force; the loop stops on the pair, the design proposes a record,
+// and that record — simulated with each of the two truths by the full
+// model at 10 µs, as the test data are, with noise — added to the job makes
+// the loop pick the true one. Also the D-optimal branch and the keys.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "fit/experiment_design.h"
+#include "fit/fit.h"
+#include "fit/job.h"
+#include "sim/config.h"
+#include "sim/experiment.h"
+#include "tests/test_files.h"
+
+namespace axis {
+namespace {
+
+const std::string kRoot = PROJECT_SOURCE_DIR;
+const std::string kJob = kRoot + "/configs/jobs/design/coulomb_or_offset.yaml";
+
+// The committed job on the in-motion record of `truth` ("coulomb" or
+// "load_offset"), with `extra` experiments appended (YAML maps), written
+// into the test's temporary folder and loaded.
+FitJob JobOn(const std::string& truth, const std::vector<YAML::Node>& extra = {}) {
+  YAML::Node job = YAML::LoadFile(kJob);
+  job["model"] = kRoot + "/configs/axes/x_axis.yaml";
+  job["experiments"][0]["data"] = kRoot + "/testdata/design/" + truth + "_in_motion.csv";
+  for (const YAML::Node& e : extra) job["experiments"].push_back(e);
+  job["output"]["dir"] = testing_files::TestTempDir() + "design_out";
+  const std::string path = testing_files::TestTempDir() + "design_" + truth + "_" +
+                           std::to_string(extra.size()) + ".yaml";
+  std::ofstream(path) << YAML::Dump(job);
+  FitJob out = LoadFitJob(path);
+  out.solver.progress = false;
+  return out;
+}
+
+TEST(ExperimentDesignTest, ARecordInMotionGetsTheExperimentThatDecides) {
+  // The records cannot tell the pair apart: the loop stops, and the
+  // design proposes an input of the family inside the travel.
+  std::ostringstream log;
+  JobRun run = RunJob(JobOn("coulomb"), true, log);
+  EXPECT_NE(run.discovery.stop_reason.find("cannot be told apart"), std::string::npos)
+      << run.discovery.stop_reason;
+  EXPECT_TRUE(run.discovery.selected.empty());
+  const ExperimentProposal& p = run.proposal;
+  ASSERT_TRUE(p.proposed) << p.reason;
+  EXPECT_EQ(p.criterion, "T-optimal");
+  EXPECT_EQ(std::vector<std::string>({p.a, p.b}),
+            std::vector<std::string>({"coulomb", "load_offset"}));
+  // On the records the conditional statistics are at round-off (the two
+  // columns are the same force); with the proposal far above the critical
+  // value both ways.
+  EXPECT_LT(p.chi2_a_given_b_now, p.critical_a);
+  EXPECT_LT(p.chi2_b_given_a_now, p.critical_b);
+  EXPECT_GT(p.best.chi2_a_given_b, 10.0 * p.critical_a);
+  EXPECT_GT(p.best.chi2_b_given_a, 10.0 * p.critical_b);
+  EXPECT_GE(p.best.x_min, run.job.design.travel_low);
+  EXPECT_LE(p.best.x_max, run.job.design.travel_high);
+  int infeasible = 0;
+  for (const DesignCandidate& c : p.candidates) {
+    infeasible += !c.feasible;
+    if (c.feasible) EXPECT_LE(c.criterion, p.best.criterion) << c.description;
+  }
+  EXPECT_GT(infeasible, 0) << "the 1 m travel rules out the long fast steps";
+
+  // The proposal as written: an experiment file simulate-axis loads.
+  const std::string dir = testing_files::TestTempDir() + "proposal";
+  std::filesystem::create_directories(dir);
+  WriteProposal(dir, run.job, run.result, p);
+  const ExperimentConfig proposed = LoadExperiment(dir + "/experiment_proposed.yaml");
+  EXPECT_NEAR(proposed.options.duration, p.duration, 1e-9);
+  EXPECT_NEAR(proposed.initial_state[0], p.start_x, 1e-12);
+
+  for (const std::string truth : {"coulomb", "load_offset"}) {
+    SCOPED_TRACE(truth);
+    // The machine: the generating config's model (the full current loop at
+    // 10 µs), the proposed input, noise with a fixed seed.
+    ExperimentConfig machine = proposed;
+    const ExperimentConfig generator =
+        LoadExperiment(kRoot + "/testdata/generate/design/" + truth + "_in_motion.yaml");
+    machine.model = generator.model;
+    machine.options.step = generator.options.step;
+    machine.initial_state = ConsistentInitialState(machine.model, machine.initial_state);
+    machine.seed = 303;
+    SimulateAxisOptions options;
+    const std::string csv = dir + "/" + truth + "_proposed.csv";
+    WriteTraceCsv(csv, SimulateExperiment(machine, options), machine.options.channels);
+    YAML::Node e;
+    e["name"] = "proposed";
+    e["data"] = csv;
+    e["channels"]["u"] = "u";
+    e["channels"]["x"] = "x";
+    e["channels"]["a"] = "a";
+    e["channels"]["tach"] = "tach";
+    e["input"]["column"] = "u";
+    e["input"]["interpolation"] = "hold";
+    e["initial_state"]["y0"] = p.start_x;
+    e["initial_state"]["y2"] = proposed.initial_state[2];
+    e["fit"]["a"] = 0.02;
+    e["fit"]["tach"] = 0.005;
+    std::ostringstream again;
+    FitJob job = JobOn(truth, {e});
+    job.design.enabled = false;
+    const JobRun decided = RunJob(job, true, again);
+    EXPECT_EQ(decided.discovery.selected, std::vector<std::string>{truth})
+        << FormatDiscovery(decided.discovery);
+  }
+}
+
+// Without a pair to tell apart and with design.rel_se below the largest
+// relative standard error, the design is D-optimal and predicts smaller
+// errors; with rel_se 0 nothing is proposed.
+TEST(ExperimentDesignTest, DOptimalWhenAParameterIsKnownTooPoorly) {
+  FitJob job = JobOn("coulomb");
+  job.discover.enabled = false;
+  job.model.structure.effects.coulomb = true;
+  job.model.params.F_c = 40.0;
+  const FitResult result = FitParameters(job);
+  ExperimentProposal none = ProposeExperiment(job, result);
+  EXPECT_FALSE(none.proposed);
+  EXPECT_NE(none.reason.find("design.rel_se not set"), std::string::npos) << none.reason;
+  job.design.rel_se = 1e-4;
+  const ExperimentProposal p = ProposeExperiment(job, result);
+  ASSERT_TRUE(p.proposed) << p.reason;
+  EXPECT_EQ(p.criterion, "D-optimal");
+  ASSERT_EQ(p.rel_se_predicted.size(), job.free.size());
+  for (size_t k = 0; k < job.free.size(); ++k) {
+    // Added information can only shrink (JᵀJ grows by a PSD term).
+    EXPECT_LE(p.rel_se_predicted[k], p.rel_se_now[k] * (1.0 + 1e-9)) << p.names[k];
+  }
+  // T_p (the preamp pole) is the worst known on a record without a step:
+  // the proposal must improve it.
+  const size_t tp = std::find(p.names.begin(), p.names.end(), "T_p") - p.names.begin();
+  ASSERT_LT(tp, p.names.size());
+  EXPECT_LT(p.rel_se_predicted[tp], 0.5 * p.rel_se_now[tp]);
+}
+
+TEST(ExperimentDesignTest, BadDesignKeysNameTheKey) {
+  const auto error = [](const std::string& design) {
+    YAML::Node job = YAML::LoadFile(kJob);
+    job["model"] = kRoot + "/configs/axes/x_axis.yaml";
+    job["experiments"][0]["data"] = kRoot + "/testdata/design/coulomb_in_motion.csv";
+    job["design"] = YAML::Load(design);
+    const std::string path = testing_files::TestTempDir() + "bad_design.yaml";
+    std::ofstream(path) << YAML::Dump(job);
+    try {
+      LoadFitJob(path);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("{duration: 4}").find("design.travel"), std::string::npos);
+  EXPECT_NE(error("{travel: [1, 0]}").find("design.travel"), std::string::npos);
+  EXPECT_NE(error("{travel: [0, 1], max_voltage: 12}").find("design.max_voltage"),
+            std::string::npos);
+  EXPECT_NE(error("{travel: [0, 1], duration: 100}").find("design.duration"), std::string::npos);
+  EXPECT_NE(error("{travel: [0, 1], budget: 3}").find("budget"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace axis
