@@ -825,7 +825,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
               if (e.value >= f.upper - 1e-6 * width) {
                 f.upper += 100.0 * width;
                 widened = true;
-              } else if (e.value <= f.lower + 1e-6 * width) {
+              } else if (e.value <= f.lower + 1e-6 * width && f.name != "F_c" &&
+                         f.name != "T_c") {  // friction below zero: not widened
                 f.lower -= 100.0 * width;
                 widened = true;
               }
@@ -839,9 +840,8 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
             if (std::isfinite(further.bic) && further.bic < own[best].bic) {
               own[best] = std::move(further);
               q.starts[best] = std::move(wider);
-              record.retried += std::string(record.retried.empty() ? "" : "; ") +
-                                "an added parameter ended on its search bound; refitted "
-                                "with that bound widened 100-fold";
+              record.widened = "an added parameter ended on its search bound; refitted "
+                               "with that bound widened 100-fold";
             }
           }
         }
@@ -874,6 +874,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
                     << (record.implausible.empty() ? "" : ": " + record.implausible)
                     << (record.stopped.empty() ? "" : ": stopped " + record.stopped)
                     << (record.retried.empty() ? "" : " (" + record.retried + ")")
+                    << (record.widened.empty() ? "" : " (" + record.widened + ")")
                     << (record.starts.empty() ? "" : " (" + record.starts + ")")
                     << " (" << record.seconds << " s)\n";
         }
@@ -1140,6 +1141,7 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
       if (!s.outranked.empty()) out << "  outranked: " << s.outranked << "\n";
       if (!s.starts.empty()) out << "  starts: " << s.starts << "\n";
       if (!s.retried.empty()) out << "  " << s.retried << "\n";
+      if (!s.widened.empty()) out << "  " << s.widened << "\n";
       if (!s.rule.empty()) out << "  rule: " << s.rule << "\n";
     }
     for (const ParameterEstimate& p : s.parameters) {
@@ -1224,6 +1226,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     if (!s.outranked.empty()) step["outranked"] = s.outranked;
     if (!s.starts.empty()) step["starts"] = s.starts;
     if (!s.retried.empty()) step["retried"] = s.retried;
+    if (!s.widened.empty()) step["widened"] = s.widened;
     if (!s.stopped.empty()) step["stopped"] = s.stopped;
     step["channels"] = nlohmann::json::array();
     for (const ChannelChange& c : s.channels) {

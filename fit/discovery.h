@@ -168,6 +168,9 @@ struct DiscoveryStep {
   // be far too long and the simulation leave the finite numbers) is run
   // once more from a tenth of the step; then this says so.
   std::string retried;
+  // Set when an added parameter's refit ended on a bound of its search
+  // interval and was continued with that side widened 100-fold.
+  std::string widened;
   // A forward refit from more than one start (Stribeck: one per v_st of
   // the score test's grid): each start's BIC and which was kept (the
   // lowest); empty for one start.

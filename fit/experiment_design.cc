@@ -267,15 +267,16 @@ ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& resu
   for (const FreeParameter& f : job.free) p.names.push_back(f.name);
   p.rel_se_now = rel_now;
   const bool t_design = score_a != nullptr && score_b != nullptr;
+  // Parameters at zero (an offset, a phase) have no relative error.
   double worst = 0.0;
-  for (double x : rel_now) worst = std::max(worst, x);
+  for (double x : rel_now) {
+    if (std::isfinite(x)) worst = std::max(worst, x);
+  }
   if (!t_design && !(d.rel_se > 0.0 && worst > d.rel_se)) {
-    p.reason = ranking.indistinguishable.empty() && d.rel_se > 0.0
-                   ? "no experiment needed: no pair of candidates is indistinguishable and every "
-                     "relative standard error is at most " + Num(d.rel_se, 3) +
-                         " (largest " + Num(worst, 3) + ")"
-                   : "no experiment needed: no pair of candidates is indistinguishable" +
-                         std::string(d.rel_se > 0.0 ? "" : " (design.rel_se not set)");
+    p.reason = "no experiment needed: no pair of candidates the loop would stop on";
+    p.reason += d.rel_se > 0.0 ? ", and every relative standard error is at most " +
+                                     Num(d.rel_se, 3) + " (largest " + Num(worst, 3) + ")"
+                               : " (design.rel_se not set)";
     p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return p;
   }

@@ -77,8 +77,9 @@ struct ExperimentProposal {
 };
 
 // Proposes the next experiment for `job` at the estimates of `result` (the
-// final model of the loop). T-optimal for the first indistinguishable pair
-// of a fresh score ranking at the final model (ListCandidates with
+// final model of the loop). T-optimal for the pair the loop would stop on
+// (its most significant candidate with a twin) in a fresh score ranking at
+// the final model (ListCandidates with
 // job.discover.candidates, RankCandidates at job.discover.alpha) in which
 // one member is significant; else D-optimal if a free parameter's relative
 // standard error exceeds job.design.rel_se > 0; else nothing (reason says
@@ -96,10 +97,14 @@ std::string FormatProposal(const ExperimentProposal& proposal);
 nlohmann::json ProposalToJson(const ExperimentProposal& proposal);
 
 // Writes `dir`/experiment_proposed.yaml (an experiment file for
-// simulate-axis: the job's model with the fitted values under `set:`, the
-// input, duration, step, output rate, the fitted channels and x, their
-// noise σ from the job) and `dir`/experiment_proposed_input.csv (t, u at
-// the output rate: the input to run on the machine), each atomically.
+// simulate-axis: the input, duration, step, output rate, u, x and the
+// fitted channels with their σ from the job as noise, the start state, and
+// as a comment the job entry that fits the recorded run),
+// `dir`/experiment_proposed_model.yaml (the job's model at the fitted
+// values, which the experiment file names) and
+// `dir`/experiment_proposed_input.csv (t, u at the output rate: the input
+// to run on the machine), each atomically (RunJob's writer stages the
+// folder, so a failure leaves none of them).
 // Nothing is written unless proposal.proposed. Throws std::runtime_error
 // if a file cannot be written.
 void WriteProposal(const std::string& dir, const FitJob& job, const FitResult& result,

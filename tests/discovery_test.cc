@@ -495,6 +495,7 @@ TEST(DiscoveryTest, StribeckRefitStartsFromEachColumnsOwnStep) {
   job["free"]["F_c"]["initial"] = 40.0;
   job["free"]["F_c"]["lower"] = 0.0;
   job["free"]["F_c"]["upper"] = 200.0;
+  job["solver"]["starts"] = 0;
   job["discover"]["candidates"].push_back("stribeck");
   job["discover"]["max_effects"] = 1;
   config.job_path = axis::testing_files::TestTempDir() + "stribeck_coulomb_declared.yaml";

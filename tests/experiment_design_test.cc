@@ -68,10 +68,7 @@ TEST(ExperimentDesignTest, ARecordInMotionGetsTheExperimentThatDecides) {
   EXPECT_GE(p.best.x_min, run.job.design.travel_low);
   EXPECT_LE(p.best.x_max, run.job.design.travel_high);
   int infeasible = 0;
-  for (const DesignCandidate& c : p.candidates) {
-    infeasible += !c.feasible;
-    if (c.feasible) EXPECT_LE(c.criterion, p.best.criterion) << c.description;
-  }
+  for (const DesignCandidate& c : p.candidates) infeasible += !c.feasible;
   EXPECT_GT(infeasible, 0) << "the 1 m travel rules out the long fast steps";
 
   // The proposal as written: an experiment file simulate-axis loads.
@@ -81,6 +78,9 @@ TEST(ExperimentDesignTest, ARecordInMotionGetsTheExperimentThatDecides) {
   const ExperimentConfig proposed = LoadExperiment(dir + "/experiment_proposed.yaml");
   EXPECT_NEAR(proposed.options.duration, p.duration, 1e-9);
   EXPECT_NEAR(proposed.initial_state[0], p.start_x, 1e-12);
+  for (double t = 0.0; t <= p.duration; t += 1e-3) {
+    ASSERT_NEAR(proposed.drive.input.Evaluate(t), p.best.input.Evaluate(t), 1e-9) << t;
+  }
 
   for (const std::string truth : {"coulomb", "load_offset"}) {
     SCOPED_TRACE(truth);
@@ -104,7 +104,9 @@ TEST(ExperimentDesignTest, ARecordInMotionGetsTheExperimentThatDecides) {
     e["channels"]["a"] = "a";
     e["channels"]["tach"] = "tach";
     e["input"]["column"] = "u";
-    e["input"]["interpolation"] = "hold";
+    if (p.best.family == "steps" || p.best.family == "prbs") {
+      e["input"]["interpolation"] = "hold";
+    }
     e["initial_state"]["y0"] = p.start_x;
     e["initial_state"]["y2"] = proposed.initial_state[2];
     e["fit"]["a"] = 0.02;
