@@ -1428,7 +1428,13 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
   ResidualBootstrap(job, &result, &out);
   if (job.design.enabled) {
     stage("designing the next experiment");
-    run.proposal = ProposeExperiment(job, result, job.solver.progress ? &out : nullptr);
+    try {
+      run.proposal = ProposeExperiment(job, result, job.solver.progress ? &out : nullptr);
+    } catch (const std::runtime_error& e) {
+      // A simulation at the estimates failed: the fit's results stand.
+      run.proposal = ExperimentProposal{};
+      run.proposal.reason = std::string("no proposal: ") + e.what();
+    }
     out << "\n" << FormatProposal(run.proposal);
   }
   out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
