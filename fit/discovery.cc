@@ -110,9 +110,6 @@ Eigen::MatrixXd CandidateColumns(const FitJob& job, const Candidate& c, int m) {
   return out;
 }
 
-namespace {
-
-// Orthonormal basis of the columns of a (rank-revealing QR; empty if zero).
 Eigen::MatrixXd Basis(const Eigen::MatrixXd& a) {
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
   qr.setThreshold(1e-10);
@@ -120,6 +117,8 @@ Eigen::MatrixXd Basis(const Eigen::MatrixXd& a) {
   Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(a.rows(), rank);
   return q;
 }
+
+namespace {
 
 FreeParameter Linear(const std::string& name, double value) {
   FreeParameter f;
@@ -207,6 +206,23 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, FitJob* job) {
     job->free.push_back(f);
   }
 }
+
+namespace {
+
+// Which bounds of an effect parameter AddEffect made are only a search
+// interval around the score step (Linear), and may be widened when a refit
+// ends on them: not those of log-scaled parameters (bounds of their own),
+// cogging's phase (periodic), ΔB and ΔM (a physical lower bound; their
+// upper one is left as it was too), nor friction amplitudes below zero.
+struct SearchSides {
+  bool lower = false, upper = false;
+};
+SearchSides SearchBoundSides(const FreeParameter& f) {
+  if (f.log || f.name == "phi_cog" || f.name == "Delta_B" || f.name == "Delta_M") return {};
+  return {f.name != "F_c" && f.name != "T_c", true};
+}
+
+}  // namespace
 
 namespace {
 
@@ -370,6 +386,19 @@ void ApplyEstimates(const FitResult& result, FitJob* job) {
       }
     }
   }
+}
+
+nlohmann::json ChannelChangesToJson(const std::vector<ChannelChange>& changes) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ChannelChange& c : changes) {
+    out.push_back({{"experiment", c.experiment},
+                   {"channel", c.channel},
+                   {"rms_before", JsonNumber(c.rms_before)},
+                   {"rms_after", JsonNumber(c.rms_after)},
+                   {"fit_percent_before", JsonNumber(c.fit_percent_before)},
+                   {"fit_percent_after", JsonNumber(c.fit_percent_after)}});
+  }
+  return out;
 }
 
 std::vector<ChannelChange> ChannelChanges(const FitResult& before, const FitResult& after) {
@@ -815,18 +844,15 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
           FitJob wider = q.starts[best];
           bool widened = false;
           for (FreeParameter& f : wider.free) {
-            if (f.log || std::find(q.names.begin(), q.names.end(), f.name) == q.names.end() ||
-                f.name == "phi_cog" || f.name == "Delta_B" || f.name == "Delta_M") {
-              continue;  // log-scaled (bounds of their own) or a physical bound
-            }
+            if (std::find(q.names.begin(), q.names.end(), f.name) == q.names.end()) continue;
+            const SearchSides sides = SearchBoundSides(f);
             for (const ParameterEstimate& e : own[best].parameters) {
               if (e.name != f.name) continue;
               const double width = f.upper - f.lower;
-              if (e.value >= f.upper - 1e-6 * width) {
+              if (sides.upper && e.value >= f.upper - 1e-6 * width) {
                 f.upper += 100.0 * width;
                 widened = true;
-              } else if (e.value <= f.lower + 1e-6 * width && f.name != "F_c" &&
-                         f.name != "T_c") {  // friction below zero: not widened
+              } else if (sides.lower && e.value <= f.lower + 1e-6 * width) {
                 f.lower -= 100.0 * width;
                 widened = true;
               }
@@ -1228,15 +1254,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     if (!s.retried.empty()) step["retried"] = s.retried;
     if (!s.widened.empty()) step["widened"] = s.widened;
     if (!s.stopped.empty()) step["stopped"] = s.stopped;
-    step["channels"] = nlohmann::json::array();
-    for (const ChannelChange& c : s.channels) {
-      step["channels"].push_back({{"experiment", c.experiment},
-                                  {"channel", c.channel},
-                                  {"rms_before", JsonNumber(c.rms_before)},
-                                  {"rms_after", JsonNumber(c.rms_after)},
-                                  {"fit_percent_before", JsonNumber(c.fit_percent_before)},
-                                  {"fit_percent_after", JsonNumber(c.fit_percent_after)}});
-    }
+    step["channels"] = ChannelChangesToJson(s.channels);
     out["steps"].push_back(step);
   }
   out["ranking"] = nlohmann::json::array();

@@ -111,6 +111,15 @@ struct ChannelChange {
 // side by side; channels replayed exactly in both (RMS 0) are left out.
 std::vector<ChannelChange> ChannelChanges(const FitResult& before, const FitResult& after);
 
+// The changes as a JSON array of {"experiment", "channel", "rms_before",
+// "rms_after", "fit_percent_before", "fit_percent_after"} (report.json:
+// discovery steps, force map); non-finite numbers as null.
+nlohmann::json ChannelChangesToJson(const std::vector<ChannelChange>& changes);
+
+// Orthonormal basis (m × rank) of the columns of `a` (Eigen's
+// ColPivHouseholderQR, rank threshold 1e-10; no columns if a is zero).
+Eigen::MatrixXd Basis(const Eigen::MatrixXd& a);
+
 // `job` with `effect` (a Candidate::name, e.g. "coulomb", "sensor_delay.a")
 // switched off and the parameters the loop frees for it fixed. Throws
 // std::invalid_argument for a name that is not an effect.

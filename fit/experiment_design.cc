@@ -132,10 +132,7 @@ bool Travel(const AxisConfig& model, const FitExperiment& e, double* lo, double*
 double Unabsorbed(const Eigen::MatrixXd& f, const Eigen::MatrixXd& b, const Eigen::VectorXd& d) {
   Eigen::MatrixXd both(f.rows(), f.cols() + b.cols());
   both << f, b;
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(both);
-  qr.setThreshold(1e-10);
-  const int rank = static_cast<int>(qr.rank());
-  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(both.rows(), rank);
+  const Eigen::MatrixXd q = Basis(both);
   return (d - q * (q.transpose() * d)).squaredNorm();
 }
 
@@ -282,6 +279,7 @@ ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& resu
   }
   Candidate ca, cb;
   Eigen::MatrixXd ja_old, jb_old;
+  Eigen::VectorXd beta_a, beta_b;  // the score steps (T)
   FitJob job_a = job, job_b = job;
   if (t_design) {
     p.criterion = "T-optimal";
@@ -295,8 +293,8 @@ ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& resu
     cb = named(p.b);
     ja_old = CandidateColumns(job, ca, m);
     jb_old = CandidateColumns(job, cb, m);
-    const Eigen::Map<const Eigen::VectorXd> beta_a(score_a->step.data(), p.dof_a);
-    const Eigen::Map<const Eigen::VectorXd> beta_b(score_b->step.data(), p.dof_b);
+    beta_a = Eigen::Map<const Eigen::VectorXd>(score_a->step.data(), p.dof_a);
+    beta_b = Eigen::Map<const Eigen::VectorXd>(score_b->step.data(), p.dof_b);
     p.chi2_a_given_b_now = Unabsorbed(jf, jb_old, ja_old * beta_a);
     p.chi2_b_given_a_now = Unabsorbed(jf, ja_old, jb_old * beta_b);
     AddEffect(ca, *score_a, 0, &job_a);
@@ -338,15 +336,16 @@ ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& resu
           const int me = static_cast<int>(re.size());
           const Eigen::MatrixXd ja = Stack(ja_old, CandidateColumns(proposed, ca, me));
           const Eigen::MatrixXd jb = Stack(jb_old, CandidateColumns(proposed, cb, me));
-          const Eigen::Map<const Eigen::VectorXd> beta_a(score_a->step.data(), p.dof_a);
-          const Eigen::Map<const Eigen::VectorXd> beta_b(score_b->step.data(), p.dof_b);
           c.chi2_a_given_b = Unabsorbed(f, jb, ja * beta_a);
           c.chi2_b_given_a = Unabsorbed(f, ja, jb * beta_b);
           c.criterion = std::min(c.chi2_a_given_b, c.chi2_b_given_a);
         } else {
           c.criterion = LogDet(f);
         }
-        if (best == family.size() || c.criterion > family[best].criterion) best = k;
+        if (best == family.size() || c.criterion > family[best].criterion) {
+          best = k;
+          if (!t_design) p.rel_se_predicted = RelativeErrors(job, f, s2);
+        }
       }
     }
     if (progress) {
@@ -364,15 +363,6 @@ ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& resu
   }
   p.proposed = true;
   p.best = family[best];
-  if (!t_design) {
-    const FitExperiment e = ProposedExperiment(job, p.best.input, d.duration, p.start_x);
-    FitJob proposed = job;
-    proposed.experiments = {e};
-    Eigen::VectorXd re;
-    Eigen::MatrixXd je;
-    StackedJacobian(proposed, &re, &je);
-    p.rel_se_predicted = RelativeErrors(job, Stack(jf, je), s2);
-  }
   p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return p;
 }
@@ -465,6 +455,23 @@ void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult
   model.name = job.model.name + "_fitted";
   model.source = "fit-params on " + job.title + " (the estimates the design was made at)";
   const FitExperiment& ref = job.experiments.front();
+  // The record as the design simulated it: its start state and time grid.
+  const FitExperiment e = ProposedExperiment(job, p.best.input, p.duration, p.start_x);
+  std::ostringstream state, sigmas, extra_channels, columns;
+  state << std::setprecision(10) << "{";
+  for (int k = 0, n = 0; k < kNumStates; ++k) {
+    if (e.initial_state[k] != 0.0) state << (n++ ? ", " : "") << "y" << k << ": " << e.initial_state[k];
+  }
+  state << "}";
+  sigmas << std::setprecision(10);  // "a: 0.02, tach: 0.005": noise and fit σ
+  for (size_t k = 0; k < ref.fitted.size(); ++k) {
+    const char* name = ChannelName(ref.fitted[k].channel);
+    sigmas << (k ? ", " : "") << name << ": " << ref.fitted[k].sigma;
+    if (ref.fitted[k].channel != Channel::kU && ref.fitted[k].channel != Channel::kX) {
+      extra_channels << ", " << name;
+      columns << ", " << name << ": " << name;  // the job's channels: map
+    }
+  }
   std::ostringstream y;
   y << std::setprecision(10);
   y << "# Written by fit-params (design:): the next experiment, " << p.criterion << ".\n"
@@ -474,38 +481,21 @@ void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult
     << "duration: " << p.duration << "\n"
     << "step: " << ref.options.step << "\n"
     << "output_rate: " << 1.0 / ref.options.output_period << "\n"
-    << "channels: [u, x";
-  for (const FittedChannel& f : ref.fitted) {
-    if (f.channel != Channel::kU && f.channel != Channel::kX) y << ", " << ChannelName(f.channel);
-  }
-  y << "]\nnoise: {";
-  for (size_t k = 0; k < ref.fitted.size(); ++k) {
-    y << (k ? ", " : "") << ChannelName(ref.fitted[k].channel) << ": " << ref.fitted[k].sigma;
-  }
-  y << "}\nseed: 1\n"
-    << "initial_state: {y0: " << p.start_x;
-  if (job.model.structure.coupling == Coupling::kGear) y << ", y2: " << p.start_x / job.model.params.r_g;
-  y << "}\n"
+    << "channels: [u, x" << extra_channels.str() << "]\n"
+    << "noise: {" << sigmas.str() << "}\n"
+    << "seed: 1\n"
+    << "initial_state: " << state.str() << "\n"
     << "input: " << InputYaml(p.best) << "\n";
   // The job entry that fits the recorded run (the same start).
   y << "# To fit the recorded run, add to the job's experiments:\n"
     << "#   - name: proposed\n"
     << "#     data: <the recorded CSV: t and the channels above>\n"
-    << "#     channels: {u: u, x: x";
-  for (const FittedChannel& f : ref.fitted) {
-    if (f.channel != Channel::kU && f.channel != Channel::kX) {
-      y << ", " << ChannelName(f.channel) << ": " << ChannelName(f.channel);
-    }
-  }
-  y << "}\n#     input: {column: u" << (p.best.family == "steps" || p.best.family == "prbs"
-                                          ? ", interpolation: hold" : "")
-    << "}\n#     initial_state: {y0: " << p.start_x;
-  if (job.model.structure.coupling == Coupling::kGear) y << ", y2: " << p.start_x / job.model.params.r_g;
-  y << "}\n#     fit: {";
-  for (size_t k = 0; k < ref.fitted.size(); ++k) {
-    y << (k ? ", " : "") << ChannelName(ref.fitted[k].channel) << ": " << ref.fitted[k].sigma;
-  }
-  y << "}\n";
+    << "#     channels: {u: u, x: x" << columns.str() << "}\n"
+    << "#     input: {column: u"
+    << (p.best.family == "steps" || p.best.family == "prbs" ? ", interpolation: hold" : "")
+    << "}\n"
+    << "#     initial_state: " << state.str() << "\n"
+    << "#     fit: {" << sigmas.str() << "}\n";
   WriteFileAtomic(dir + "/experiment_proposed_model.yaml",
                   "# Written by fit-params (design:): the fitted model the next experiment\n"
                   "# was designed at.\n" +
@@ -513,12 +503,7 @@ void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult
   WriteFileAtomic(dir + "/experiment_proposed.yaml", y.str());
   std::ostringstream csv;
   csv << std::setprecision(12) << "t,u\n";
-  const double period = ref.options.output_period;
-  const long n = static_cast<long>(std::floor(p.duration / period + 1e-9)) + 1;
-  for (long k = 0; k < n; ++k) {
-    const double t = static_cast<double>(k) * period;
-    csv << t << "," << p.best.input.Evaluate(t) << "\n";
-  }
+  for (double t : e.t) csv << t << "," << p.best.input.Evaluate(t) << "\n";
   WriteFileAtomic(dir + "/experiment_proposed_input.csv", csv.str());
 }
 

@@ -774,16 +774,7 @@ nlohmann::json ForceMapToJson(const ForceMapReport& report) {
                     {"bic", JsonNumber(s.bic)}});
   }
   out["grid"] = grid;
-  nlohmann::json channels = nlohmann::json::array();
-  for (const ChannelChange& c : report.channels) {
-    channels.push_back({{"experiment", c.experiment},
-                        {"channel", c.channel},
-                        {"rms_before", JsonNumber(c.rms_before)},
-                        {"rms_after", JsonNumber(c.rms_after)},
-                        {"fit_percent_before", JsonNumber(c.fit_percent_before)},
-                        {"fit_percent_after", JsonNumber(c.fit_percent_after)}});
-  }
-  out["channels"] = channels;
+  out["channels"] = ChannelChangesToJson(report.channels);
   out["verdict"] = report.verdict.verdict;
   out["remains"] = report.verdict.remains;
   out["significant"] = report.significant;
