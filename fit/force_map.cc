@@ -51,16 +51,17 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// The weights w_k(z) with f(z) = Σ_k w_k·f_k: the spline is linear in its
-// values, so w_k is the spline through the k-th unit vector.
-std::vector<double> CardinalWeights(const std::vector<double>& knots, double z) {
+// The weights W(q, k) = w_k(z_q) with f(z_q) = Σ_k w_k·f_k: the spline is
+// linear in its values, so w_k is the spline through the k-th unit vector
+// (its second derivatives solved once per k).
+Eigen::MatrixXd CardinalWeights(const std::vector<double>& knots, const std::vector<double>& z) {
   const int n = static_cast<int>(knots.size());
-  std::vector<double> w(n);
+  Eigen::MatrixXd w(z.size(), n);
   for (int k = 0; k < n; ++k) {
     std::array<double, kMaxForceMapKnots> unit{}, m{};
     unit[k] = 1.0;
     ForceMapSecondDerivatives(knots, unit, &m);
-    w[k] = ForceMapValue(knots, unit, m, z);
+    for (size_t q = 0; q < z.size(); ++q) w(q, k) = ForceMapValue(knots, unit, m, z[q]);
   }
   return w;
 }
@@ -618,12 +619,13 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
   const Eigen::Map<const Eigen::VectorXd> values(report.values.data(), k_map);
   std::vector<bool> nonzero;
   for (int q = 0; q < kCurvePoints; ++q) {
-    const double z = kn.front() + (kn.back() - kn.front()) * q / (kCurvePoints - 1);
-    const std::vector<double> w = CardinalWeights(kn, z);
-    const Eigen::Map<const Eigen::VectorXd> wv(w.data(), k_map);
+    report.curve.z.push_back(kn.front() + (kn.back() - kn.front()) * q / (kCurvePoints - 1));
+  }
+  const Eigen::MatrixXd weights = CardinalWeights(kn, report.curve.z);
+  for (int q = 0; q < kCurvePoints; ++q) {
+    const Eigen::VectorXd wv = weights.row(q).transpose();
     const double f = wv.dot(values);
     const double sd = std::sqrt(std::max(0.0, wv.dot(cov * wv)));
-    report.curve.z.push_back(z);
     report.curve.force.push_back(f);
     report.curve.low.push_back(f - kZ975 * sd);
     report.curve.high.push_back(f + kZ975 * sd);
