@@ -924,6 +924,10 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // which costs a few hundred simulations, and reports Gauss–Newton
   // intervals.
   const bool discovering = job.discover.enabled;
+  // The cost a point must be below to count as lower than the estimate now.
+  const auto lower_than_estimate = [&] {
+    return LowerThan(best_cost, job.solver.function_tolerance);
+  };
   const int probe_rounds =
       discovering ? std::min(job.solver.probe_rounds, 1) : job.solver.probe_rounds;
   // Restarts the final stage from `point` (cost `point_cost`) and keeps the
@@ -961,7 +965,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.counter, &p.theta,
                    &lowest, &lowest_cost, &probes);
         ++result.probe_rounds;
-        if (!(lowest_cost < LowerThan(best_cost, job.solver.function_tolerance))) {
+        if (!(lowest_cost < lower_than_estimate())) {
           result.optimum_verified = true;
           break;
         }
@@ -1081,7 +1085,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       }
       std::copy(centre.begin(), centre.end(), p.theta.begin());
       timer.reset();
-      if (lowest < LowerThan(best_cost, job.solver.function_tolerance)) {
+      if (lowest < lower_than_estimate()) {
         result.local_decrease += best_cost - lowest;
         restart_from(lowest_point, lowest);
         if (job.solver.progress && progress != nullptr) {
@@ -1092,8 +1096,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         continue;
       }
     }
-    const double lower_than_best =
-        LowerThan(best_cost, job.solver.function_tolerance);
+    const double lower_than_best = lower_than_estimate();
     // The profile's refits or the line scan; either may meet a lower cost,
     // which restarts the solver there (at most kRatioPasses − 1 times).
     const bool may_restart = probe_rounds > 0 && ratio_restarts + 1 < kRatioPasses;
@@ -1252,7 +1255,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         note << (i == 0 ? "; not bounded within 16 standard deviations or the bounds: " : ", ")
              << open[i];
       }
-      if (lowest < LowerThan(best_cost, job.solver.function_tolerance)) {
+      if (lowest < lower_than_estimate()) {
         result.optimum_verified = false;
         note << "; the last " << what << " still met a cost lower by " << best_cost - lowest;
       }

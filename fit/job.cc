@@ -577,6 +577,12 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     SolverSettings& s = job.solver;
     s.max_iterations = static_cast<int>(map.Integer("max_iterations", s.max_iterations, 1, 100000));
     s.function_tolerance = map.Number("function_tolerance", s.function_tolerance, Range::kNonNegative);
+    // The optimum check counts a point as lower only beyond this relative
+    // tolerance (fit/fit.cc LowerThan): 1 or more would make it pass always.
+    if (!(s.function_tolerance <= 1e-2)) {
+      ThrowConfigError(path, map.Optional("function_tolerance"), "solver.function_tolerance",
+                       "a relative tolerance in [0, 0.01]", Num(s.function_tolerance));
+    }
     s.parameter_tolerance = map.Number("parameter_tolerance", s.parameter_tolerance, Range::kNonNegative);
     s.gradient_tolerance = map.Number("gradient_tolerance", s.gradient_tolerance, Range::kNonNegative);
     s.starts = static_cast<int>(map.Integer("starts", s.starts, 0, 10000));

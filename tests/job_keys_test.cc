@@ -114,6 +114,29 @@ TEST(JobKeysTest, InitialStateFromTheFirstSamples) {
   EXPECT_NEAR(e.measured[1][0], 0.21, 1e-6);
 }
 
+// A declared start state (a record taken in motion): the states as given,
+// the record kept whole; with from_samples beside it the map is refused.
+TEST(JobKeysTest, DeclaredInitialState) {
+  const FitJob job = LoadFitJob(
+      Write("declared_state.yaml", Job("    initial_state: {y0: 0.25, y1: 0.5}\n")));
+  const FitExperiment& e = job.experiments[0];
+  EXPECT_EQ(e.initial_state[0], 0.25);
+  EXPECT_EQ(e.initial_state[1], 0.5);
+  EXPECT_EQ(e.t.size(), 100u);  // nothing dropped
+  const std::string msg = LoadError(Write(
+      "declared_and_samples.yaml", Job("    initial_state: {y1: 0.5, from_samples: 20}\n")));
+  EXPECT_NE(msg.find("from_samples"), std::string::npos) << msg;
+}
+
+// The optimum check's "lower" follows function_tolerance (fit/fit.cc
+// LowerThan): above 1 % it is refused, naming the key.
+TEST(JobKeysTest, FunctionToleranceAboveOnePercentIsAnError) {
+  const std::string msg = LoadError(
+      Write("loose_tolerance.yaml", Job("", "solver: {function_tolerance: 2}\n")));
+  EXPECT_NE(msg.find("solver.function_tolerance"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("got 2"), std::string::npos) << msg;
+}
+
 TEST(JobKeysTest, TooManyInitialSamplesIsAnError) {
   const std::string path =
       Write("from_samples_bad.yaml", Job("    initial_state: {from_samples: 98}\n"));
