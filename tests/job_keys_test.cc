@@ -2,6 +2,7 @@
 // the first samples (the benchmark's protocol), the published reference
 // beside the fit, and the errors for keys that would otherwise be ignored.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -112,6 +113,46 @@ TEST(JobKeysTest, InitialStateFromTheFirstSamples) {
   EXPECT_EQ(e.t.size(), 80u);  // the experiment starts at sample 20
   EXPECT_NEAR(e.t_offset, 0.020, 1e-12);
   EXPECT_NEAR(e.measured[1][0], 0.21, 1e-6);
+}
+
+// An accelerating start, x = 0.1 + 0.2·t + 0.5·a·t² with a = 1 m/s² (as
+// the EMPS runs start: 0.95 m/s² over their first 20 ms): the default
+// quadratic through the first 20 samples is the exact state at sample 20
+// (v = 0.2 + a·0.020 = 0.22 m/s), the line (degree: 1) returns the velocity
+// at the window's middle, 9.5 samples earlier: 0.2095 m/s. Positions are
+// written with 12 significant digits, so both to 1e-9 m/s, not 1e-3.
+TEST(JobKeysTest, InitialStateFromAcceleratingSamples) {
+  std::string csv = "t,u,x\n";
+  char row[96];
+  for (int k = 0; k < 100; ++k) {
+    const double t = 0.001 * k;
+    std::snprintf(row, sizeof row, "%.6f,1,%.12g\n", t, 0.1 + 0.2 * t + 0.5 * t * t);
+    csv += row;
+  }
+  const std::string data = Write("accelerating.csv", csv);
+  auto job = [&](const std::string& init) {
+    return "model: " + kRoot + "/configs/axes/emps.yaml\n"
+           "free:\n"
+           "  M: {initial: 95, lower: 10, upper: 500}\n"
+           "experiments:\n"
+           "  - name: accelerating\n"
+           "    data: " + data + "\n"
+           "    channels: {u: u, x: x}\n"
+           "    input: {column: u}\n"
+           "    fit: {x: 1.0e-6}\n"
+           "    initial_state: " + init + "\n";
+  };
+  const double t20 = 0.020;
+  const FitJob quadratic = LoadFitJob(Write("quadratic.yaml", job("{from_samples: 20}")));
+  EXPECT_NEAR(quadratic.experiments[0].initial_state[0], 0.1 + 0.2 * t20 + 0.5 * t20 * t20,
+              1e-9);
+  EXPECT_NEAR(quadratic.experiments[0].initial_state[1], 0.2 + t20, 1e-9);
+  const FitJob line = LoadFitJob(Write("line.yaml", job("{from_samples: 20, degree: 1}")));
+  EXPECT_NEAR(line.experiments[0].initial_state[1], 0.2 + 0.0095, 1e-9);
+  const std::string bad = Write("degree3.yaml", job("{from_samples: 20, degree: 3}"));
+  const std::string msg = LoadError(bad);
+  EXPECT_NE(msg.find("initial_state.degree"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("got '3'"), std::string::npos) << msg;
 }
 
 // A declared start state (a record taken in motion): the states as given,
