@@ -162,6 +162,16 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
       q.model = entry.String("model");
       q.value = entry.Number("value", YamlMap::Range::kNonNegative);
       q.source = entry.String("source");
+      if (entry.Has("experiment")) {
+        q.experiment = entry.String("experiment");
+        bool named = false;
+        for (const BenchmarkColumn& c : out->columns) named = named || c.experiment == q.experiment;
+        if (!named) {
+          ThrowConfigError(path, quoted[k]["experiment"], entry.KeyPath("experiment"),
+                           "the experiment of one of 'benchmark.columns'",
+                           "'" + q.experiment + "'");
+        }
+      }
       entry.Finish();
       out->quoted.push_back(q);
     }
@@ -240,7 +250,12 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
     row.fitted_on = "-";
     row.source = q.source;
     row.values.assign(settings.columns.size(), kNaN);
-    if (!row.values.empty()) row.values[0] = q.value;
+    for (size_t c = 0; c < settings.columns.size(); ++c) {
+      if (q.experiment.empty() || settings.columns[c].experiment == q.experiment) {
+        row.values[c] = q.value;
+        break;
+      }
+    }
     table.rows.push_back(row);
   }
   return table;

@@ -44,17 +44,20 @@ struct BenchmarkCriterion {
   std::vector<std::string> experiments;
 };
 
-// A score another source publishes, in the first column's unit; not re-run.
+// A score another source publishes, not re-run: by default on the score
+// column's run, in its unit; `experiment` places it in the first column on
+// another run (a figure its source computed on the training run).
 struct QuotedScore {
   std::string model;
   double value = 0.0;  // ≥ 0
   std::string source;
+  std::string experiment;  // a column's experiment; empty: the score column
 };
 
 // The job key `benchmark:` — {title, columns: [{experiment, channel,
 // measure?, scale?, unit?}, ...], criteria: {name: [experiment, ...], ...},
-// quoted?: [{model, value, source}, ...]}. The first column is the score and
-// must name a `validate:` experiment (never fitted).
+// quoted?: [{model, value, source, experiment?}, ...]}. The first column is
+// the score and must name a `validate:` experiment (never fitted).
 struct BenchmarkSettings {
   bool present = false;
   std::string title;
@@ -71,7 +74,7 @@ struct BenchmarkSettings {
 // leaves out an experiment with `initial_state: estimate` (its state is
 // fitted, so it cannot be only simulated), a repeated name, a criterion
 // named benchmark.md or benchmark.json (the table's files), a `scale` other
-// than 1 without its `unit`.
+// than 1 without its `unit`, a quoted `experiment` no column names.
 void ParseBenchmark(const YAML::Node& node, const std::string& path,
                     const std::vector<FitExperiment>& experiments,
                     const std::vector<FitExperiment>& validate, BenchmarkSettings* out);

@@ -93,6 +93,9 @@ TEST(BenchmarkJobTest, BadKeysNameTheKeyAndWhatWasExpected) {
       {"  criteria:\n", "  critera: {}\n  criteria:\n", "critera"},
       {"closed_loop: [emps]", "closed/loop: [emps]", "key 'benchmark.criteria.closed/loop'"},
       {"      value: 2.64\n", "      value: -2.64\n", "key 'benchmark.quoted[0].value'"},
+      {"      experiment: emps_open_loop\n", "      experiment: emps_steps\n",
+       "key 'benchmark.quoted[0].experiment': expected the experiment of one of "
+       "'benchmark.columns', got 'emps_steps'"},
       {"closed_loop: [emps]", "closed_loop: []",
        "key 'benchmark.criteria.closed_loop': expected a non-empty list"},
       {"joint: [emps, emps_open_loop]", "benchmark.md: [emps, emps_open_loop]",
@@ -177,9 +180,14 @@ TEST(BenchmarkJobTest, TableIsTheRunsFiguresAndTheTestRunChoosesNothing) {
     }
     EXPECT_DOUBLE_EQ(table["rows"][k]["values"][0].get<double>(), 1000.0 * rms) << name;
   }
+  // dynoNet's figure sits on the training run (its `experiment:`), the
+  // others on the score column.
   EXPECT_EQ(table["rows"][4]["model"], "dynoNet (quoted)");
-  EXPECT_DOUBLE_EQ(table["rows"][4]["values"][0].get<double>(), 2.64);
-  EXPECT_TRUE(table["rows"][4]["values"][1].is_null());
+  EXPECT_TRUE(table["rows"][4]["values"][0].is_null());
+  EXPECT_DOUBLE_EQ(table["rows"][4]["values"][1].get<double>(), 2.64);
+  EXPECT_EQ(table["rows"][5]["model"], "linear state-space model (quoted)");
+  EXPECT_DOUBLE_EQ(table["rows"][5]["values"][0].get<double>(), 5.53);
+  EXPECT_TRUE(table["rows"][5]["values"][1].is_null());
 
   // The same job with the test run's qm moved by 1 cm: in every criterion
   // the same effects and the same estimates, bit for bit; only the score moves.
