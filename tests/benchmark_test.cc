@@ -71,6 +71,23 @@ TEST(BenchmarkJobTest, LoadsTheCommittedJob) {
   EXPECT_EQ(job.benchmark.quoted.size(), 4u);
 }
 
+// The physical structure fitted on the benchmark's criterion (README, The
+// benchmark on its own protocol): it loads, fits only the training run's
+// open-loop error, and simulates the test run open loop from its first 20
+// samples.
+TEST(BenchmarkJobTest, OpenLoopAsymmetricJobLoads) {
+  const FitJob job = LoadFitJob(kRoot + "/configs/jobs/emps_open_loop_asymmetric.yaml");
+  ASSERT_EQ(job.experiments.size(), 1u);
+  EXPECT_EQ(job.experiments[0].name, "emps_open_loop");
+  EXPECT_FALSE(job.experiments[0].drive.closed_loop);
+  EXPECT_TRUE(job.model.structure.effects.coulomb);
+  EXPECT_TRUE(job.model.structure.effects.viscous_asymmetry);
+  EXPECT_FALSE(job.model.structure.effects.load_offset);
+  ASSERT_FALSE(job.validate.empty());
+  EXPECT_EQ(job.validate[0].name, "emps_pulses_open_loop");
+  EXPECT_NEAR(job.validate[0].t_offset, 0.020, 1e-4);  // starts at sample 20
+}
+
 TEST(BenchmarkJobTest, BadKeysNameTheKeyAndWhatWasExpected) {
   struct Case {
     std::string from, to, expected;
