@@ -658,6 +658,46 @@ std::string SolverHtml(const FitResult& r) {
   return out;
 }
 
+// The proposal's text, then its ten best feasible inputs by the criterion
+// (T: the smaller predicted χ² of the two directions; D: log det JᵀJ).
+std::string ProposalHtml(const ExperimentProposal& p) {
+  std::string body = "<pre>" + HtmlEscape(FormatProposal(p)) + "</pre>\n";
+  if (!p.proposed) return body;
+  std::vector<const DesignCandidate*> best;
+  for (const DesignCandidate& c : p.candidates) {
+    if (c.feasible) best.push_back(&c);
+  }
+  std::stable_sort(best.begin(), best.end(), [](const DesignCandidate* a, const DesignCandidate* b) {
+    return a->criterion > b->criterion;
+  });
+  if (best.size() > 10) best.resize(10);
+  const bool t_optimal = p.criterion == "T-optimal";
+  HtmlTable table;
+  table.sortable = true;
+  table.headers = {"input", "x min (m)", "x max (m)"};
+  if (t_optimal) {
+    table.headers.push_back("chi2 " + p.a + " beyond " + p.b);
+    table.headers.push_back("chi2 " + p.b + " beyond " + p.a);
+  } else {
+    table.headers.push_back("log det information");
+  }
+  for (const DesignCandidate* c : best) {
+    std::vector<HtmlCell> row = {HtmlTextCell(c->description), HtmlNumberCell(c->x_min, 4),
+                                 HtmlNumberCell(c->x_max, 4)};
+    if (t_optimal) {
+      row.push_back(HtmlNumberCell(c->chi2_a_given_b, 4));
+      row.push_back(HtmlNumberCell(c->chi2_b_given_a, 4));
+    } else {
+      row.push_back(HtmlNumberCell(c->criterion, 6));
+    }
+    table.rows.push_back(row);
+  }
+  return body + Tag("p", "The best feasible inputs of the family (" +
+                             std::to_string(best.size()) + " shown), by " +
+                             HtmlEscape(p.criterion) + " criterion:") +
+         RenderHtmlTable(table);
+}
+
 }  // namespace
 
 std::string HtmlEscape(const std::string& text) {
@@ -851,6 +891,9 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
   }
   if (input.published != nullptr) {
     sections.push_back({"published", "Published reference", PublishedHtml(*input.published)});
+  }
+  if (input.proposal != nullptr) {
+    sections.push_back({"next-experiment", "Next experiment", ProposalHtml(*input.proposal)});
   }
   std::string solver = SolverHtml(result);
   if (!input.files.empty()) {

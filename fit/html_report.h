@@ -25,6 +25,7 @@
 
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
+#include "fit/experiment_design.h"
 #include "fit/force_map.h"
 #include "fit/fit_result.h"
 #include "fit/job.h"
@@ -48,6 +49,10 @@ struct HtmlReportInput {
   // for it: its text and, if a map was refitted, its plot.
   const ForceMapReport* force_map = nullptr;
   const PublishedComparison* published = nullptr;  // the job has `published:`
+  // The next experiment (fit/experiment_design.h), if the job has
+  // `design:`: FormatProposal's text and, if one was proposed, the ten
+  // best feasible inputs of the family by the criterion.
+  const ExperimentProposal* proposal = nullptr;
   // How drive columns were read where the job did not say, one line each
   // ("<experiment>: <note>").
   std::vector<std::string> input_notes;

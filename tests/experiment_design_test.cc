@@ -17,6 +17,7 @@
 
 #include "fit/experiment_design.h"
 #include "fit/fit.h"
+#include "fit/html_report.h"
 #include "fit/job.h"
 #include "sim/config.h"
 #include "sim/experiment.h"
@@ -70,6 +71,18 @@ TEST(ExperimentDesignTest, ARecordInMotionGetsTheExperimentThatDecides) {
   int infeasible = 0;
   for (const DesignCandidate& c : p.candidates) infeasible += !c.feasible;
   EXPECT_GT(infeasible, 0) << "the 1 m travel rules out the long fast steps";
+
+  // report.html's section: the text and the best inputs, the proposed
+  // one first.
+  HtmlReportInput html;
+  html.result = &run.result;
+  html.job = &run.job;
+  html.proposal = &p;
+  const std::string page = RenderHtmlReport(html, testing_files::TestTempDir(), nullptr);
+  const size_t section = page.find("id=\"next-experiment\"");
+  ASSERT_NE(section, std::string::npos);
+  EXPECT_NE(page.find(HtmlEscape(p.best.description), section), std::string::npos);
+  EXPECT_NE(page.find("chi2 coulomb beyond load_offset", section), std::string::npos);
 
   // The proposal as written: an experiment file simulate-axis loads.
   const std::string dir = testing_files::TestTempDir() + "proposal";
