@@ -1,5 +1,6 @@
 #include "fit/benchmark.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -154,7 +155,7 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
   if (const YAML::Node quoted = map.Optional("quoted")) {
     if (!quoted.IsSequence()) {
       ThrowConfigError(path, quoted, map.KeyPath("quoted"),
-                       "a list of {model, value, source}", Describe(quoted));
+                       "a list of {model, value, source, experiment?}", Describe(quoted));
     }
     for (size_t k = 0; k < quoted.size(); ++k) {
       YamlMap entry(quoted[k], path, map.KeyPath("quoted[" + std::to_string(k) + "]."));
@@ -164,8 +165,9 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
       q.source = entry.String("source");
       if (entry.Has("experiment")) {
         q.experiment = entry.String("experiment");
-        bool named = false;
-        for (const BenchmarkColumn& c : out->columns) named = named || c.experiment == q.experiment;
+        const bool named =
+            std::any_of(out->columns.begin(), out->columns.end(),
+                        [&](const BenchmarkColumn& c) { return c.experiment == q.experiment; });
         if (!named) {
           ThrowConfigError(path, quoted[k]["experiment"], entry.KeyPath("experiment"),
                            "the experiment of one of 'benchmark.columns'",

@@ -667,9 +667,10 @@ std::string ProposalHtml(const ExperimentProposal& p) {
   for (const DesignCandidate& c : p.candidates) {
     if (c.feasible) best.push_back(&c);
   }
-  std::stable_sort(best.begin(), best.end(), [](const DesignCandidate* a, const DesignCandidate* b) {
-    return a->criterion > b->criterion;
-  });
+  std::stable_sort(best.begin(), best.end(),
+                   [](const DesignCandidate* a, const DesignCandidate* b) {
+                     return a->criterion > b->criterion;
+                   });
   if (best.size() > 10) best.resize(10);
   const bool t_optimal = p.criterion == "T-optimal";
   HtmlTable table;

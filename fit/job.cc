@@ -255,9 +255,10 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
   // first N samples of the measured x channel, extrapolated to the next
   // sample, where the experiment then starts (the EMPS benchmark's protocol:
   // "the first 20 samples may be used to initialise the state"). Degree 2
-  // because a line's slope is the velocity at the window's middle: an axis
-  // accelerating at a starts (N/2)·h·a slower than it is (EMPS: 0.9 m/s²
-  // over 20 ms, 9 mm/s, which drifts the open-loop position by ~4 mm).
+  // because a line's slope is the velocity at the window's middle, sample
+  // (N−1)/2: an axis accelerating at a starts ((N+1)/2)·h·a slower than it
+  // is (EMPS: 0.95 m/s², 10.5 ms, 10 mm/s, held for the ≈0.5 s time
+  // constant M/B_a ≈5 mm of open-loop drift).
   std::string init = "rest";
   long init_samples = 0;
   int init_degree = 2;
@@ -284,7 +285,9 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     init_samples = spec.Integer("from_samples", 0, 2, 1000000);
     if (!spec.Has("from_samples")) {
       ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
-                       "a number of samples >= 2, or the states y0..y6", "none");
+                       "a number of samples (more than the polynomial's degree, 2 by "
+                       "default), or the states y0..y6",
+                       "none");
     }
     init_degree = static_cast<int>(spec.Integer("degree", 2, 1, 2));
     if (init_samples <= init_degree) {

@@ -119,8 +119,9 @@ TEST(JobKeysTest, InitialStateFromTheFirstSamples) {
 // the EMPS runs start: 0.95 m/s² over their first 20 ms): the default
 // quadratic through the first 20 samples is the exact state at sample 20
 // (v = 0.2 + a·0.020 = 0.22 m/s), the line (degree: 1) returns the velocity
-// at the window's middle, 9.5 samples earlier: 0.2095 m/s. Positions are
-// written with 12 significant digits, so both to 1e-9 m/s, not 1e-3.
+// at the window's middle (9.5 ms), 10.5 samples before sample 20:
+// 0.2095 m/s. Positions are written with 12 significant digits, so both to
+// 1e-9 m/s, not 1e-3.
 TEST(JobKeysTest, InitialStateFromAcceleratingSamples) {
   std::string csv = "t,u,x\n";
   char row[96];
@@ -149,6 +150,11 @@ TEST(JobKeysTest, InitialStateFromAcceleratingSamples) {
   EXPECT_NEAR(quadratic.experiments[0].initial_state[1], 0.2 + t20, 1e-9);
   const FitJob line = LoadFitJob(Write("line.yaml", job("{from_samples: 20, degree: 1}")));
   EXPECT_NEAR(line.experiments[0].initial_state[1], 0.2 + 0.0095, 1e-9);
+  const std::string too_few = LoadError(Write("two_samples.yaml", job("{from_samples: 2}")));
+  EXPECT_NE(too_few.find("initial_state.from_samples': expected more samples than the degree 2"),
+            std::string::npos)
+      << too_few;
+  EXPECT_EQ(LoadError(Write("two_line.yaml", job("{from_samples: 2, degree: 1}"))), "no error");
   const std::string bad = Write("degree3.yaml", job("{from_samples: 20, degree: 3}"));
   const std::string msg = LoadError(bad);
   EXPECT_NE(msg.find("initial_state.degree"), std::string::npos) << msg;
