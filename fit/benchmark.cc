@@ -224,6 +224,7 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
     row.model = "this tool, criterion " + settings.criteria[k].name;
     row.fitted_on = Join(settings.criteria[k].experiments, " + ");
     row.effects = EnabledEffectNames(runs[k].job.model.structure);
+    row.undetermined = runs[k].result.undetermined;
     for (const BenchmarkColumn& c : settings.columns) {
       row.values.push_back(ColumnValue(c, runs[k].result.experiments));
     }
@@ -265,15 +266,16 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
 
 std::string FormatBenchmark(const BenchmarkTable& table) {
   TextTable text;
-  text.headers = {"model", "fitted on", "effects"};
-  text.right = {false, false, false};
+  text.headers = {"model", "fitted on", "effects", "not determined by the data"};
+  text.right = {false, false, false, false};
   for (const BenchmarkColumn& c : table.columns) {
     text.headers.push_back(ColumnLabel(c));
     text.right.push_back(true);
   }
   for (const BenchmarkRow& r : table.rows) {
     std::vector<std::string> cells = {r.model, r.fitted_on,
-                                      r.effects.empty() ? "-" : Join(r.effects, ", ")};
+                                      r.effects.empty() ? "-" : Join(r.effects, ", "),
+                                      r.undetermined.empty() ? "-" : Join(r.undetermined, ", ")};
     for (double v : r.values) cells.push_back(FormatNumber(v, 4, "-"));
     text.rows.push_back(cells);
   }
@@ -307,6 +309,7 @@ nlohmann::json BenchmarkToJson(const BenchmarkTable& table) {
     out["rows"].push_back({{"model", r.model},
                            {"fitted_on", r.fitted_on},
                            {"effects", r.effects},
+                           {"undetermined", r.undetermined},
                            {"values", values},
                            {"source", r.source}});
   }

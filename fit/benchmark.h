@@ -94,6 +94,9 @@ struct BenchmarkRow {
   std::string model;                 // e.g. "this tool, open_loop"
   std::string fitted_on;             // the criterion's experiments, "-" if none
   std::vector<std::string> effects;  // MODEL.md §7 effects in the model
+  // This tool's rows: the free parameters the fit could not determine
+  // (ParameterEstimate::determined false: not an interpretable estimate).
+  std::vector<std::string> undetermined;
   std::vector<double> values;        // per column; NaN where not known
   std::string source;                // quoted rows: the source
 };
@@ -125,8 +128,8 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
 std::string FormatBenchmark(const BenchmarkTable& table);
 
 // benchmark.json: {"title", "columns": [{"experiment", "channel", "measure",
-// "scale", "unit"}], "rows": [{"model", "fitted_on", "effects", "values",
-// "source"}]} (non-finite values as null).
+// "scale", "unit"}], "rows": [{"model", "fitted_on", "effects",
+// "undetermined", "values", "source"}]} (non-finite values as null).
 nlohmann::json BenchmarkToJson(const BenchmarkTable& table);
 
 }  // namespace axis

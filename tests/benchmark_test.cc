@@ -196,6 +196,15 @@ TEST(BenchmarkJobTest, TableIsTheRunsFiguresAndTheTestRunChoosesNothing) {
       }
     }
     EXPECT_DOUBLE_EQ(table["rows"][k]["values"][0].get<double>(), 1000.0 * rms) << name;
+    // ... and the free parameters its report marks undetermined.
+    std::vector<std::string> undetermined;
+    for (const auto& p : report["parameters"]) {
+      if (p["free"].get<bool>() && !p["determined"].get<bool>()) {
+        undetermined.push_back(p["name"].get<std::string>());
+      }
+    }
+    EXPECT_EQ(table["rows"][k]["undetermined"].get<std::vector<std::string>>(), undetermined)
+        << name;
   }
   // dynoNet's figure sits on the training run (its `experiment:`), the
   // others on the score column.
