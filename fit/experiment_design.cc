@@ -27,6 +27,7 @@ using Clock = std::chrono::steady_clock;
 // Rest before the first step of a step pair (s): the record shows the axis
 // at rest, where Coulomb friction and a constant force differ.
 constexpr double kRestBefore = 0.1;
+constexpr double kTwoPi = 6.283185307179586;
 
 std::string Num(double x, int digits = 4) { return FormatNumber(x, digits); }
 
@@ -90,6 +91,86 @@ std::vector<DesignCandidate> Family(const DesignSettings& d) {
   return out;
 }
 
+// `shape` (m) sampled at every multiple of `period` up to `duration`: a
+// reference position table read by linear interpolation, so that its CSV
+// (t, x_ref at the same instants) replays it exactly.
+template <typename Shape>
+InputSignal SampledReference(const Shape& shape, double duration, double period) {
+  InputSignal s;
+  s.kind = InputSignal::Kind::kTable;
+  const long n = static_cast<long>(std::floor(duration / period + 1e-9)) + 1;
+  for (long k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) * period;
+    s.times.push_back(t);
+    s.values.push_back(shape(t));
+  }
+  return s;
+}
+
+// The closed-loop family (see the header): reference positions about the
+// travel's centre `c` within its half-width `half`, as sampled tables.
+std::vector<DesignCandidate> ClosedLoopFamily(const DesignSettings& d, double period) {
+  std::vector<DesignCandidate> out;
+  const double c = 0.5 * (d.travel_low + d.travel_high);
+  const double half = 0.5 * (d.travel_high - d.travel_low);
+  const double dur = d.duration;
+  const double dwell = 0.05 * dur;
+  for (double fraction : {0.3, 0.6, 0.9}) {
+    for (double move : {0.075, 0.15}) {
+      // Rest, to c + D in T, dwell, to c − D in 2T, dwell, back to c in T.
+      const double dist = fraction * half;
+      const double t_move = move * dur;
+      const std::vector<double> ts = {0.0,
+                                      kRestBefore,
+                                      kRestBefore + t_move,
+                                      kRestBefore + t_move + dwell,
+                                      kRestBefore + 3.0 * t_move + dwell,
+                                      kRestBefore + 3.0 * t_move + 2.0 * dwell,
+                                      kRestBefore + 4.0 * t_move + 2.0 * dwell};
+      const std::vector<double> xs = {c, c, c + dist, c + dist, c - dist, c - dist, c};
+      DesignCandidate m;
+      m.family = "moves";
+      m.description = "moves +-" + Num(dist, 3) + " m, " + Num(t_move, 3) + " s per " +
+                      Num(dist, 3) + " m";
+      m.input = SampledReference(
+          [&](double t) {
+            if (t >= ts.back()) return xs.back();
+            const size_t k = static_cast<size_t>(
+                std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
+            return xs[k] + (xs[k + 1] - xs[k]) * (t - ts[k]) / (ts[k + 1] - ts[k]);
+          },
+          dur, period);
+      m.level = dist;
+      out.push_back(m);
+    }
+  }
+  for (double fraction : {0.3, 0.6, 0.9}) {
+    for (double f : {0.5, 1.0, 2.0, 4.0}) {
+      DesignCandidate s;
+      s.family = "sine";
+      s.description = "sine +-" + Num(fraction * half, 3) + " m, " + Num(f, 3) + " Hz";
+      s.input = SampledReference(
+          [&](double t) { return c + fraction * half * std::sin(kTwoPi * f * t); }, dur,
+          period);
+      s.level = fraction * half;
+      out.push_back(s);
+    }
+  }
+  for (double fraction : {0.3, 0.6, 0.9}) {
+    for (double bit : {0.05, 0.1, 0.2}) {
+      const InputSignal prbs = MakePrbs(fraction * half, c, bit, 10, 1, dur);
+      DesignCandidate s;
+      s.family = "prbs";
+      s.description = "PRBS +-" + Num(fraction * half, 3) + " m, bit " + Num(bit, 3) + " s";
+      s.input = SampledReference([&](double t) { return prbs.Evaluate(t); }, dur, period);
+      s.level = fraction * half;
+      s.bit_time = bit;
+      out.push_back(s);
+    }
+  }
+  return out;
+}
+
 // The proposed record as a fitted experiment of `job` (channels, σ, step,
 // output period of its first experiment), from rest at x0; its measured
 // values are zeros (only Jacobians are taken from it).
@@ -99,7 +180,15 @@ FitExperiment ProposedExperiment(const FitJob& job, const InputSignal& input, do
   FitExperiment e;
   e.name = "proposed";
   e.data_path = "(proposed)";
-  e.drive.input = input;
+  if (ref.drive.closed_loop) {
+    // The first experiment's controller, the candidate as its reference.
+    e.drive.closed_loop = true;
+    e.drive.controller = ref.drive.controller;
+    e.drive.reference.kind = Reference::Kind::kTable;
+    e.drive.reference.table = input;
+  } else {
+    e.drive.input = input;
+  }
   e.options = ref.options;
   const double period = ref.options.output_period;
   const long n = static_cast<long>(std::floor(duration / period + 1e-9)) + 1;
@@ -216,14 +305,11 @@ ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& resu
     throw std::invalid_argument(job_in.path + ": design: expected a job with a fitted "
                                 "experiment, got none");
   }
-  if (job_in.experiments.front().drive.closed_loop) {
-    throw std::invalid_argument(job_in.path + ": design: expected an open-loop first experiment "
-                                "(the proposals are set-velocity voltages), got a closed-loop one");
-  }
   FitJob job = job_in;
   ApplyEstimates(result, &job);
   p.duration = d.duration;
   p.start_x = 0.5 * (d.travel_low + d.travel_high);
+  p.closed_loop = job.experiments.front().drive.closed_loop;
   const double s2 = std::max(result.residual_variance, 1e-300);
 
   // The records' own Jacobians.
@@ -307,7 +393,9 @@ ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& resu
   }
 
   // Every input of the family: feasible, then scored.
-  std::vector<DesignCandidate> family = Family(d);
+  const FitExperiment& first = job.experiments.front();
+  std::vector<DesignCandidate> family =
+      first.drive.closed_loop ? ClosedLoopFamily(d, first.options.output_period) : Family(d);
   size_t best = family.size();
   for (size_t k = 0; k < family.size(); ++k) {
     DesignCandidate& c = family[k];
@@ -401,7 +489,9 @@ std::string FormatProposal(const ExperimentProposal& p) {
     }
   }
   out << "  files: experiment_proposed.yaml (simulate-axis), experiment_proposed_input.csv "
-         "(t, u to run on the machine), experiment_proposed_model.yaml\n";
+      << (p.closed_loop ? "(t, x_ref: the reference position to run on the machine)"
+                        : "(t, u to run on the machine)")
+      << ", experiment_proposed_model.yaml\n";
   return out.str();
 }
 
@@ -409,6 +499,7 @@ nlohmann::json ProposalToJson(const ExperimentProposal& p) {
   nlohmann::json j = {{"proposed", p.proposed},
                       {"reason", p.reason},
                       {"criterion", p.criterion},
+                      {"closed_loop", p.closed_loop},
                       {"seconds", JsonNumber(p.seconds)}};
   if (p.criterion == "T-optimal") {
     j["pair"] = {p.a, p.b};
@@ -455,6 +546,12 @@ void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult
   model.name = job.model.name + "_fitted";
   model.source = "fit-params on " + job.title + " (the estimates the design was made at)";
   const FitExperiment& ref = job.experiments.front();
+  const bool closed_loop = ref.drive.closed_loop;
+  if (closed_loop) {
+    // The controller the design simulated (the first experiment's).
+    model.has_controller = true;
+    model.controller = ref.drive.controller;
+  }
   // The record as the design simulated it: its start state and time grid.
   const FitExperiment e = ProposedExperiment(job, p.best.input, p.duration, p.start_x);
   std::ostringstream state, sigmas, extra_channels, columns;
@@ -484,17 +581,26 @@ void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult
     << "channels: [u, x" << extra_channels.str() << "]\n"
     << "noise: {" << sigmas.str() << "}\n"
     << "seed: 1\n"
-    << "initial_state: " << state.str() << "\n"
-    << "input: " << InputYaml(p.best) << "\n";
+    << "initial_state: " << state.str() << "\n";
+  if (closed_loop) {
+    y << "reference: {type: column, file: experiment_proposed_input.csv, column: x_ref}\n";
+  } else {
+    y << "input: " << InputYaml(p.best) << "\n";
+  }
   // The job entry that fits the recorded run (the same start).
   y << "# To fit the recorded run, add to the job's experiments:\n"
     << "#   - name: proposed\n"
-    << "#     data: <the recorded CSV: t and the channels above>\n"
-    << "#     channels: {u: u, x: x" << columns.str() << "}\n"
-    << "#     input: {column: u"
-    << (p.best.family == "steps" || p.best.family == "prbs" ? ", interpolation: hold" : "")
-    << "}\n"
-    << "#     initial_state: " << state.str() << "\n"
+    << "#     data: <the recorded CSV: t, the channels above"
+    << (closed_loop ? " and the reference x_ref" : "") << ">\n"
+    << "#     channels: {u: u, x: x" << columns.str() << "}\n";
+  if (closed_loop) {
+    y << "#     reference: {column: x_ref}\n";
+  } else {
+    y << "#     input: {column: u"
+      << (p.best.family == "steps" || p.best.family == "prbs" ? ", interpolation: hold" : "")
+      << "}\n";
+  }
+  y << "#     initial_state: " << state.str() << "\n"
     << "#     fit: {" << sigmas.str() << "}\n";
   WriteFileAtomic(dir + "/experiment_proposed_model.yaml",
                   "# Written by fit-params (design:): the fitted model the next experiment\n"
@@ -502,7 +608,7 @@ void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult
                       AxisConfigToYaml(model));
   WriteFileAtomic(dir + "/experiment_proposed.yaml", y.str());
   std::ostringstream csv;
-  csv << std::setprecision(12) << "t,u\n";
+  csv << std::setprecision(12) << (closed_loop ? "t,x_ref\n" : "t,u\n");
   for (double t : e.t) csv << t << "," << p.best.input.Evaluate(t) << "\n";
   WriteFileAtomic(dir + "/experiment_proposed_input.csv", csv.str());
 }

@@ -16,13 +16,21 @@
 // - D-optimal: the determinant of the free parameters' information JᵀJ over
 //   the experiments and the proposed one, reported as predicted standard
 //   errors s·sqrt(diag (JᵀJ)⁻¹) (s² the fit's residual variance).
-// The family (set-velocity voltage U within ±design.max_voltage, a record
-// of design.duration s from rest at the centre of design.travel): step
-// pairs (0.1 s at rest, +L for T, −L for T, then 0), sines, chirps and
-// PRBS over a grid of levels, durations, frequencies and bit times (listed
-// in ProposeExperiment's table). A candidate is feasible if the position
-// stays inside design.travel in the simulation of the current model and,
-// for T, of both rival models.
+// The family, a record of design.duration s from rest at the centre c of
+// design.travel (half-width w):
+// - open loop (the job's first experiment driven by an input): the
+//   set-velocity voltage U within ±design.max_voltage: step pairs (0.1 s at
+//   rest, +L for T, −L for T, then 0), sines, chirps and PRBS over a grid of
+//   levels, durations, frequencies and bit times (Family in the .cc);
+// - closed loop (its first experiment has a controller and a reference):
+//   the reference position for that controller, sampled at the output
+//   period and read by linear interpolation: moves (0.1 s at rest, to c + D
+//   in T, a dwell, to c − D in 2T, a dwell, back to c in T; D = 0.3, 0.6,
+//   0.9·w), sines c + A·sin(2πft) and PRBS c ± A (A = 0.3, 0.6, 0.9·w)
+//   (ClosedLoopFamily). The controller's output saturates at its U_max as
+//   in any closed-loop run: a fast reference can drive it to the limit.
+// A candidate is feasible if the position stays inside design.travel in the
+// simulation of the current model and, for T, of both rival models.
 #ifndef FIT_EXPERIMENT_DESIGN_H_
 #define FIT_EXPERIMENT_DESIGN_H_
 
@@ -43,8 +51,12 @@ namespace axis {
 struct DesignCandidate {
   std::string family;       // "steps", "sine", "chirp", "prbs"
   std::string description;  // e.g. "sine 5 V, 1 Hz"
+  // Open loop: the set-velocity voltage U(t) (V); closed loop: the
+  // reference position (m), a table at the output period.
   InputSignal input;
-  double level = 0.0;     // V: the step height, sine/chirp amplitude, PRBS level
+  // Open loop (V): the step height, sine/chirp amplitude, PRBS level;
+  // closed loop (m): the move's distance D, the sine's or PRBS's A.
+  double level = 0.0;
   double bit_time = 0.0;  // s: PRBS only
   bool feasible = false;
   double x_min = 0.0, x_max = 0.0;  // m, predicted travel (all models simulated)
@@ -58,6 +70,7 @@ struct DesignCandidate {
 
 struct ExperimentProposal {
   bool proposed = false;
+  bool closed_loop = false;  // the family is reference positions (see above)
   std::string reason;      // why (not) proposed, one sentence
   std::string criterion;   // "T-optimal" or "D-optimal" ("" if not proposed)
   std::string a, b;        // T: the pair
@@ -84,10 +97,10 @@ struct ExperimentProposal {
 // one member is significant; else D-optimal if a free parameter's relative
 // standard error exceeds job.design.rel_se > 0; else nothing (reason says
 // why). Needs job.design.enabled; the fitted channels and σ of the proposal
-// are those of job.experiments[0], its step and output period too. Throws
-// std::invalid_argument if the job has no fitted experiment or is closed
-// loop only (the family is open-loop inputs); std::runtime_error if the
-// simulation at the estimates fails.
+// are those of job.experiments[0], its step and output period too, and in
+// closed loop its controller. Throws std::invalid_argument if the job has
+// no fitted experiment; std::runtime_error if the simulation at the
+// estimates fails.
 ExperimentProposal ProposeExperiment(const FitJob& job, const FitResult& result,
                                      std::ostream* progress = nullptr);
 
@@ -101,9 +114,11 @@ nlohmann::json ProposalToJson(const ExperimentProposal& proposal);
 // fitted channels with their σ from the job as noise, the start state, and
 // as a comment the job entry that fits the recorded run),
 // `dir`/experiment_proposed_model.yaml (the job's model at the fitted
-// values, which the experiment file names) and
-// `dir`/experiment_proposed_input.csv (t, u at the output rate: the input
-// to run on the machine), each atomically (RunJob's writer stages the
+// values, which the experiment file names; in closed loop with the first
+// experiment's controller) and `dir`/experiment_proposed_input.csv (t, u at
+// the output rate: the input to run on the machine; in closed loop t, x_ref:
+// the reference position, which the experiment file reads as a column),
+// each atomically (RunJob's writer stages the
 // folder, so a failure leaves none of them).
 // Nothing is written unless proposal.proposed. Throws std::runtime_error
 // if a file cannot be written.

@@ -705,13 +705,6 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
                                         step, dir, true, &names);
   job.validate = ParseExperimentList(root, "validate", "validate", job.model,
                                      step, dir, false, &names);
-  if (job.design.enabled && !job.experiments.empty() &&
-      job.experiments.front().drive.closed_loop) {
-    ThrowConfigError(path, root.Optional("design"), "design",
-                     "an open-loop first experiment (the proposals are set-velocity voltages, "
-                     "with its channels, sigmas and step)",
-                     "a closed-loop one ('" + job.experiments.front().name + "')");
-  }
   {
     // Per fitted experiment, a Jacobian evaluation holds the simulated
     // channels and the residuals as Jets of 1 + |θ| doubles, and Ceres the
