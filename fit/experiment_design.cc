@@ -150,8 +150,12 @@ std::vector<DesignCandidate> ClosedLoopFamily(const DesignSettings& d, double pe
       s.family = "sine";
       s.description = "sine +-" + Num(fraction * half, 3) + " m, " + Num(f, 3) + " Hz";
       s.input = SampledReference(
-          [&](double t) { return c + fraction * half * std::sin(kTwoPi * f * t); }, dur,
-          period);
+          [&](double t) {
+            return t < kRestBefore
+                       ? c
+                       : c + fraction * half * std::sin(kTwoPi * f * (t - kRestBefore));
+          },
+          dur, period);
       s.level = fraction * half;
       out.push_back(s);
     }
@@ -162,7 +166,9 @@ std::vector<DesignCandidate> ClosedLoopFamily(const DesignSettings& d, double pe
       DesignCandidate s;
       s.family = "prbs";
       s.description = "PRBS +-" + Num(fraction * half, 3) + " m, bit " + Num(bit, 3) + " s";
-      s.input = SampledReference([&](double t) { return prbs.Evaluate(t); }, dur, period);
+      s.input = SampledReference(
+          [&](double t) { return t < kRestBefore ? c : prbs.Evaluate(t - kRestBefore); }, dur,
+          period);
       s.level = fraction * half;
       s.bit_time = bit;
       out.push_back(s);
@@ -201,6 +207,9 @@ FitExperiment ProposedExperiment(const FitJob& job, const InputSignal& input, do
   }
   e.initial_state[0] = x0;
   if (job.model.structure.coupling == Coupling::kGear) e.initial_state[2] = x0 / job.model.params.r_g;
+  // As simulate-axis starts the written file: in rigid coupling the motor
+  // angle y2 = x0/r_g too (a motor encoder reads it).
+  e.initial_state = ConsistentInitialState(job.model, e.initial_state);
   return e;
 }
 
@@ -594,7 +603,7 @@ void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult
     << (closed_loop ? " and the reference x_ref" : "") << ">\n"
     << "#     channels: {u: u, x: x" << columns.str() << "}\n";
   if (closed_loop) {
-    y << "#     reference: {column: x_ref}\n";
+    y << "#     reference: {column: x_ref, interpolation: linear}\n";
   } else {
     y << "#     input: {column: u"
       << (p.best.family == "steps" || p.best.family == "prbs" ? ", interpolation: hold" : "")

@@ -27,8 +27,10 @@
 //   period and read by linear interpolation: moves (0.1 s at rest, to c + D
 //   in T, a dwell, to c − D in 2T, a dwell, back to c in T; D = 0.3, 0.6,
 //   0.9·w), sines c + A·sin(2πft) and PRBS c ± A (A = 0.3, 0.6, 0.9·w)
-//   (ClosedLoopFamily). The controller's output saturates at its U_max as
-//   in any closed-loop run: a fast reference can drive it to the limit.
+//   (ClosedLoopFamily), each after 0.1 s at rest at c. The controller's
+//   output saturates at its U_max as in any closed-loop run: a fast
+//   reference can drive it to the limit. The experiment's injection, if
+//   any, is not part of the proposal.
 // A candidate is feasible if the position stays inside design.travel in the
 // simulation of the current model and, for T, of both rival models.
 #ifndef FIT_EXPERIMENT_DESIGN_H_

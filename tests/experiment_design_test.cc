@@ -170,44 +170,63 @@ TEST(ExperimentDesignTest, DOptimalWhenAParameterIsKnownTooPoorly) {
 
 // A closed-loop job (the EMPS rig, 3 s of its estimation run, M and B_a):
 // the proposals are reference positions for its own controller, inside the
-// travel; D-optimal predicts no larger errors; the written experiment file
-// loads as a closed-loop run whose reference is the proposal's, sample for
-// sample.
+// travel; the written experiment file loads as a closed-loop run whose
+// reference is the proposal's, sample for sample, and simulate-axis's run of
+// it (noise off) is the design's own: the same position range. Also with a
+// motor encoder (counts_per_rev), where the controller reads the motor angle
+// y2, which the design must start at x0/r_g as simulate-axis does.
 TEST(ExperimentDesignTest, ClosedLoopJobsGetReferencePositions) {
-  YAML::Node y = YAML::LoadFile(kRoot + "/configs/jobs/emps.yaml");
-  y["model"] = kRoot + "/configs/axes/emps.yaml";
-  y["experiments"][0]["data"] = kRoot + "/testdata/emps/DATA_EMPS.csv";
-  y["experiments"][0]["window"] = YAML::Load("[0, 3]");
-  y.remove("validate");
-  y.remove("published");
-  y.remove("discover");
-  y["output"]["dir"] = testing_files::TestTempDir() + "closed_loop_design_out";
-  y["design"] = YAML::Load("{travel: [0, 0.25], duration: 3, rel_se: 1.0e-6}");
-  const std::string path = testing_files::TestTempDir() + "closed_loop_design.yaml";
-  std::ofstream(path) << YAML::Dump(y);
-  FitJob job = LoadFitJob(path);
-  job.solver.progress = false;
-  ASSERT_TRUE(job.experiments[0].drive.closed_loop);
-  const FitResult result = FitParameters(job);
-  const ExperimentProposal p = ProposeExperiment(job, result);
-  ASSERT_TRUE(p.proposed) << p.reason;
-  EXPECT_EQ(p.criterion, "D-optimal");
-  for (const DesignCandidate& c : p.candidates) {
-    EXPECT_TRUE(c.family == "moves" || c.family == "sine" || c.family == "prbs") << c.family;
-  }
-  EXPECT_GE(p.best.x_min, 0.0);
-  EXPECT_LE(p.best.x_max, 0.25);
-  for (size_t k = 0; k < job.free.size(); ++k) {
-    EXPECT_LE(p.rel_se_predicted[k], p.rel_se_now[k] * (1.0 + 1e-9)) << p.names[k];
-  }
-  const std::string dir = testing_files::TestTempDir() + "closed_loop_proposal";
-  std::filesystem::create_directories(dir);
-  WriteProposal(dir, job, result, p);
-  const ExperimentConfig proposed = LoadExperiment(dir + "/experiment_proposed.yaml");
-  ASSERT_TRUE(proposed.drive.closed_loop);
-  EXPECT_EQ(proposed.drive.controller.G_p, job.experiments[0].drive.controller.G_p);
-  for (double t = 0.0; t <= p.duration; t += 1e-3) {
-    ASSERT_NEAR(proposed.drive.reference.table.Evaluate(t), p.best.input.Evaluate(t), 1e-9) << t;
+  for (const std::string controller : {"", "{counts_per_rev: 10000000}"}) {
+    SCOPED_TRACE(controller.empty() ? "load-side encoder" : "motor encoder");
+    YAML::Node y = YAML::LoadFile(kRoot + "/configs/jobs/emps.yaml");
+    y["model"] = kRoot + "/configs/axes/emps.yaml";
+    y["experiments"][0]["data"] = kRoot + "/testdata/emps/DATA_EMPS.csv";
+    y["experiments"][0]["window"] = YAML::Load("[0, 3]");
+    if (!controller.empty()) y["controller"] = YAML::Load(controller);
+    y.remove("validate");
+    y.remove("published");
+    y.remove("discover");
+    y["output"]["dir"] = testing_files::TestTempDir() + "closed_loop_design_out";
+    y["design"] = YAML::Load("{travel: [0, 0.25], duration: 3, rel_se: 1.0e-6}");
+    const std::string path = testing_files::TestTempDir() + "closed_loop_design.yaml";
+    std::ofstream(path) << YAML::Dump(y);
+    FitJob job = LoadFitJob(path);
+    job.solver.progress = false;
+    ASSERT_TRUE(job.experiments[0].drive.closed_loop);
+    const FitResult result = FitParameters(job);
+    const ExperimentProposal p = ProposeExperiment(job, result);
+    ASSERT_TRUE(p.proposed) << p.reason;
+    EXPECT_TRUE(p.closed_loop);
+    EXPECT_EQ(p.criterion, "D-optimal");
+    int feasible = 0;
+    for (const DesignCandidate& c : p.candidates) {
+      EXPECT_TRUE(c.family == "moves" || c.family == "sine" || c.family == "prbs") << c.family;
+      // Every reference starts at rest at the travel's centre.
+      EXPECT_EQ(c.input.Evaluate(0.0), p.start_x) << c.description;
+      EXPECT_EQ(c.input.Evaluate(0.09), p.start_x) << c.description;
+      feasible += c.feasible;
+    }
+    EXPECT_GT(feasible, 0);
+    const std::string dir = testing_files::TestTempDir() + "closed_loop_proposal";
+    std::filesystem::create_directories(dir);
+    WriteProposal(dir, job, result, p);
+    const ExperimentConfig proposed = LoadExperiment(dir + "/experiment_proposed.yaml");
+    ASSERT_TRUE(proposed.drive.closed_loop);
+    EXPECT_EQ(proposed.drive.controller.G_p, job.experiments[0].drive.controller.G_p);
+    EXPECT_EQ(proposed.drive.controller.counts_per_rev,
+              job.experiments[0].drive.controller.counts_per_rev);
+    for (double t = 0.0; t <= p.duration; t += 1e-3) {
+      ASSERT_NEAR(proposed.drive.reference.table.Evaluate(t), p.best.input.Evaluate(t), 1e-9)
+          << t;
+    }
+    SimulateAxisOptions quiet;
+    quiet.no_noise = true;
+    const Trace<double> replay = SimulateExperiment(proposed, quiet);
+    ASSERT_TRUE(replay.finite);
+    const std::vector<double>& x = replay[Channel::kX];
+    // The replay reads the model file's values written to 10 digits.
+    EXPECT_NEAR(*std::min_element(x.begin(), x.end()), p.best.x_min, 1e-6);
+    EXPECT_NEAR(*std::max_element(x.begin(), x.end()), p.best.x_max, 1e-6);
   }
 }
 
