@@ -222,10 +222,6 @@ SearchSides SearchBoundSides(const FreeParameter& f) {
   return {f.name != "F_c" && f.name != "T_c", true};
 }
 
-}  // namespace
-
-namespace {
-
 // The index of the fit with the lowest finite BIC in `fits` among those
 // that ran to the whole record (else among those stopped early, whose BIC
 // is a lower bound: FitResult::abandoned_horizon), or fits.size() if none
@@ -356,6 +352,29 @@ const ParameterEstimate* FindEstimate(const FitResult& fit, const std::string& n
     if (e.name == name) return &e;
   }
   return nullptr;
+}
+
+// Widens 100-fold each search-bound side (SearchBoundSides) of the
+// parameters `names` of `job` on which `fit` ended (within 1e-6 of the
+// interval's width); true if any was widened.
+bool WidenSearchBounds(const FitResult& fit, const std::vector<std::string>& names,
+                       FitJob* job) {
+  bool widened = false;
+  for (FreeParameter& f : job->free) {
+    if (std::find(names.begin(), names.end(), f.name) == names.end()) continue;
+    const ParameterEstimate* e = FindEstimate(fit, f.name);
+    if (e == nullptr) continue;
+    const SearchSides sides = SearchBoundSides(f);
+    const double width = f.upper - f.lower;
+    if (sides.upper && e->value >= f.upper - 1e-6 * width) {
+      f.upper += 100.0 * width;
+      widened = true;
+    } else if (sides.lower && e->value <= f.lower + 1e-6 * width) {
+      f.lower -= 100.0 * width;
+      widened = true;
+    }
+  }
+  return widened;
 }
 
 // Drops `name` from the selected effects (to report->removed) and adopts
@@ -842,23 +861,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
         // widened 100-fold and the refit continued from where it ended.
         if (std::isfinite(own[best].bic) && own[best].abandoned_horizon == 0.0) {
           FitJob wider = q.starts[best];
-          bool widened = false;
-          for (FreeParameter& f : wider.free) {
-            if (std::find(q.names.begin(), q.names.end(), f.name) == q.names.end()) continue;
-            const SearchSides sides = SearchBoundSides(f);
-            for (const ParameterEstimate& e : own[best].parameters) {
-              if (e.name != f.name) continue;
-              const double width = f.upper - f.lower;
-              if (sides.upper && e.value >= f.upper - 1e-6 * width) {
-                f.upper += 100.0 * width;
-                widened = true;
-              } else if (sides.lower && e.value <= f.lower + 1e-6 * width) {
-                f.lower -= 100.0 * width;
-                widened = true;
-              }
-            }
-          }
-          if (widened) {
+          if (WidenSearchBounds(own[best], q.names, &wider)) {
             ApplyEstimates(own[best], &wider);
             const Clock::time_point again = Clock::now();
             FitResult further = FitParameters(wider, nullptr);

@@ -91,6 +91,11 @@ std::vector<DesignCandidate> Family(const DesignSettings& d) {
   return out;
 }
 
+// The samples at 0, period, … up to `duration` (round-off tolerant).
+long SampleCount(double duration, double period) {
+  return static_cast<long>(std::floor(duration / period + 1e-9)) + 1;
+}
+
 // `shape` (m) sampled at every multiple of `period` up to `duration`: a
 // reference position table read by linear interpolation, so that its CSV
 // (t, x_ref at the same instants) replays it exactly.
@@ -98,7 +103,7 @@ template <typename Shape>
 InputSignal SampledReference(const Shape& shape, double duration, double period) {
   InputSignal s;
   s.kind = InputSignal::Kind::kTable;
-  const long n = static_cast<long>(std::floor(duration / period + 1e-9)) + 1;
+  const long n = SampleCount(duration, period);
   for (long k = 0; k < n; ++k) {
     const double t = static_cast<double>(k) * period;
     s.times.push_back(t);
@@ -117,29 +122,25 @@ std::vector<DesignCandidate> ClosedLoopFamily(const DesignSettings& d, double pe
   const double dwell = 0.05 * dur;
   for (double fraction : {0.3, 0.6, 0.9}) {
     for (double move : {0.075, 0.15}) {
-      // Rest, to c + D in T, dwell, to c − D in 2T, dwell, back to c in T.
+      // Rest, to c + D in T, dwell, to c − D in 2T, dwell, back to c in T:
+      // a linearly interpolated table, then sampled.
       const double dist = fraction * half;
       const double t_move = move * dur;
-      const std::vector<double> ts = {0.0,
-                                      kRestBefore,
-                                      kRestBefore + t_move,
-                                      kRestBefore + t_move + dwell,
-                                      kRestBefore + 3.0 * t_move + dwell,
-                                      kRestBefore + 3.0 * t_move + 2.0 * dwell,
-                                      kRestBefore + 4.0 * t_move + 2.0 * dwell};
-      const std::vector<double> xs = {c, c, c + dist, c + dist, c - dist, c - dist, c};
+      InputSignal path;
+      path.kind = InputSignal::Kind::kTable;
+      path.times = {0.0,
+                    kRestBefore,
+                    kRestBefore + t_move,
+                    kRestBefore + t_move + dwell,
+                    kRestBefore + 3.0 * t_move + dwell,
+                    kRestBefore + 3.0 * t_move + 2.0 * dwell,
+                    kRestBefore + 4.0 * t_move + 2.0 * dwell};
+      path.values = {c, c, c + dist, c + dist, c - dist, c - dist, c};
       DesignCandidate m;
       m.family = "moves";
       m.description = "moves +-" + Num(dist, 3) + " m, " + Num(t_move, 3) + " s per " +
                       Num(dist, 3) + " m";
-      m.input = SampledReference(
-          [&](double t) {
-            if (t >= ts.back()) return xs.back();
-            const size_t k = static_cast<size_t>(
-                std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
-            return xs[k] + (xs[k + 1] - xs[k]) * (t - ts[k]) / (ts[k + 1] - ts[k]);
-          },
-          dur, period);
+      m.input = SampledReference([&](double t) { return path.Evaluate(t); }, dur, period);
       m.level = dist;
       out.push_back(m);
     }
@@ -197,7 +198,7 @@ FitExperiment ProposedExperiment(const FitJob& job, const InputSignal& input, do
   }
   e.options = ref.options;
   const double period = ref.options.output_period;
-  const long n = static_cast<long>(std::floor(duration / period + 1e-9)) + 1;
+  const long n = SampleCount(duration, period);
   e.options.duration = period * static_cast<double>(n - 1);
   for (long k = 0; k < n; ++k) e.t.push_back(static_cast<double>(k) * period);
   e.fitted = ref.fitted;
@@ -205,11 +206,11 @@ FitExperiment ProposedExperiment(const FitJob& job, const InputSignal& input, do
     e.measured_channels.push_back(f.channel);
     e.measured.emplace_back(n, 0.0);
   }
+  // At rest, the motor at the load's position in either coupling (in rigid
+  // coupling what simulate-axis's ConsistentInitialState makes of the
+  // written file; a motor encoder reads y2).
   e.initial_state[0] = x0;
-  if (job.model.structure.coupling == Coupling::kGear) e.initial_state[2] = x0 / job.model.params.r_g;
-  // As simulate-axis starts the written file: in rigid coupling the motor
-  // angle y2 = x0/r_g too (a motor encoder reads it).
-  e.initial_state = ConsistentInitialState(job.model, e.initial_state);
+  e.initial_state[2] = x0 / job.model.params.r_g;
   return e;
 }
 

@@ -1429,6 +1429,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     }
   }
   ResidualBootstrap(job, &result, &out);
+  std::string proposal_text;  // FormatProposal's, with `design:`
   if (job.design.enabled) {
     stage("designing the next experiment");
     try {
@@ -1438,7 +1439,8 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
       run.proposal = ExperimentProposal{};
       run.proposal.reason = std::string("no proposal: ") + e.what();
     }
-    out << "\n" << FormatProposal(run.proposal);
+    proposal_text = FormatProposal(run.proposal);
+    out << "\n" << proposal_text;
   }
   out << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
   out << "cost " << result.initial_cost << " -> " << result.final_cost
@@ -1479,7 +1481,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     }
   }
   if (job.design.enabled) {
-    extra.markdown += "\n## Next experiment\n\n```\n" + FormatProposal(run.proposal) + "```\n";
+    extra.markdown += "\n## Next experiment\n\n```\n" + proposal_text + "```\n";
     extra.json["next_experiment"] = ProposalToJson(run.proposal);
   }
   run.job = std::move(job);

@@ -545,8 +545,8 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
       const Clock::time_point refit_start = Clock::now();
       FitResult refit = FitParameters(refit_job, nullptr);
       if (progress) {
-        *progress << "force map: refit at lambda " << lambda << " (" << Number(SecondsSince(refit_start), 3)
-                  << " s)\n";
+        *progress << "force map: refit at lambda " << lambda << " ("
+                  << Number(SecondsSince(refit_start), 3) << " s)\n";
       }
       if (std::isfinite(refit.final_cost)) {
         ApplyEstimates(refit, &refit_job);

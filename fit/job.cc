@@ -328,10 +328,10 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     const double slope = c(1);
     e.initial_state[0] = intercept;
     e.initial_state[1] = slope;
-    if (model.structure.coupling == Coupling::kGear) {
-      e.initial_state[2] = intercept / model.params.r_g;
-      e.initial_state[3] = slope / model.params.r_g;
-    }
+    // The motor with the load, in either coupling (in rigid coupling
+    // ConsistentInitialState's y2, y3; a motor encoder reads y2).
+    e.initial_state[2] = intercept / model.params.r_g;
+    e.initial_state[3] = slope / model.params.r_g;
     first += init_samples;
     count -= init_samples;
   }
