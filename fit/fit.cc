@@ -331,11 +331,12 @@ double LowerThan(double cost, double relative) {
 // (θ* and `cost` if nothing is lower). The probes simulate in double (the
 // guard of `counter` off); a point lower than θ* is kept only if it also
 // passes the sensitivity guard (ExperimentCost), as the solver will start
-// from it. Leaves *theta at θ*.
+// from it. The cost is evaluated on `threads` threads (CostAt). Leaves
+// *theta at θ*.
 void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
                 const std::vector<double>& upper,
                 const std::vector<double>& last_step, double cost,
-                EvaluationCounter* counter,
+                EvaluationCounter* counter, int threads,
                 std::vector<double>* theta, std::vector<double>* best,
                 double* best_cost, int* probes) {
   const int n = static_cast<int>(theta->size());
@@ -374,7 +375,7 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
         for (int k = 0; k < n; ++k) {
           point[k] = std::clamp(centre[k] + sign * s * d[k], lower[k], upper[k]);
         }
-        const double c = CostAt(problem, point, theta);
+        const double c = CostAt(problem, point, theta, threads);
         ++*probes;
         if (c < cost) lower_points.emplace_back(c, point);
       }
@@ -385,7 +386,7 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
   // arithmetic, when it passes).
   std::sort(lower_points.begin(), lower_points.end());
   for (const auto& [c, point] : lower_points) {
-    if (std::isfinite(CostAt(problem, point, theta))) {
+    if (std::isfinite(CostAt(problem, point, theta, threads))) {
       *best_cost = c;
       *best = point;
       break;
@@ -738,8 +739,9 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       // refit lost its way and the loop ended with cogging and motor-side
       // Coulomb friction as stand-ins).
       const std::vector<double> chain = p.theta;
-      const double chain_cost = CostAt(stage.problem.get(), chain, &p.theta);
-      if (!(CostAt(stage.problem.get(), starts[s], &p.theta) < chain_cost)) {
+      const int threads = job.solver.threads;
+      const double chain_cost = CostAt(stage.problem.get(), chain, &p.theta, threads);
+      if (!(CostAt(stage.problem.get(), starts[s], &p.theta, threads) < chain_cost)) {
         std::copy(chain.begin(), chain.end(), p.theta.begin());
       }
     }
@@ -793,7 +795,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       return false;
     }
     const std::vector<double> end = p.theta;
-    const double at_start = CostAt(stages[i].problem.get(), starts[s], &p.theta);
+    const double at_start =
+        CostAt(stages[i].problem.get(), starts[s], &p.theta, job.solver.threads);
     std::copy(end.begin(), end.end(), p.theta.begin());
     const double bound =
         2.0 * std::min(run->summary.final_cost, at_start) + bic_penalty;
@@ -840,7 +843,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       run.theta = p.theta;
       if (s == 0) {
         // The cost of the job's initial point on all the data.
-        result.initial_cost = CostAt(&full_problem, starts[0], &p.theta);
+        result.initial_cost = CostAt(&full_problem, starts[0], &p.theta, job.solver.threads);
         std::copy(run.theta.begin(), run.theta.end(), p.theta.begin());
       }
     }
@@ -903,7 +906,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     PhaseTimer timer("starts", p.counter, &result);
     StartRun& run = runs[s];
     if (last > 0 && std::isfinite(best_cost)) {
-      const double at_start = CostAt(stages[last - 1].problem.get(), starts[s], &p.theta);
+      const double at_start = CostAt(stages[last - 1].problem.get(), starts[s], &p.theta,
+                                      job.solver.threads);
       if (std::min(run.summary.final_cost, at_start) > best_cost) {
         --finals_total;
         continue;
@@ -980,8 +984,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         }
         std::vector<double> lowest;
         double lowest_cost = best_cost;
-        ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.counter, &p.theta,
-                   &lowest, &lowest_cost, &probes);
+        ProbeRound(&last, p.lower, p.upper, best_step, best_cost, &p.counter,
+                   job.solver.threads, &p.theta, &lowest, &lowest_cost, &probes);
         ++result.probe_rounds;
         if (!(lowest_cost < lower_than_estimate())) {
           result.optimum_verified = true;
@@ -1170,7 +1174,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       }
       scan = LikelihoodRatioIntervals(&full_problem, p.lower, p.upper,
                                       cov_theta * result.residual_variance, n_free, t975,
-                                      result.residual_variance, kRatioSteps, &p.theta);
+                                      result.residual_variance, kRatioSteps, &p.theta,
+                                      job.solver.threads);
       met_cost = scan.lowest_cost;
       met_point = &scan.lowest_point;
     } else {

@@ -18,11 +18,12 @@
 namespace axis {
 
 double CostAt(ceres::Problem* problem, const std::vector<double>& point,
-              std::vector<double>* theta) {
+              std::vector<double>* theta, int threads) {
   std::copy(point.begin(), point.end(), theta->begin());
   double cost = 0.0;
-  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr,
-                         nullptr, nullptr) ||
+  ceres::Problem::EvaluateOptions options;
+  options.num_threads = std::max(1, threads);
+  if (!problem->Evaluate(options, &cost, nullptr, nullptr, nullptr) ||
       !std::isfinite(cost)) {
     return std::numeric_limits<double>::infinity();
   }
@@ -35,7 +36,7 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
                                    const Eigen::MatrixXd& cov_theta, int n_free,
                                    double t975, double residual_variance,
                                    const std::vector<double>& steps,
-                                   std::vector<double>* theta) {
+                                   std::vector<double>* theta, int threads) {
   const int n = static_cast<int>(theta->size());
   const std::vector<double> centre = *theta;
   RatioScan scan;
@@ -45,7 +46,7 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
       steps.empty()) {
     return scan;
   }
-  const double c0 = CostAt(problem, centre, theta);
+  const double c0 = CostAt(problem, centre, theta, threads);
   ++scan.evaluations;
   scan.lowest_cost = c0;
   if (!std::isfinite(c0)) {
@@ -72,7 +73,7 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
         for (int i = 0; i < n; ++i) {
           point[i] = std::clamp(centre[i] + sign * s * d[i], lower[i], upper[i]);
         }
-        const double c = CostAt(problem, point, theta);
+        const double c = CostAt(problem, point, theta, threads);
         ++scan.evaluations;
         if (c < scan.lowest_cost) {
           scan.lowest_cost = c;
@@ -129,7 +130,7 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
   if (cov_theta.rows() != n || cov_theta.cols() != n || !cov_theta.allFinite()) {
     return scan;
   }
-  const double c0 = CostAt(problem, centre, theta);
+  const double c0 = CostAt(problem, centre, theta, options.num_threads);
   scan.lowest_cost = c0;
   if (!std::isfinite(c0)) {
     *theta = centre;
@@ -169,7 +170,7 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
       start[k] = x;
       double cost = 0.0;
       if (!refit) {
-        cost = CostAt(problem, start, theta);
+        cost = CostAt(problem, start, theta, options.num_threads);
       } else {
         std::copy(start.begin(), start.end(), theta->begin());
         ceres::Solver::Summary summary;

@@ -30,9 +30,11 @@ namespace axis {
 
 // The cost ½Σr² of `problem` at `point` (internal coordinates, written into
 // its single parameter block `theta`, whose size equals point.size()), or +∞
-// where the simulation fails or the cost is not finite.
+// where the simulation fails or the cost is not finite. The residual blocks
+// (one per experiment) are evaluated on `threads` threads (≥ 1), as the
+// solver evaluates them (ceres::Problem::EvaluateOptions::num_threads).
 double CostAt(ceres::Problem* problem, const std::vector<double>& point,
-              std::vector<double>* theta);
+              std::vector<double>* theta, int threads = 1);
 
 // A likelihood-ratio interval of one parameter, in internal coordinates
 // (fit/experiment_cost.h ParameterMap: log(value) for positive parameters).
@@ -68,16 +70,17 @@ struct RatioScan {
 // cov_theta is not finite or the cost cannot be evaluated at θ*) and the
 // lowest cost met — a lower point than θ* means θ* is not the optimum, and
 // the caller should restart the solver there. Leaves *theta at its entry
-// value. Source: Bates & Watts, "Nonlinear Regression
-// Analysis and Its Applications" (1988), ch. 6 (likelihood and profile
-// intervals); Venzon & Moolgavkar (1988).
+// value. The cost is evaluated on `threads` threads (CostAt). Source:
+// Bates & Watts, "Nonlinear Regression Analysis and Its Applications"
+// (1988), ch. 6 (likelihood and profile intervals); Venzon & Moolgavkar
+// (1988).
 RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
                                    const std::vector<double>& lower,
                                    const std::vector<double>& upper,
                                    const Eigen::MatrixXd& cov_theta, int n_free,
                                    double t975, double residual_variance,
                                    const std::vector<double>& steps,
-                                   std::vector<double>* theta);
+                                   std::vector<double>* theta, int threads = 1);
 
 // What ProfileLikelihoodIntervals found.
 struct ProfileScan {
