@@ -630,7 +630,6 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   options.gradient_tolerance = job.solver.gradient_tolerance;
   options.num_threads = job.solver.threads;
   options.logging_type = ceres::SILENT;
-  if (!job.solver.line_search) options.max_num_line_search_step_size_iterations = 0;
   // Start LM well damped: Ceres' default initial radius (1e4) is nearly a
   // Gauss–Newton step, which from a factor-2 start jumps by a factor ~7 in
   // log space into parameter regions where the velocity loop chatters at its
@@ -1358,7 +1357,6 @@ void AsWarmRefit(FitJob* job) {
   job->solver.probe_rounds = 0;
   job->solver.first_horizon = 0.0;
   job->uncertainty.method = UncertaintySettings::Method::kGaussNewton;
-  job->solver.line_search = false;
 }
 
 std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int threads,

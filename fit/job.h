@@ -99,12 +99,6 @@ struct SolverSettings {
   // if it had passed abandon_above_bic there, the result carrying that
   // horizon and its BIC's lower bound; 0 fits to the end.
   double stop_after_horizon = 0.0;
-  // Set by AsWarmRefit (fit/fit.h), not a job key: false runs every solve
-  // of the fit without Ceres' projected line search along the trust-region
-  // steps (Solver::Options::max_num_line_search_step_size_iterations = 0),
-  // as the solves next to an estimate always run (fit/fit.cc); true keeps
-  // it for the starts, which may be far from the data.
-  bool line_search = true;
 };
 
 // How the estimate's uncertainty is computed (job key `uncertainty:`;
