@@ -46,9 +46,11 @@ ExperimentCost::ExperimentCost(const AxisStructure& structure,
       map_(map),
       experiment_(experiment),
       grid_(MakeGrid(experiment.options, experiment.drive)),
+      drive_(experiment.drive),
       state_index_(state_index),
       theta_size_(theta_size),
       counter_(counter) {
+  drive_.stage_inputs = MakeStageInputs(drive_, grid_);
   for (const FittedChannel& f : experiment_.fitted) {
     num_residuals_ += static_cast<int>(experiment_.Measured(f.channel).size());
   }

@@ -160,8 +160,7 @@ class ExperimentCost {
       y0[2] = y0[0] / p.r_g;
       y0[3] = y0[1] / p.r_g;
     }
-    const Trace<T> trace = Simulate(structure_, p, y0, experiment_.drive,
-                                    experiment_.options, grid_);
+    const Trace<T> trace = Simulate(structure_, p, y0, drive_, experiment_.options, grid_);
     if (!trace.finite) return false;
     size_t r = 0;
     for (const FittedChannel& f : experiment_.fitted) {
@@ -184,6 +183,9 @@ class ExperimentCost {
   const ParameterMap& map_;
   const FitExperiment& experiment_;
   SimulationGrid grid_;
+  // experiment_.drive with its input sampled at the grid's stage times once
+  // (Drive::stage_inputs), for the many simulations of a fit.
+  Drive drive_;
   int state_index_;
   int theta_size_;
   int num_residuals_ = 0;

@@ -17,8 +17,8 @@
 
 namespace axis {
 
-double CostAt(ceres::Problem* problem, const std::vector<double>& point,
-              std::vector<double>* theta, int threads) {
+double CostAt(ceres::Problem* problem, const std::vector<double>& point, int threads,
+              std::vector<double>* theta) {
   std::copy(point.begin(), point.end(), theta->begin());
   double cost = 0.0;
   ceres::Problem::EvaluateOptions options;
@@ -35,8 +35,8 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
                                    const std::vector<double>& upper,
                                    const Eigen::MatrixXd& cov_theta, int n_free,
                                    double t975, double residual_variance,
-                                   const std::vector<double>& steps,
-                                   std::vector<double>* theta, int threads) {
+                                   const std::vector<double>& steps, int threads,
+                                   std::vector<double>* theta) {
   const int n = static_cast<int>(theta->size());
   const std::vector<double> centre = *theta;
   RatioScan scan;
@@ -46,7 +46,7 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
       steps.empty()) {
     return scan;
   }
-  const double c0 = CostAt(problem, centre, theta, threads);
+  const double c0 = CostAt(problem, centre, threads, theta);
   ++scan.evaluations;
   scan.lowest_cost = c0;
   if (!std::isfinite(c0)) {
@@ -73,7 +73,7 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
         for (int i = 0; i < n; ++i) {
           point[i] = std::clamp(centre[i] + sign * s * d[i], lower[i], upper[i]);
         }
-        const double c = CostAt(problem, point, theta, threads);
+        const double c = CostAt(problem, point, threads, theta);
         ++scan.evaluations;
         if (c < scan.lowest_cost) {
           scan.lowest_cost = c;
@@ -130,7 +130,7 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
   if (cov_theta.rows() != n || cov_theta.cols() != n || !cov_theta.allFinite()) {
     return scan;
   }
-  const double c0 = CostAt(problem, centre, theta, options.num_threads);
+  const double c0 = CostAt(problem, centre, options.num_threads, theta);
   scan.lowest_cost = c0;
   if (!std::isfinite(c0)) {
     *theta = centre;
@@ -170,7 +170,7 @@ ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
       start[k] = x;
       double cost = 0.0;
       if (!refit) {
-        cost = CostAt(problem, start, theta, options.num_threads);
+        cost = CostAt(problem, start, options.num_threads, theta);
       } else {
         std::copy(start.begin(), start.end(), theta->begin());
         ceres::Solver::Summary summary;

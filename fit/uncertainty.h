@@ -33,8 +33,8 @@ namespace axis {
 // where the simulation fails or the cost is not finite. The residual blocks
 // (one per experiment) are evaluated on `threads` threads (≥ 1), as the
 // solver evaluates them (ceres::Problem::EvaluateOptions::num_threads).
-double CostAt(ceres::Problem* problem, const std::vector<double>& point,
-              std::vector<double>* theta, int threads = 1);
+double CostAt(ceres::Problem* problem, const std::vector<double>& point, int threads,
+              std::vector<double>* theta);
 
 // A likelihood-ratio interval of one parameter, in internal coordinates
 // (fit/experiment_cost.h ParameterMap: log(value) for positive parameters).
@@ -79,8 +79,8 @@ RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
                                    const std::vector<double>& upper,
                                    const Eigen::MatrixXd& cov_theta, int n_free,
                                    double t975, double residual_variance,
-                                   const std::vector<double>& steps,
-                                   std::vector<double>* theta, int threads = 1);
+                                   const std::vector<double>& steps, int threads,
+                                   std::vector<double>* theta);
 
 // What ProfileLikelihoodIntervals found.
 struct ProfileScan {

@@ -333,7 +333,9 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
       if (structure.current_loop == CurrentLoop::kFull) {
         vm = internal::Clamp(T(c.K_a * vc - c.K_a_per_K_i * i), p.V_M);
         (*dy)[6] = c.inv_L * vm - c.R_per_L * i - c.K_e_per_L * omega;
-      }  // kQuasiSteady: y6' below, after ω'.
+      } else {
+        (*dy)[6] = T(0.0);  // kQuasiSteady: y6' below, after ω'
+      }
     } else {
       i = p.K_i * vc;
       vm = p.R * i + p.K_e * omega;

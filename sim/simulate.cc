@@ -45,4 +45,26 @@ SimulationGrid MakeGrid(const SimulationOptions& options, const Drive& drive) {
   return g;
 }
 
+std::shared_ptr<const StageInputs> MakeStageInputs(const Drive& drive,
+                                                   const SimulationGrid& grid) {
+  if (drive.closed_loop || IsHeldInput(drive.input) || grid.num_steps < 0) return nullptr;
+  auto out = std::make_shared<StageInputs>();
+  const double h = grid.step;
+  out->step = h;
+  const size_t n_entries = static_cast<size_t>(grid.num_steps) + 1;
+  out->at_start.resize(n_entries);
+  out->at_half.resize(n_entries);
+  out->at_end.resize(n_entries);
+  size_t cursor = 0;
+  for (long n = 0; n <= grid.num_steps; ++n) {
+    // The times as Simulate and Rk4Step form them (t = n·h; t + half_h with
+    // half_h = 0.5·h; t + h).
+    const double t = n * h;
+    out->at_start[n] = drive.input.Evaluate(t, &cursor);
+    out->at_half[n] = drive.input.Evaluate(t + 0.5 * h, &cursor);
+    out->at_end[n] = drive.input.Evaluate(t + h, &cursor);
+  }
+  return out;
+}
+
 }  // namespace axis

@@ -71,7 +71,7 @@ TEST(LikelihoodRatioTest, QuadraticCostGivesTheGaussNewtonInterval) {
   const std::vector<double> lower = {-100, -100}, upper = {100, 100};
   const std::vector<double> centre = theta;
   const RatioScan scan = LikelihoodRatioIntervals(&problem, lower, upper, cov, 2, t,
-                                                  1.0, kSteps, &theta);
+                                                  1.0, kSteps, 1, &theta);
   ASSERT_EQ(scan.intervals.size(), 2u);
   for (int k = 0; k < 2; ++k) {
     const double sd = std::sqrt(cov(k, k));
@@ -98,7 +98,7 @@ TEST(LikelihoodRatioTest, KinkedCostFollowsTheFlatSideAndReportsTheLowerValley) 
   Eigen::MatrixXd cov(1, 1);
   cov(0, 0) = 1.0;
   const RatioScan scan = LikelihoodRatioIntervals(&problem, {-100}, {100}, cov, 1, t,
-                                                  1.0, kSteps, &x);
+                                                  1.0, kSteps, 1, &x);
   ASSERT_EQ(scan.intervals.size(), 1u);
   EXPECT_NEAR(scan.intervals[0].low, -4.0 * t, 0.05);
   // Above: the first crossing is at t, but beyond the bump the cost falls
@@ -120,7 +120,7 @@ TEST(LikelihoodRatioTest, NotFiniteCovarianceGivesNothing) {
   Eigen::MatrixXd cov(1, 1);
   cov(0, 0) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(LikelihoodRatioIntervals(&problem, {-100}, {100}, cov, 1, 1.96, 1.0,
-                                       kSteps, &x)
+                                       kSteps, 1, &x)
                   .intervals.empty());
 }
 
@@ -348,13 +348,13 @@ TEST(ProfileTest, LowerCostStopsTheSearch) {
   ceres::Solve(ProfileOptions(), &problem, &summary);
   const Eigen::MatrixXd cov = CovarianceAt(&problem, 2);
   theta[1] += std::sqrt(cov(1, 1));
-  const double c0 = CostAt(&problem, theta, &theta);
+  const double c0 = CostAt(&problem, theta, 1, &theta);
   const ProfileScan stopped = ProfileLikelihoodIntervals(
       &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 2, 1.96, 1.0,
       c0 - 1e-6, true, &theta);
   EXPECT_TRUE(stopped.intervals.empty());
   EXPECT_LT(stopped.lowest_cost, c0 - 1e-6);
-  EXPECT_NEAR(CostAt(&problem, stopped.lowest_point, &theta), stopped.lowest_cost, 1e-12);
+  EXPECT_NEAR(CostAt(&problem, stopped.lowest_point, 1, &theta), stopped.lowest_cost, 1e-12);
   const ProfileScan full = ProfileLikelihoodIntervals(
       &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 2, 1.96, 1.0,
       c0 - 1e-6, false, &theta);
