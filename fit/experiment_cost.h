@@ -86,8 +86,10 @@ class ExperimentCost {
   // Creates the Ceres cost of `experiment` over a parameter block of
   // `theta_size` entries; `state_index` is the position of the experiment's
   // (y0, y1) in θ, or -1 to start from experiment.initial_state. The model,
-  // map, experiment and counter must outlive the cost. The number of
-  // residuals is Σ over fitted channels of the sample count.
+  // map, experiment and counter must outlive the cost; the experiment's
+  // drive is copied at creation, with its input sampled at the grid's stage
+  // times (MakeStageInputs), so later changes to it are not seen. The
+  // number of residuals is Σ over fitted channels of the sample count.
   static ceres::CostFunction* Create(const AxisStructure& structure,
                                      const ParameterMap& map,
                                      const FitExperiment& experiment,

@@ -47,7 +47,7 @@ SimulationGrid MakeGrid(const SimulationOptions& options, const Drive& drive) {
 
 std::shared_ptr<const StageInputs> MakeStageInputs(const Drive& drive,
                                                    const SimulationGrid& grid) {
-  if (drive.closed_loop || IsHeldInput(drive.input) || grid.num_steps < 0) return nullptr;
+  if (drive.closed_loop || IsHeldInput(drive.input)) return nullptr;
   auto out = std::make_shared<StageInputs>();
   const double h = grid.step;
   out->step = h;

@@ -52,7 +52,9 @@ struct Drive {
   // Optional, open loop only: `input` at the stage times of the grid
   // (MakeStageInputs). Simulate uses it where its step equals the grid's
   // and it covers the grid, and evaluates `input` otherwise (and at the
-  // sub-steps of located events); the trace is the same either way.
+  // sub-steps of located events); for a table made from this drive's
+  // `input` the trace is the same either way. Nothing ties the two: a
+  // drive whose `input` changes must drop or remake it.
   std::shared_ptr<const StageInputs> stage_inputs;
 };
 
@@ -81,7 +83,8 @@ SimulationGrid MakeGrid(const SimulationOptions& options, const Drive& drive);
 
 // `drive.input` at the stage times of `grid` (StageInputs), or null where
 // Simulate would not evaluate it at the stage times: closed loop, or an
-// input held over each step (zero, a step, a held table). Never throws.
+// input held over each step (zero, a step, a held table). 24 bytes per
+// step (a 2 s record at 10 µs: 4.8 MB). Throws only std::bad_alloc.
 std::shared_ptr<const StageInputs> MakeStageInputs(const Drive& drive,
                                                    const SimulationGrid& grid);
 

@@ -2,8 +2,10 @@
 // times (Drive::stage_inputs) gives the very trace its evaluation gives.
 #include "sim/simulate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include <ceres/jet.h>
@@ -82,20 +84,24 @@ void CheckLookupGivesTheSameTrace() {
   ASSERT_TRUE(a.finite);
   ExpectSameTrace(a, b, options);
 
-  // The table is what the simulation reads: a table of another input
-  // (scaled by 1.01) changes the trace.
-  auto other = std::make_shared<StageInputs>(*looked_up.stage_inputs);
-  for (std::vector<double>* v : {&other->at_start, &other->at_half, &other->at_end}) {
+  // Each of the three columns is what the simulation reads at its stage:
+  // one of them scaled by 1.01 changes the trace.
+  const std::shared_ptr<const StageInputs> sampled = looked_up.stage_inputs;
+  for (int column = 0; column < 3; ++column) {
+    auto other = std::make_shared<StageInputs>(*sampled);
+    std::vector<double>* v = column == 0   ? &other->at_start
+                             : column == 1 ? &other->at_half
+                                           : &other->at_end;
     for (double& u : *v) u *= 1.01;
+    looked_up.stage_inputs = other;
+    const Trace<T> c = Simulate(structure, p, y0, looked_up, options, grid);
+    double largest = 0.0;
+    for (size_t k = 0; k < a[Channel::kTach].size(); ++k) {
+      largest = std::max(largest, std::abs(ScalarValue(c[Channel::kTach][k]) -
+                                           ScalarValue(a[Channel::kTach][k])));
+    }
+    EXPECT_GT(largest, 1e-5) << "column " << column;  // V; the tach reaches about 0.5 V
   }
-  looked_up.stage_inputs = other;
-  const Trace<T> c = Simulate(structure, p, y0, looked_up, options, grid);
-  double largest = 0.0;
-  for (size_t k = 0; k < a[Channel::kTach].size(); ++k) {
-    largest = std::max(largest, std::abs(ScalarValue(c[Channel::kTach][k]) -
-                                         ScalarValue(a[Channel::kTach][k])));
-  }
-  EXPECT_GT(largest, 1e-4);  // V; the tach reaches about 0.5 V
 }
 
 TEST(SimulateTest, StageInputLookupGivesTheSameTraceInDouble) {
@@ -106,9 +112,9 @@ TEST(SimulateTest, StageInputLookupGivesTheSameTraceInJet) {
   CheckLookupGivesTheSameTrace<Jet2>();
 }
 
-// A table sampled on another step, or too short for the grid, is not used
-// (the trace is still the evaluated input's), and held or closed-loop
-// drives get none.
+// A table sampled on another step (as many entries as the grid), or too
+// short for the grid, is not used (the trace is still the evaluated
+// input's), and held, step or closed-loop drives get none.
 TEST(SimulateTest, StageInputsOfAnotherGridAreIgnored) {
   const AxisStructure structure;
   const AxisParams<double> p;
@@ -119,6 +125,7 @@ TEST(SimulateTest, StageInputsOfAnotherGridAreIgnored) {
                                    options, grid);
   SimulationOptions coarse = options;
   coarse.step = 2e-5;
+  coarse.duration = 1.2;  // as many entries as the grid: only the step differs
   Drive wrong_step = evaluated;
   wrong_step.stage_inputs = MakeStageInputs(wrong_step, MakeGrid(coarse, wrong_step));
   ExpectSameTrace(a, Simulate(structure, p, AxisState<double>::Zero().eval(), wrong_step,
@@ -136,6 +143,9 @@ TEST(SimulateTest, StageInputsOfAnotherGridAreIgnored) {
   Drive step;
   step.input.kind = InputSignal::Kind::kStep;
   EXPECT_EQ(MakeStageInputs(step, grid), nullptr);
+  Drive closed = evaluated;
+  closed.closed_loop = true;
+  EXPECT_EQ(MakeStageInputs(closed, grid), nullptr);
 }
 
 }  // namespace
