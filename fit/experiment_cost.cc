@@ -46,11 +46,15 @@ ExperimentCost::ExperimentCost(const AxisStructure& structure,
       map_(map),
       experiment_(experiment),
       grid_(MakeGrid(experiment.options, experiment.drive)),
-      drive_(experiment.drive),
       state_index_(state_index),
       theta_size_(theta_size),
       counter_(counter) {
-  drive_.stage_inputs = MakeStageInputs(drive_, grid_);
+  drive_ = &experiment.drive;
+  if (!StageInputsCover(experiment.drive.stage_inputs.get(), grid_)) {
+    own_drive_ = experiment.drive;
+    own_drive_->stage_inputs = MakeStageInputs(*own_drive_, grid_);
+    drive_ = &*own_drive_;
+  }
   for (const FittedChannel& f : experiment_.fitted) {
     num_residuals_ += static_cast<int>(experiment_.Measured(f.channel).size());
   }

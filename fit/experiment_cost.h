@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,10 +87,12 @@ class ExperimentCost {
   // Creates the Ceres cost of `experiment` over a parameter block of
   // `theta_size` entries; `state_index` is the position of the experiment's
   // (y0, y1) in θ, or -1 to start from experiment.initial_state. The model,
-  // map, experiment and counter must outlive the cost; the experiment's
-  // drive is copied at creation, with its input sampled at the grid's stage
-  // times (MakeStageInputs), so later changes to it are not seen. The
-  // number of residuals is Σ over fitted channels of the sample count.
+  // map, experiment and counter must outlive the cost. Where the
+  // experiment's drive carries no stage inputs covering the grid
+  // (StageInputsCover), the cost copies the drive at creation with its
+  // input sampled at the grid's stage times (MakeStageInputs), and later
+  // changes to the experiment's drive are not seen. The number of residuals
+  // is Σ over fitted channels of the sample count.
   static ceres::CostFunction* Create(const AxisStructure& structure,
                                      const ParameterMap& map,
                                      const FitExperiment& experiment,
@@ -99,6 +102,9 @@ class ExperimentCost {
   ExperimentCost(const AxisStructure& structure, const ParameterMap& map,
                  const FitExperiment& experiment, int theta_size,
                  int state_index, EvaluationCounter* counter);
+  // drive_ may point into the object itself.
+  ExperimentCost(const ExperimentCost&) = delete;
+  ExperimentCost& operator=(const ExperimentCost&) = delete;
 
   // Residuals (ŷ − y)/σ, channel by channel in experiment.fitted order.
   // Returns false, so that Ceres rejects the trial step, if the simulation
@@ -162,7 +168,7 @@ class ExperimentCost {
       y0[2] = y0[0] / p.r_g;
       y0[3] = y0[1] / p.r_g;
     }
-    const Trace<T> trace = Simulate(structure_, p, y0, drive_, experiment_.options, grid_);
+    const Trace<T> trace = Simulate(structure_, p, y0, *drive_, experiment_.options, grid_);
     if (!trace.finite) return false;
     size_t r = 0;
     for (const FittedChannel& f : experiment_.fitted) {
@@ -185,9 +191,11 @@ class ExperimentCost {
   const ParameterMap& map_;
   const FitExperiment& experiment_;
   SimulationGrid grid_;
-  // experiment_.drive with its input sampled at the grid's stage times once
-  // (Drive::stage_inputs), for the many simulations of a fit.
-  Drive drive_;
+  // The drive simulated: experiment_.drive if its stage inputs cover the
+  // grid (FitParameters shares one table per experiment with its horizon
+  // stages), else own_drive_, a copy with its input sampled here.
+  std::optional<Drive> own_drive_;
+  const Drive* drive_ = nullptr;
   int state_index_;
   int theta_size_;
   int num_residuals_ = 0;

@@ -615,6 +615,15 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     full.experiments = job.experiments;
     stages.push_back(std::move(full));
   }
+  // The input at the RK4 stage times (sim/simulate.h StageInputs), sampled
+  // once per experiment on its whole record and shared by the shorter
+  // horizons, which use its first entries.
+  for (size_t j = 0; j < job.experiments.size(); ++j) {
+    const FitExperiment& e = job.experiments[j];
+    const std::shared_ptr<const StageInputs> table =
+        MakeStageInputs(e.drive, MakeGrid(e.options, e.drive));
+    for (Stage& stage : stages) stage.experiments[j].drive.stage_inputs = table;
+  }
   for (Stage& stage : stages) {
     BuildStage(job, *p.map, state_index, p.lower, p.upper, theta, &p.counter, &stage);
   }

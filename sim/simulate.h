@@ -109,6 +109,15 @@ inline bool IsHeldInput(const InputSignal& input) {
          (input.kind == InputSignal::Kind::kTable && input.hold);
 }
 
+// True if `s` (may be null) was sampled on `grid`'s step and covers its
+// steps: a table of a longer record on the same step serves a shorter one
+// (the horizon stages of a fit share their experiment's).
+inline bool StageInputsCover(const StageInputs* s, const SimulationGrid& grid) {
+  return s != nullptr && s->step == grid.step &&
+         s->at_start.size() > static_cast<size_t>(grid.num_steps) &&
+         s->at_half.size() == s->at_start.size() && s->at_end.size() == s->at_start.size();
+}
+
 namespace internal {
 
 template <typename T>
@@ -308,13 +317,10 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
   const bool held_input = !drive.closed_loop && IsHeldInput(in);
   double u_step = 0.0;
   // The input at this step's stage times, looked up (Drive::stage_inputs).
-  const StageInputs* stages = drive.stage_inputs.get();
-  if (drive.closed_loop || held_input || stages == nullptr || stages->step != h ||
-      stages->at_start.size() <= static_cast<size_t>(grid.num_steps) ||
-      stages->at_half.size() != stages->at_start.size() ||
-      stages->at_end.size() != stages->at_start.size()) {
-    stages = nullptr;
-  }
+  const StageInputs* stages =
+      !drive.closed_loop && !held_input && StageInputsCover(drive.stage_inputs.get(), grid)
+          ? drive.stage_inputs.get()
+          : nullptr;
   long step_n = 0;      // the step being taken
   double step_t = 0.0;  // its start, step_n·h
   const auto input_at = [&](double t) -> T {
