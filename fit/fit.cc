@@ -629,6 +629,25 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   }
   const int num_residuals = stages.back().num_residuals;
   ceres::Problem& full_problem = *stages.back().problem;
+  // The stages a screen of this job ran (HorizonCheckpoint), checked for
+  // its shape; the starts below are drawn as the screen drew them.
+  const HorizonCheckpoint* resume = job.solver.resume.get();
+  if (resume != nullptr) {
+    bool fits = resume->starts.size() == static_cast<size_t>(1 + job.solver.starts);
+    for (const std::vector<HorizonCheckpoint::StageEnd>& run : resume->starts) {
+      fits = fits && run.size() < stages.size();
+      for (const HorizonCheckpoint::StageEnd& done : run) {
+        fits = fits && done.theta.size() == p.theta.size();
+      }
+    }
+    if (!fits) {
+      throw std::invalid_argument(
+          "solver.resume: expected a checkpoint of this job (" +
+          std::to_string(1 + job.solver.starts) + " start(s), " +
+          std::to_string(p.theta.size()) + " internal coordinates, fewer than " +
+          std::to_string(stages.size()) + " stages each), got another");
+    }
+  }
 
   ceres::Solver::Options options;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -796,18 +815,28 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // With solver.stop_after_horizon every start also stops, with its bound,
   // after the stage of that horizon (a screen of the refits: fit/discovery.cc).
   const double stop_after = job.solver.stop_after_horizon;
+  // The stage's cost at start s's own point (the stage's minimum is the
+  // lower of it and the end point): from the checkpoint for a stage it holds.
+  std::shared_ptr<HorizonCheckpoint> checkpoint;  // the screen's record, below
+  const auto cost_at_start = [&](size_t s, size_t i) {
+    if (resume != nullptr && i < resume->starts[s].size()) return resume->starts[s][i].start_cost;
+    if (checkpoint != nullptr && i < checkpoint->starts[s].size()) {
+      return checkpoint->starts[s][i].start_cost;
+    }
+    const std::vector<double> end = p.theta;
+    const double at_start =
+        CostAt(stages[i].problem.get(), starts[s], job.solver.threads, &p.theta);
+    std::copy(end.begin(), end.end(), p.theta.begin());
+    return at_start;
+  };
   const auto passed_bound = [&](size_t s, size_t i, StartRun* run) {
     const bool screen_end = stop_after > 0.0 && stages[i].horizon >= stop_after * (1.0 - 1e-9);
     if (!run->usable ||
         (!screen_end && !(abandon_above < std::numeric_limits<double>::infinity()))) {
       return false;
     }
-    const std::vector<double> end = p.theta;
-    const double at_start =
-        CostAt(stages[i].problem.get(), starts[s], job.solver.threads, &p.theta);
-    std::copy(end.begin(), end.end(), p.theta.begin());
     const double bound =
-        2.0 * std::min(run->summary.final_cost, at_start) + bic_penalty;
+        2.0 * std::min(run->summary.final_cost, cost_at_start(s, i)) + bic_penalty;
     if (!screen_end && !(bound > abandon_above)) return false;
     run->abandoned_horizon = stages[i].horizon;
     run->bic_bound = bound;
@@ -836,6 +865,16 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     }
     return false;
   };
+  // The screen (solver.stop_after_horizon) records every start's stages
+  // for the fit that goes on after them (solver.resume), which takes each
+  // stage the checkpoint holds as run: its end point, cost and start cost,
+  // the point it started from (the previous stage's end) kept for the retry
+  // as run_stage keeps it. The same decisions follow (joined, passed_bound)
+  // as if the stages had run again.
+  if (stop_after > 0.0) {
+    checkpoint = std::make_shared<HorizonCheckpoint>();
+    checkpoint->starts.resize(starts.size());
+  }
   {
     PhaseTimer timer("starts", p.counter, &result);
     for (size_t s = 0; s < starts.size(); ++s) {
@@ -843,7 +882,23 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
       run.previous_start = p.theta;
       for (size_t i = 0; i < last && run.usable; ++i) {
-        run_stage(s, i, &run);
+        if (resume != nullptr && i < resume->starts[s].size()) {
+          const HorizonCheckpoint::StageEnd& done = resume->starts[s][i];
+          run.previous_start = p.theta;
+          std::copy(done.theta.begin(), done.theta.end(), p.theta.begin());
+          run.summary.final_cost = done.cost;
+          run.usable = done.usable;
+        } else {
+          run_stage(s, i, &run);
+          if (checkpoint != nullptr) {
+            HorizonCheckpoint::StageEnd done;
+            done.theta = p.theta;
+            done.cost = run.summary.final_cost;
+            done.usable = run.usable;
+            if (run.usable) done.start_cost = cost_at_start(s, i);
+            checkpoint->starts[s].push_back(std::move(done));
+          }
+        }
         if (!run.usable) break;
         ends[s].push_back(p.theta);
         if (joined(s, i, &run) || passed_bound(s, i, &run)) break;
@@ -855,6 +910,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         std::copy(run.theta.begin(), run.theta.end(), p.theta.begin());
       }
     }
+    result.checkpoint = checkpoint;
   }
   std::vector<size_t> order;
   size_t abandoned = starts.size();  // the stopped start with the lowest bound

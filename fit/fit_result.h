@@ -4,10 +4,13 @@
 #ifndef FIT_FIT_RESULT_H_
 #define FIT_FIT_RESULT_H_
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "fit/horizon_checkpoint.h"
 
 namespace axis {
 
@@ -108,6 +111,9 @@ struct FitResult {
   // lower bound, `parameters` hold the values at the stop (standard errors
   // NaN), `experiments` is empty and the other figures are NaN.
   double abandoned_horizon = 0.0;
+  // With solver.stop_after_horizon: the stages every start ran, for a fit
+  // of the same job to go on from (SolverSettings::resume); null otherwise.
+  std::shared_ptr<const HorizonCheckpoint> checkpoint;
   int iterations = 0;
   int simulations = 0;            // residual-only evaluations
   int jacobian_evaluations = 0;   // evaluations with derivatives

@@ -7,12 +7,14 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "fit/benchmark.h"
 #include "fit/design_settings.h"
 #include "fit/discovery_settings.h"
+#include "fit/horizon_checkpoint.h"
 #include "fit/published.h"
 #include "sim/config.h"
 #include "sim/simulate.h"
@@ -99,6 +101,11 @@ struct SolverSettings {
   // if it had passed abandon_above_bic there, the result carrying that
   // horizon and its BIC's lower bound; 0 fits to the end.
   double stop_after_horizon = 0.0;
+  // Set by the discovery loop, not a job key: the shorter horizons this
+  // job's screen ran (FitResult::checkpoint of the same job with
+  // stop_after_horizon), which the fit takes as done and goes on after
+  // (fit/fit.h FitParameters); null runs every stage.
+  std::shared_ptr<const HorizonCheckpoint> resume;
 };
 
 // How the estimate's uncertainty is computed (job key `uncertainty:`;

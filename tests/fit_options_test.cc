@@ -321,6 +321,72 @@ TEST(FitOptionsTest, AFitThatCannotReachTheLevelStopsOnAShorterHorizon) {
   }
 }
 
+// solver.resume (the discovery loop's refits after their screen, issue 11):
+// a fit that goes on after a screen's shorter horizons (stop_after_horizon
+// 0.1 s: the 0.05 and 0.1 s stages of every start) ends exactly where the
+// fit that runs them again ends (same threads: bit-for-bit, no tolerance),
+// with the same starts joined and the same costs on the shorter horizon,
+// and it simulates less; under a level it stops where the whole fit stops
+// with the same bound, without running anything; a checkpoint of another
+// job (another number of starts) is refused.
+TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
+  FitJob job = LoadFitJob(ScreenedJob(4));
+  job.solver.progress = false;
+  const FitResult whole = FitParameters(job);
+  ASSERT_TRUE(std::isfinite(whole.final_cost));
+  EXPECT_EQ(whole.checkpoint, nullptr);
+
+  FitJob screen = job;
+  screen.solver.stop_after_horizon = 0.1;
+  const FitResult screened = FitParameters(screen);
+  EXPECT_DOUBLE_EQ(screened.abandoned_horizon, 0.1);
+  ASSERT_NE(screened.checkpoint, nullptr);
+  ASSERT_EQ(screened.checkpoint->starts.size(), 4u);
+  for (size_t s = 0; s < 4; ++s) {
+    // Two stages each, or fewer for a start that joined an earlier one.
+    EXPECT_EQ(screened.checkpoint->starts[s].size(), whole.start_joined[s] >= 0 &&
+                                                             whole.start_joined_horizon[s] < 0.1
+                                                         ? 1u
+                                                         : 2u)
+        << s;
+  }
+
+  FitJob resumed_job = job;
+  resumed_job.solver.resume = screened.checkpoint;
+  const FitResult resumed = FitParameters(resumed_job);
+  EXPECT_EQ(resumed.final_cost, whole.final_cost);
+  EXPECT_EQ(resumed.bic, whole.bic);
+  for (size_t k = 0; k < whole.parameters.size(); ++k) {
+    EXPECT_EQ(resumed.parameters[k].value, whole.parameters[k].value) << whole.parameters[k].name;
+  }
+  EXPECT_EQ(resumed.start_joined, whole.start_joined);
+  ASSERT_EQ(resumed.start_screen_costs.size(), whole.start_screen_costs.size());
+  for (size_t s = 0; s < whole.start_screen_costs.size(); ++s) {
+    EXPECT_EQ(std::isnan(resumed.start_screen_costs[s]), std::isnan(whole.start_screen_costs[s]));
+    if (!std::isnan(whole.start_screen_costs[s])) {
+      EXPECT_EQ(resumed.start_screen_costs[s], whole.start_screen_costs[s]) << s;
+    }
+  }
+  EXPECT_LT(resumed.jacobian_evaluations, whole.jacobian_evaluations);
+
+  // Under a level below the first horizon's bound both stop there, the
+  // resumed fit with the screen's bound and no Jacobian.
+  job.solver.abandon_above_bic = 1.0;
+  resumed_job.solver.abandon_above_bic = 1.0;
+  const FitResult stopped = FitParameters(job);
+  const FitResult stopped_resumed = FitParameters(resumed_job);
+  EXPECT_DOUBLE_EQ(stopped.abandoned_horizon, 0.05);
+  EXPECT_EQ(stopped_resumed.abandoned_horizon, stopped.abandoned_horizon);
+  EXPECT_EQ(stopped_resumed.bic, stopped.bic);
+  EXPECT_GT(stopped.jacobian_evaluations, 0);
+  EXPECT_EQ(stopped_resumed.jacobian_evaluations, 0);
+
+  FitJob other = LoadFitJob(ScreenedJob(4));
+  other.solver.starts = 2;
+  other.solver.resume = screened.checkpoint;
+  EXPECT_THROW(FitParameters(other), std::invalid_argument);
+}
+
 TEST(FitOptionsTest, QuickFormWritesTheReport) {
   const std::string out = axis::testing_files::TestTempDir() + "quick_out";
   std::filesystem::remove_all(out);
