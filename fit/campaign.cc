@@ -1,7 +1,6 @@
 #include "fit/campaign.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -18,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "fit/concurrency.h"
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/force_map.h"
@@ -375,23 +375,17 @@ std::vector<SeedOutcome> RunCampaign(const CampaignConfig& config, int threads,
   // the rest.
   const int cores = std::max(1u, std::thread::hardware_concurrency());
   const int solver_threads = std::max(1, cores / std::min(threads, n));
-  std::atomic<int> next{0};
   std::mutex mutex;
   int done = 0;
-  const auto worker = [&]() {
-    for (int k = next++; k < n; k = next++) {
-      SeedOutcome o = RunCampaignSeed(config, config.first_seed + k, solver_threads);
-      std::lock_guard<std::mutex> lock(mutex);
-      ++done;
-      if (progress) {
-        *progress << "[" << done << "/" << n << "] " << FormatSeedLine(o) << std::endl;
-      }
-      outcomes[k] = std::move(o);
+  ForEachConcurrently(static_cast<size_t>(n), threads, [&](size_t k) {
+    SeedOutcome o = RunCampaignSeed(config, config.first_seed + static_cast<int>(k), solver_threads);
+    std::lock_guard<std::mutex> lock(mutex);
+    ++done;
+    if (progress) {
+      *progress << "[" << done << "/" << n << "] " << FormatSeedLine(o) << std::endl;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 0; t < std::min(threads, n); ++t) pool.emplace_back(worker);
-  for (std::thread& t : pool) t.join();
+    outcomes[k] = std::move(o);
+  });
   return outcomes;
 }
 

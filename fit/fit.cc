@@ -1,11 +1,9 @@
 #include "fit/fit.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <exception>
 #include <filesystem>
 #include <functional>
 #include <iomanip>
@@ -15,11 +13,11 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
 
 #include <ceres/ceres.h>
 
 #include "fit/benchmark.h"
+#include "fit/concurrency.h"
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/experiment_cost.h"
@@ -1430,30 +1428,15 @@ std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int thre
   const size_t n = jobs.size();
   std::vector<FitResult> out(n);
   std::vector<double> wall(n, 0.0);
-  std::vector<std::exception_ptr> errors(n);
   const int at_once = static_cast<int>(std::min<size_t>(std::max(1, threads), std::max<size_t>(1, n)));
   const int inner = std::max(1, std::max(1, threads) / at_once);
-  std::atomic<size_t> next{0};
-  const auto worker = [&]() {
-    for (size_t k = next++; k < n; k = next++) {
-      const auto start = std::chrono::steady_clock::now();
-      try {
-        FitJob job = jobs[k];
-        job.solver.threads = inner;
-        out[k] = FitParameters(job, nullptr);
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
-      wall[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < at_once; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  for (const std::exception_ptr& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
+  ForEachConcurrently(n, at_once, [&](size_t k) {
+    const auto start = std::chrono::steady_clock::now();
+    FitJob job = jobs[k];
+    job.solver.threads = inner;
+    out[k] = FitParameters(job, nullptr);
+    wall[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  });
   if (seconds != nullptr) *seconds = wall;
   return out;
 }

@@ -6,11 +6,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "fit/concurrency.h"
 #include "fit/report.h"
 #include "sim/channels.h"
 #include "sim/csv.h"
@@ -143,7 +146,11 @@ ExperimentFit Thinned(const ExperimentFit& fit) {
   return out;
 }
 
-// Draws the page's plots, numbering their ids, and notes what failed.
+// Draws the page's plots, numbering their ids, and notes what failed. Each
+// figure is first a placeholder (an HTML comment, which no escaped text can
+// contain) and its gnuplot run a task; Draw runs the tasks several at once
+// (ProcessThreads: a plot of a long record takes 0.1–0.2 s) and puts each
+// figure in its placeholder's place, the warnings in the order of the calls.
 class Plotter {
  public:
   Plotter(const std::string& scratch_dir, std::vector<std::string>* warnings)
@@ -151,58 +158,107 @@ class Plotter {
 
   // A <figure> with the SVG of `fit`, or a note that it could not be drawn.
   std::string Experiment(const ExperimentFit& fit) {
-    const ExperimentFit thinned = Thinned(fit);
+    const auto thinned = std::make_shared<const ExperimentFit>(Thinned(fit));
     const std::string csv = Scratch("csv");
-    WriteExperimentCsv(csv, thinned);
-    std::string svg, warning;
-    const bool ok = RenderExperimentSvg(csv, thinned, NextPrefix(), &svg, &warning);
-    std::error_code ec;
-    fs::remove(csv, ec);
+    const std::string prefix = NextPrefix();
     std::string caption = fit.name + " (" + fit.role + "): left the measured and simulated " +
                           "channels against time, right the residual (simulated − measured), " +
                           "channel units on the axes";
-    if (thinned.t.size() < fit.t.size()) {
-      caption += "; " + std::to_string(thinned.t.size()) + " of " +
+    if (thinned->t.size() < fit.t.size()) {
+      caption += "; " + std::to_string(thinned->t.size()) + " of " +
                  std::to_string(fit.t.size()) +
                  " samples drawn (each stretch's extremes kept; every sample is in the CSV)";
     }
-    return Figure(ok, svg, warning, caption + ".");
+    return Later(caption + ".", [csv, prefix, thinned](std::string* svg, std::string* warning) {
+      WriteExperimentCsv(csv, *thinned);
+      const bool ok = RenderExperimentSvg(csv, *thinned, prefix, svg, warning);
+      std::error_code ec;
+      fs::remove(csv, ec);
+      return ok;
+    });
   }
 
   // A <figure> with the binned mean residuals of `d`.
   std::string Diagnostics(const ChannelDiagnostics& d) {
     const std::string csv = Scratch("csv");
-    WriteDiagnosticsCsv(csv, d);
-    std::string svg, warning;
-    const bool ok = RenderGnuplotSvg(
-        scratch_dir_,
-        [&](const std::string& output) { return DiagnosticsPlotScript(d, csv, output, true); },
-        d.experiment + " " + d.channel + " diagnostics", NextPrefix(), &svg, &warning);
-    std::error_code ec;
-    fs::remove(csv, ec);
-    return Figure(ok, svg, warning,
-                  d.experiment + "/" + d.channel + ": mean residual (" + d.unit +
-                      ") in bins of velocity, position, acceleration and motor angle "
-                      "modulo one revolution, ±1 standard error.");
+    const std::string prefix = NextPrefix();
+    return Later(d.experiment + "/" + d.channel + ": mean residual (" + d.unit +
+                     ") in bins of velocity, position, acceleration and motor angle "
+                     "modulo one revolution, ±1 standard error.",
+                 [this, csv, prefix, &d](std::string* svg, std::string* warning) {
+                   WriteDiagnosticsCsv(csv, d);
+                   const bool ok = RenderGnuplotSvg(
+                       scratch_dir_,
+                       [&](const std::string& output) {
+                         return DiagnosticsPlotScript(d, csv, output, true);
+                       },
+                       d.experiment + " " + d.channel + " diagnostics", prefix, svg, warning);
+                   std::error_code ec;
+                   fs::remove(csv, ec);
+                   return ok;
+                 });
   }
 
   // A <figure> with the learned force of `map` and its band.
   std::string ForceMap(const ForceMapReport& map) {
     const std::string csv = Scratch("csv");
-    WriteForceMapCsv(csv, map);
-    std::string svg, warning;
-    const bool ok = RenderGnuplotSvg(
-        scratch_dir_,
-        [&](const std::string& output) { return ForceMapPlotScript(map, csv, output, true); },
-        "force map", NextPrefix(), &svg, &warning);
-    std::error_code ec;
-    fs::remove(csv, ec);
-    return Figure(ok, svg, warning,
-                  "The learned load force (N) with its pointwise 95 % band (Bayesian, of the "
-                  "penalised fit).");
+    const std::string prefix = NextPrefix();
+    return Later("The learned load force (N) with its pointwise 95 % band (Bayesian, of the "
+                 "penalised fit).",
+                 [this, csv, prefix, &map](std::string* svg, std::string* warning) {
+                   WriteForceMapCsv(csv, map);
+                   const bool ok = RenderGnuplotSvg(
+                       scratch_dir_,
+                       [&](const std::string& output) {
+                         return ForceMapPlotScript(map, csv, output, true);
+                       },
+                       "force map", prefix, svg, warning);
+                   std::error_code ec;
+                   fs::remove(csv, ec);
+                   return ok;
+                 });
+  }
+
+  // Draws every figure asked for and replaces its placeholder in the
+  // sections' bodies. The objects the calls were given must still exist.
+  void Draw(std::vector<HtmlSection>* sections) {
+    std::vector<std::string> figures(plots_.size());
+    std::vector<std::string> warnings(plots_.size());
+    ForEachConcurrently(plots_.size(), ProcessThreads(), [&](size_t k) {
+      std::string svg;
+      const bool ok = plots_[k].draw(&svg, &warnings[k]);
+      figures[k] = Figure(ok, svg, warnings[k], plots_[k].caption);
+      if (ok) warnings[k].clear();
+    });
+    for (const std::string& w : warnings) {
+      if (!w.empty() && warnings_ != nullptr) warnings_->push_back("report.html: " + w);
+    }
+    for (HtmlSection& section : *sections) {
+      std::string& body = section.body;
+      for (size_t at = body.find(kPlaceholder); at != std::string::npos;
+           at = body.find(kPlaceholder, at)) {
+        const size_t end = body.find("-->", at);
+        const size_t k = std::stoul(body.substr(at + kPlaceholder.size(), end - at));
+        body.replace(at, end + 3 - at, figures[k]);
+        at += figures[k].size();
+      }
+    }
+    plots_.clear();
   }
 
  private:
+  // Draws into *svg; false with *warning set if it could not.
+  using DrawFn = std::function<bool(std::string* svg, std::string* warning)>;
+  struct Plot {
+    std::string caption;
+    DrawFn draw;
+  };
+  static inline const std::string kPlaceholder = "<!--plot ";
+
+  std::string Later(const std::string& caption, DrawFn draw) {
+    plots_.push_back({caption, std::move(draw)});
+    return kPlaceholder + std::to_string(plots_.size() - 1) + "-->";
+  }
   std::string Scratch(const char* extension) {
     return (fs::path(scratch_dir_) /
             (".report." + std::to_string(static_cast<long>(::getpid())) + "." +
@@ -210,10 +266,9 @@ class Plotter {
         .string();
   }
   std::string NextPrefix() { return "p" + std::to_string(++count_) + "-"; }
-  std::string Figure(bool ok, const std::string& svg, const std::string& warning,
-                     const std::string& caption) {
+  static std::string Figure(bool ok, const std::string& svg, const std::string& warning,
+                            const std::string& caption) {
     if (!ok) {
-      if (warnings_ != nullptr) warnings_->push_back("report.html: " + warning);
       return "<figure class=\"missing\">" + Tag("p", "No plot: " + warning) +
              Tag("figcaption", caption) + "</figure>\n";
     }
@@ -223,6 +278,7 @@ class Plotter {
   std::string scratch_dir_;
   std::vector<std::string>* warnings_;
   int count_ = 0;
+  std::vector<Plot> plots_;
 };
 
 // ------------------------------------------------------------- page
@@ -905,6 +961,7 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
     solver += "</ul>\n";
   }
   sections.push_back({"solver", "Solver", solver});
+  plotter.Draw(&sections);
 
   return RenderHtmlPage(title + " — fit report", title,
                         "Written by fit-params: the fit, its uncertainty and what the residuals "

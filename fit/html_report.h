@@ -66,7 +66,8 @@ struct HtmlReportInput {
 // with a curve.
 int HtmlReportPlotCount(const HtmlReportInput& input);
 
-// The page as text. Plots are drawn by gnuplot with temporary files in
+// The page as text. Plots are drawn by gnuplot, several at once
+// (fit/concurrency.h ProcessThreads), with temporary files in
 // `scratch_dir` (removed again); traces longer than about 2000 samples are
 // thinned for the plot, keeping each series' minimum and maximum in every
 // stretch of samples so that spikes stay visible (the fit_*.csv files keep

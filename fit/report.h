@@ -243,10 +243,13 @@ void CommitStagingDirectory(const std::string& staging, const std::string& dir);
 // Writes every output of a fit into `dir` (created with its parents if
 // missing): params.csv, params.md (titled `title`), report.json, and for each
 // experiment <stem>.csv and <stem>.png (stems from ExperimentFileStems, e.g.
-// fit_step.csv). Plot problems (WriteExperimentPlot returning false) do not
-// stop the run: their messages are appended to *warnings (if not null).
-// Throws std::runtime_error naming the directory or file that cannot be
-// created or written (files written before it stay complete), and
+// fit_step.csv); the experiments' CSV and plot pairs are written several at
+// once (fit/concurrency.h ProcessThreads). Plot problems (WriteExperimentPlot
+// returning false) do not stop the run: their messages are appended to
+// *warnings (if not null) in experiment order. Throws std::runtime_error
+// naming the directory or file that cannot be created or written (every
+// file written stays complete; of several failures, the first
+// experiment's), and
 // std::invalid_argument as WriteExperimentCsv.
 void WriteFitOutputs(const std::string& dir, const FitResult& result,
                      const std::string& title,
