@@ -378,7 +378,8 @@ std::vector<SeedOutcome> RunCampaign(const CampaignConfig& config, int threads,
   std::mutex mutex;
   int done = 0;
   ForEachConcurrently(static_cast<size_t>(n), threads, [&](size_t k) {
-    SeedOutcome o = RunCampaignSeed(config, config.first_seed + static_cast<int>(k), solver_threads);
+    SeedOutcome o =
+        RunCampaignSeed(config, config.first_seed + static_cast<int>(k), solver_threads);
     std::lock_guard<std::mutex> lock(mutex);
     ++done;
     if (progress) {

@@ -106,7 +106,9 @@ SeedOutcome SeedOutcomeFromJson(const nlohmann::json& json, const std::string& w
 // Runs seeds first..last on `threads` worker threads (each fit single
 // threaded when threads > 1), writing one line per finished seed to
 // `progress`. A seed whose fit throws is recorded with its message, not
-// fatal. Throws std::invalid_argument if threads < 1.
+// fatal (RunCampaignSeed catches every std::exception; anything else is
+// rethrown after the other seeds have run, fit/concurrency.h). Throws
+// std::invalid_argument if threads < 1.
 std::vector<SeedOutcome> RunCampaign(const CampaignConfig& config, int threads,
                                      std::ostream* progress);
 

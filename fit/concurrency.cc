@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -20,9 +21,14 @@ void ForEachConcurrently(size_t n, int threads, const std::function<void(size_t)
       }
     }
   };
-  const size_t at_once = std::min(static_cast<size_t>(std::max(1, threads)), std::max<size_t>(1, n));
+  const size_t at_once =
+      std::min(static_cast<size_t>(std::max(1, threads)), std::max<size_t>(1, n));
   std::vector<std::thread> pool;
-  for (size_t t = 1; t < at_once; ++t) pool.emplace_back(worker);
+  try {
+    for (size_t t = 1; t < at_once; ++t) pool.emplace_back(worker);
+  } catch (const std::system_error&) {
+    // No more threads to be had: the ones started and this one do the work.
+  }
   worker();
   for (std::thread& t : pool) t.join();
   for (const std::exception_ptr& e : errors) {

@@ -14,8 +14,9 @@ namespace axis {
 // the next k when it has finished one, so that a long item does not hold up
 // the others. Returns when every call has returned. If calls threw, rethrows
 // the exception of the lowest such k after every thread has finished (the
-// other items still run). threads < 1 counts as 1. `body` must be safe to
-// call from several threads at once for different k.
+// other items still run). threads < 1 counts as 1; if the system refuses
+// a thread, the ones it gave do the work. `body` must be safe to call from
+// several threads at once for different k.
 void ForEachConcurrently(size_t n, int threads, const std::function<void(size_t)>& body);
 
 // The threads for work that waits on child processes (gnuplot): the

@@ -627,26 +627,6 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   }
   const int num_residuals = stages.back().num_residuals;
   ceres::Problem& full_problem = *stages.back().problem;
-  // The stages a screen of this job ran (HorizonCheckpoint), checked for
-  // its shape; the starts below are drawn as the screen drew them.
-  const HorizonCheckpoint* resume = job.solver.resume.get();
-  if (resume != nullptr) {
-    bool fits = resume->starts.size() == static_cast<size_t>(1 + job.solver.starts);
-    for (const std::vector<HorizonCheckpoint::StageEnd>& run : resume->starts) {
-      fits = fits && run.size() < stages.size();
-      for (const HorizonCheckpoint::StageEnd& done : run) {
-        fits = fits && done.theta.size() == p.theta.size();
-      }
-    }
-    if (!fits) {
-      throw std::invalid_argument(
-          "solver.resume: expected a checkpoint of this job (" +
-          std::to_string(1 + job.solver.starts) + " start(s), " +
-          std::to_string(p.theta.size()) + " internal coordinates, fewer than " +
-          std::to_string(stages.size()) + " stages each), got another");
-    }
-  }
-
   ceres::Solver::Options options;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   options.linear_solver_type = ceres::DENSE_QR;
@@ -690,6 +670,40 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       start[k] = UniformReal(p.lower[k], p.upper[k], rng);
     }
     starts.push_back(start);
+  }
+  // The stages a screen of this job ran (HorizonCheckpoint), checked to be
+  // this job's: its starts, horizons and the cost at the first start on the
+  // first horizon.
+  const HorizonCheckpoint* resume = job.solver.resume.get();
+  if (resume != nullptr) {
+    std::string why;
+    std::vector<double> horizons;
+    for (size_t i = 0; i + 1 < stages.size(); ++i) horizons.push_back(stages[i].horizon);
+    if (resume->starts.size() != starts.size()) {
+      why = std::to_string(resume->starts.size()) + " start(s) where the job has " +
+            std::to_string(starts.size());
+    } else if (resume->horizons != horizons) {
+      why = "other horizons";
+    }
+    for (size_t s = 0; s < starts.size() && why.empty(); ++s) {
+      if (resume->starts[s].point != starts[s]) why = "start " + std::to_string(s) + " elsewhere";
+      if (resume->starts[s].stages.size() >= stages.size()) why = "too many stages";
+      for (const HorizonCheckpoint::StageEnd& done : resume->starts[s].stages) {
+        if (done.theta.size() != p.theta.size()) why = "points of another size";
+      }
+    }
+    if (why.empty() && !resume->starts[0].stages.empty() && resume->starts[0].stages[0].usable) {
+      const double recorded = resume->starts[0].stages[0].start_cost;
+      const double cost = CostAt(stages[0].problem.get(), starts[0], job.solver.threads, &p.theta);
+      std::copy(starts[0].begin(), starts[0].end(), p.theta.begin());
+      if (!(std::abs(cost - recorded) <= 1e-9 * std::abs(recorded))) {
+        why = "another cost on the first horizon (other data or model)";
+      }
+    }
+    if (!why.empty()) {
+      throw std::invalid_argument("solver.resume: expected a checkpoint of this job, got one with " +
+                                  why);
+    }
   }
 
   FitResult result;
@@ -817,9 +831,11 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // lower of it and the end point): from the checkpoint for a stage it holds.
   std::shared_ptr<HorizonCheckpoint> checkpoint;  // the screen's record, below
   const auto cost_at_start = [&](size_t s, size_t i) {
-    if (resume != nullptr && i < resume->starts[s].size()) return resume->starts[s][i].start_cost;
-    if (checkpoint != nullptr && i < checkpoint->starts[s].size()) {
-      return checkpoint->starts[s][i].start_cost;
+    if (resume != nullptr && i < resume->starts[s].stages.size()) {
+      return resume->starts[s].stages[i].start_cost;
+    }
+    if (checkpoint != nullptr && i < checkpoint->starts[s].stages.size()) {
+      return checkpoint->starts[s].stages[i].start_cost;
     }
     const std::vector<double> end = p.theta;
     const double at_start =
@@ -871,7 +887,9 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // as if the stages had run again.
   if (stop_after > 0.0) {
     checkpoint = std::make_shared<HorizonCheckpoint>();
+    for (size_t i = 0; i < last; ++i) checkpoint->horizons.push_back(stages[i].horizon);
     checkpoint->starts.resize(starts.size());
+    for (size_t s = 0; s < starts.size(); ++s) checkpoint->starts[s].point = starts[s];
   }
   {
     PhaseTimer timer("starts", p.counter, &result);
@@ -880,12 +898,13 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       std::copy(starts[s].begin(), starts[s].end(), p.theta.begin());
       run.previous_start = p.theta;
       for (size_t i = 0; i < last && run.usable; ++i) {
-        if (resume != nullptr && i < resume->starts[s].size()) {
-          const HorizonCheckpoint::StageEnd& done = resume->starts[s][i];
+        if (resume != nullptr && i < resume->starts[s].stages.size()) {
+          const HorizonCheckpoint::StageEnd& done = resume->starts[s].stages[i];
           run.previous_start = p.theta;
           std::copy(done.theta.begin(), done.theta.end(), p.theta.begin());
           run.summary.final_cost = done.cost;
           run.usable = done.usable;
+          if (checkpoint != nullptr) checkpoint->starts[s].stages.push_back(done);
         } else {
           run_stage(s, i, &run);
           if (checkpoint != nullptr) {
@@ -894,7 +913,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
             done.cost = run.summary.final_cost;
             done.usable = run.usable;
             if (run.usable) done.start_cost = cost_at_start(s, i);
-            checkpoint->starts[s].push_back(std::move(done));
+            checkpoint->starts[s].stages.push_back(std::move(done));
           }
         }
         if (!run.usable) break;
@@ -968,8 +987,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     PhaseTimer timer("starts", p.counter, &result);
     StartRun& run = runs[s];
     if (last > 0 && std::isfinite(best_cost)) {
-      const double at_start =
-          CostAt(stages[last - 1].problem.get(), starts[s], job.solver.threads, &p.theta);
+      const double at_start = cost_at_start(s, last - 1);
       if (std::min(run.summary.final_cost, at_start) > best_cost) {
         --finals_total;
         continue;

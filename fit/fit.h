@@ -32,10 +32,15 @@ namespace axis {
 // taken as the lower of the stage's end point and the start); if every
 // start stops, the result says where (FitResult::abandoned_horizon).
 // job.solver.stop_after_horizon > 0 stops every start so after that horizon
-// (a screen). A start that meets an earlier start's point after a shorter
-// horizon (within its parameter tolerance) stops (FitResult::start_joined).
-// Throws std::invalid_argument only for an inconsistent job (LoadFitJob has
-// checked); the solver itself never throws.
+// (a screen), and the result carries the stages every start ran
+// (FitResult::checkpoint); a fit of the same job given that as
+// job.solver.resume takes those stages as run and goes on after them, with
+// the same end as running them again (bit for bit on the same number of
+// threads; fit/horizon_checkpoint.h). A start that meets an earlier start's
+// point after a shorter horizon (within its parameter tolerance) stops
+// (FitResult::start_joined). Throws std::invalid_argument for an
+// inconsistent job (LoadFitJob has checked) and for a solver.resume that is
+// not a checkpoint of this job; the solver itself never throws.
 FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
 
 // Turns `job` into a warm refit: a fit that starts next to its optimum (the
@@ -55,9 +60,10 @@ void AsWarmRefit(FitJob* job);
 // threads / (fits at once) threads, at least 1 (its job.solver.threads is
 // overridden). The fits are independent (each builds its own problems), so
 // the results are those of fitting one after the other. `seconds`, if
-// non-null, receives each fit's wall time (s). Rethrows the first exception
-// a fit threw (std::invalid_argument for an inconsistent job), after every
-// thread has finished. threads < 1 counts as 1.
+// non-null, receives each fit's wall time (s). Rethrows the exception of
+// the lowest-indexed fit that threw (std::invalid_argument for an
+// inconsistent job), after every fit has run (fit/concurrency.h
+// ForEachConcurrently). threads < 1 counts as 1.
 std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int threads,
                                        std::vector<double>* seconds = nullptr);
 

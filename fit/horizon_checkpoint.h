@@ -17,7 +17,11 @@ namespace axis {
 // parameters with their bounds and initial values, experiments and solver
 // settings; only solver.abandon_above_bic, stop_after_horizon, threads and
 // progress may differ. FitParameters throws std::invalid_argument for one
-// whose shape (starts, size of θ, stages) does not fit the job.
+// that does not fit the job: another number of starts or size of θ, other
+// start points (initial values, bounds, seed), other horizons, more stages
+// than the job's shorter ones, or another cost at the first start on the
+// first horizon (other data or model; relative tolerance 1e-9, for a cost
+// summed on another number of threads).
 struct HorizonCheckpoint {
   // A start after one stage (a horizon shorter than the whole record).
   struct StageEnd {
@@ -26,11 +30,16 @@ struct HorizonCheckpoint {
     double start_cost = 0.0;    // the stage's cost at the start's own point
     bool usable = true;         // false: the stage failed and the start stopped
   };
-  // [start][stage]: every start of the fit (the job's initial point, then
-  // its solver.starts random ones), the stages it ran in order from the
-  // first horizon; a start stops where the fit stopped it (the screen's
-  // horizon, a failed stage, a start it joined).
-  std::vector<std::vector<StageEnd>> starts;
+  struct Start {
+    std::vector<double> point;     // where it started (internal coordinates)
+    std::vector<StageEnd> stages;  // the stages it ran, in order from the first
+  };
+  // The horizons (s) of the job's stages shorter than the whole record.
+  std::vector<double> horizons;
+  // Every start of the fit (the job's initial point, then its
+  // solver.starts random ones); a start's stages end where the fit stopped
+  // it (the screen's horizon, a failed stage, a start it joined).
+  std::vector<Start> starts;
 };
 
 }  // namespace axis

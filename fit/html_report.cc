@@ -11,6 +11,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fit/concurrency.h"
@@ -237,10 +238,13 @@ class Plotter {
       std::string& body = section.body;
       for (size_t at = body.find(kPlaceholder); at != std::string::npos;
            at = body.find(kPlaceholder, at)) {
-        const size_t end = body.find("-->", at);
-        const size_t k = std::stoul(body.substr(at + kPlaceholder.size(), end - at));
-        body.replace(at, end + 3 - at, figures[k]);
-        at += figures[k].size();
+        // Only Later writes the text: "<!--plot " index "-->".
+        const size_t from = at + kPlaceholder.size();
+        const size_t end = body.find("-->", from);
+        const size_t k = std::stoul(body.substr(from, end - from));
+        const std::string& figure = figures.at(k);
+        body.replace(at, end + 3 - at, figure);
+        at += figure.size();
       }
     }
     plots_.clear();
@@ -253,11 +257,11 @@ class Plotter {
     std::string caption;
     DrawFn draw;
   };
-  static inline const std::string kPlaceholder = "<!--plot ";
+  static constexpr std::string_view kPlaceholder = "<!--plot ";
 
   std::string Later(const std::string& caption, DrawFn draw) {
     plots_.push_back({caption, std::move(draw)});
-    return kPlaceholder + std::to_string(plots_.size() - 1) + "-->";
+    return std::string(kPlaceholder) + std::to_string(plots_.size() - 1) + "-->";
   }
   std::string Scratch(const char* extension) {
     return (fs::path(scratch_dir_) /

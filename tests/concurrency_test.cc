@@ -2,6 +2,7 @@
 // asked for, and the lowest item's exception after all items have run.
 #include "fit/concurrency.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -67,7 +68,24 @@ TEST(ConcurrencyTest, TheLowestItemsExceptionIsRethrownAfterEveryItemRan) {
   for (size_t k = 0; k < n; ++k) EXPECT_EQ(runs[k], 1) << k;
 }
 
-TEST(ConcurrencyTest, ProcessThreadsIsAtLeastOne) { EXPECT_GE(ProcessThreads(), 1); }
+// Two items that each wait for the other (up to 10 s) finish only if they
+// run at the same time.
+TEST(ConcurrencyTest, TwoThreadsRunTwoItemsAtOnce) {
+  std::atomic<int> arrived{0};
+  std::atomic<int> met{0};
+  ForEachConcurrently(2, 2, [&](size_t) {
+    ++arrived;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (arrived < 2 && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+    if (arrived == 2) ++met;
+  });
+  EXPECT_EQ(met, 2);
+}
+
+TEST(ConcurrencyTest, ProcessThreadsAreTheHardwareThreads) {
+  const unsigned hardware = std::thread::hardware_concurrency();
+  EXPECT_EQ(ProcessThreads(), hardware == 0 ? 1 : static_cast<int>(hardware));
+}
 
 }  // namespace
 }  // namespace axis

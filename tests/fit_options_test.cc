@@ -8,8 +8,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <iterator>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -344,10 +346,8 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
   ASSERT_EQ(screened.checkpoint->starts.size(), 4u);
   for (size_t s = 0; s < 4; ++s) {
     // Two stages each, or fewer for a start that joined an earlier one.
-    EXPECT_EQ(screened.checkpoint->starts[s].size(), whole.start_joined[s] >= 0 &&
-                                                             whole.start_joined_horizon[s] < 0.1
-                                                         ? 1u
-                                                         : 2u)
+    EXPECT_EQ(screened.checkpoint->starts[s].stages.size(),
+              whole.start_joined[s] >= 0 && whole.start_joined_horizon[s] < 0.1 ? 1u : 2u)
         << s;
   }
 
@@ -360,14 +360,21 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
     EXPECT_EQ(resumed.parameters[k].value, whole.parameters[k].value) << whole.parameters[k].name;
   }
   EXPECT_EQ(resumed.start_joined, whole.start_joined);
+  EXPECT_EQ(resumed.start_joined_horizon, whole.start_joined_horizon);
   ASSERT_EQ(resumed.start_screen_costs.size(), whole.start_screen_costs.size());
+  ASSERT_EQ(resumed.start_costs.size(), whole.start_costs.size());
   for (size_t s = 0; s < whole.start_screen_costs.size(); ++s) {
-    EXPECT_EQ(std::isnan(resumed.start_screen_costs[s]), std::isnan(whole.start_screen_costs[s]));
-    if (!std::isnan(whole.start_screen_costs[s])) {
-      EXPECT_EQ(resumed.start_screen_costs[s], whole.start_screen_costs[s]) << s;
+    for (std::vector<double> FitResult::*costs :
+         {&FitResult::start_screen_costs, &FitResult::start_costs}) {
+      const double a = (resumed.*costs)[s], b = (whole.*costs)[s];
+      EXPECT_EQ(std::isnan(a), std::isnan(b)) << s;
+      if (!std::isnan(b)) EXPECT_EQ(a, b) << s;
     }
   }
-  EXPECT_LT(resumed.jacobian_evaluations, whole.jacobian_evaluations);
+  // The screen's Jacobians and the resumed fit's are the whole fit's: no
+  // stage solved twice, none left out.
+  EXPECT_EQ(screened.jacobian_evaluations + resumed.jacobian_evaluations,
+            whole.jacobian_evaluations);
 
   // Under a level below the first horizon's bound both stop there, the
   // resumed fit with the screen's bound and no Jacobian.
@@ -381,10 +388,33 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
   EXPECT_GT(stopped.jacobian_evaluations, 0);
   EXPECT_EQ(stopped_resumed.jacobian_evaluations, 0);
 
-  FitJob other = LoadFitJob(ScreenedJob(4));
-  other.solver.starts = 2;
-  other.solver.resume = screened.checkpoint;
-  EXPECT_THROW(FitParameters(other), std::invalid_argument);
+  // Another job's checkpoint: other starts (their number, the seed, an
+  // initial value), other horizons, other data.
+  const auto refused = [&](const std::function<void(FitJob*)>& change) {
+    FitJob other = LoadFitJob(ScreenedJob(4));
+    other.solver.progress = false;
+    change(&other);
+    other.solver.resume = screened.checkpoint;
+    try {
+      FitParameters(other);
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("solver.resume: expected a checkpoint of this job"),
+                std::string::npos)
+          << e.what();
+      return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(refused([](FitJob* j) { j->solver.starts = 2; }));
+  EXPECT_TRUE(refused([](FitJob* j) { j->solver.seed = 8; }));
+  EXPECT_TRUE(refused([](FitJob* j) { j->free[0].initial *= 1.1; }));
+  EXPECT_TRUE(refused([](FitJob* j) { j->solver.first_horizon = 0.04; }));
+  EXPECT_TRUE(refused([](FitJob* j) {
+    for (std::vector<double>& column : j->experiments[0].measured) {
+      for (double& y : column) y += 0.01;
+    }
+  }));
+  EXPECT_FALSE(refused([](FitJob* j) { j->solver.threads = 1; }));
 }
 
 TEST(FitOptionsTest, QuickFormWritesTheReport) {
