@@ -826,6 +826,13 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
             level = {fit.bic, q.candidate.name + "'s BIC"};
           }
         }
+        // The others all run against the same level, so their order only
+        // decides which finish first: the longest screens first
+        // (longest-processing-time order, the screen's time standing in
+        // for the refit's), so that a long refit does not start last.
+        std::stable_sort(order.begin() + 1, order.end(), [&](size_t x, size_t y) {
+          return screen_seconds[x] > screen_seconds[y];
+        });
         run_candidates(order.begin() + 1, order.end());
       }
       for (size_t b = 0; b < batch.size(); ++b) {
