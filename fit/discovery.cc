@@ -791,8 +791,9 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       // refit ran 16 s to BIC 2.6e5 beside Coulomb friction's 1.2e4.)
       // run_candidates fits candidates [from, to) of `order` against the
       // current level, on copies of their starts (those in `batch`, one of
-      // which the loop may adopt, keep no level and no checkpoint); pos[c]: candidate c's
-      // first start in `fits`, level_of[c]: the level it ran against.
+      // which the loop may adopt, keep no level and no checkpoint); pos[c]:
+      // candidate c's first start in `fits`, level_of[c]: the level it ran
+      // against.
       std::vector<size_t> pos(batch.size(), 0);
       std::vector<Level> level_of(batch.size(), level);
       std::vector<FitResult> fits;

@@ -251,6 +251,41 @@ void BuildStage(const FitJob& job, const ParameterMap& map,
   }
 }
 
+// Why `checkpoint` is not one of the fit with these stages and starts
+// (fit/horizon_checkpoint.h), or "" if it is: the number of starts and
+// their points, the shorter stages' horizons, the stages per start (fewer
+// than the job's) and their points' size, and the cost at the first start
+// on the first horizon (relative tolerance 1e-9: the same cost summed on
+// another number of threads). May move *theta to starts[0].
+std::string CheckpointMismatch(const HorizonCheckpoint& checkpoint,
+                               const std::vector<Stage>& stages,
+                               const std::vector<std::vector<double>>& starts, int threads,
+                               std::vector<double>* theta) {
+  if (checkpoint.starts.size() != starts.size()) {
+    return std::to_string(checkpoint.starts.size()) + " start(s) where the job has " +
+           std::to_string(starts.size());
+  }
+  std::vector<double> horizons;
+  for (size_t i = 0; i + 1 < stages.size(); ++i) horizons.push_back(stages[i].horizon);
+  if (checkpoint.horizons != horizons) return "other horizons";
+  for (size_t s = 0; s < starts.size(); ++s) {
+    const HorizonCheckpoint::Start& start = checkpoint.starts[s];
+    if (start.point != starts[s]) return "start " + std::to_string(s) + " elsewhere";
+    if (start.stages.size() >= stages.size()) return "too many stages";
+    for (const HorizonCheckpoint::StageEnd& done : start.stages) {
+      if (done.theta.size() != theta->size()) return "points of another size";
+    }
+  }
+  const std::vector<HorizonCheckpoint::StageEnd>& first = checkpoint.starts[0].stages;
+  if (!first.empty() && first[0].usable) {
+    const double cost = CostAt(stages[0].problem.get(), starts[0], threads, theta);
+    if (!(std::abs(cost - first[0].start_cost) <= 1e-9 * std::abs(first[0].start_cost))) {
+      return "another cost on the first horizon (other data or model)";
+    }
+  }
+  return "";
+}
+
 // Free parameters (the first n_free of θ) that lie in the numerical null
 // space of the weighted Jacobian at the current θ: the columns are scaled to
 // unit norm (so units do not matter), and a parameter is in the null space if
@@ -672,37 +707,14 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     starts.push_back(start);
   }
   // The stages a screen of this job ran (HorizonCheckpoint), checked to be
-  // this job's: its starts, horizons and the cost at the first start on the
-  // first horizon.
+  // this job's.
   const HorizonCheckpoint* resume = job.solver.resume.get();
   if (resume != nullptr) {
-    std::string why;
-    std::vector<double> horizons;
-    for (size_t i = 0; i + 1 < stages.size(); ++i) horizons.push_back(stages[i].horizon);
-    if (resume->starts.size() != starts.size()) {
-      why = std::to_string(resume->starts.size()) + " start(s) where the job has " +
-            std::to_string(starts.size());
-    } else if (resume->horizons != horizons) {
-      why = "other horizons";
-    }
-    for (size_t s = 0; s < starts.size() && why.empty(); ++s) {
-      if (resume->starts[s].point != starts[s]) why = "start " + std::to_string(s) + " elsewhere";
-      if (resume->starts[s].stages.size() >= stages.size()) why = "too many stages";
-      for (const HorizonCheckpoint::StageEnd& done : resume->starts[s].stages) {
-        if (done.theta.size() != p.theta.size()) why = "points of another size";
-      }
-    }
-    if (why.empty() && !resume->starts[0].stages.empty() && resume->starts[0].stages[0].usable) {
-      const double recorded = resume->starts[0].stages[0].start_cost;
-      const double cost = CostAt(stages[0].problem.get(), starts[0], job.solver.threads, &p.theta);
-      std::copy(starts[0].begin(), starts[0].end(), p.theta.begin());
-      if (!(std::abs(cost - recorded) <= 1e-9 * std::abs(recorded))) {
-        why = "another cost on the first horizon (other data or model)";
-      }
-    }
+    const std::string why =
+        CheckpointMismatch(*resume, stages, starts, job.solver.threads, &p.theta);
     if (!why.empty()) {
-      throw std::invalid_argument("solver.resume: expected a checkpoint of this job, got one with " +
-                                  why);
+      throw std::invalid_argument(
+          "solver.resume: expected a checkpoint of this job, got one with " + why);
     }
   }
 

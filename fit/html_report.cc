@@ -160,8 +160,6 @@ class Plotter {
   // A <figure> with the SVG of `fit`, or a note that it could not be drawn.
   std::string Experiment(const ExperimentFit& fit) {
     const auto thinned = std::make_shared<const ExperimentFit>(Thinned(fit));
-    const std::string csv = Scratch("csv");
-    const std::string prefix = NextPrefix();
     std::string caption = fit.name + " (" + fit.role + "): left the measured and simulated " +
                           "channels against time, right the residual (simulated − measured), " +
                           "channel units on the axes";
@@ -170,54 +168,34 @@ class Plotter {
                  std::to_string(fit.t.size()) +
                  " samples drawn (each stretch's extremes kept; every sample is in the CSV)";
     }
-    return Later(caption + ".", [csv, prefix, thinned](std::string* svg, std::string* warning) {
-      WriteExperimentCsv(csv, *thinned);
-      const bool ok = RenderExperimentSvg(csv, *thinned, prefix, svg, warning);
-      std::error_code ec;
-      fs::remove(csv, ec);
-      return ok;
-    });
+    return Later(
+        caption + ".", [thinned](const std::string& csv) { WriteExperimentCsv(csv, *thinned); },
+        [thinned](const std::string& csv, const std::string& prefix, std::string* svg,
+                  std::string* warning) {
+          return RenderExperimentSvg(csv, *thinned, prefix, svg, warning);
+        });
   }
 
   // A <figure> with the binned mean residuals of `d`.
   std::string Diagnostics(const ChannelDiagnostics& d) {
-    const std::string csv = Scratch("csv");
-    const std::string prefix = NextPrefix();
     return Later(d.experiment + "/" + d.channel + ": mean residual (" + d.unit +
                      ") in bins of velocity, position, acceleration and motor angle "
                      "modulo one revolution, ±1 standard error.",
-                 [this, csv, prefix, &d](std::string* svg, std::string* warning) {
-                   WriteDiagnosticsCsv(csv, d);
-                   const bool ok = RenderGnuplotSvg(
-                       scratch_dir_,
-                       [&](const std::string& output) {
-                         return DiagnosticsPlotScript(d, csv, output, true);
-                       },
-                       d.experiment + " " + d.channel + " diagnostics", prefix, svg, warning);
-                   std::error_code ec;
-                   fs::remove(csv, ec);
-                   return ok;
-                 });
+                 [&d](const std::string& csv) { WriteDiagnosticsCsv(csv, d); },
+                 Gnuplot(d.experiment + " " + d.channel + " diagnostics",
+                         [&d](const std::string& csv, const std::string& output) {
+                           return DiagnosticsPlotScript(d, csv, output, true);
+                         }));
   }
 
   // A <figure> with the learned force of `map` and its band.
   std::string ForceMap(const ForceMapReport& map) {
-    const std::string csv = Scratch("csv");
-    const std::string prefix = NextPrefix();
     return Later("The learned load force (N) with its pointwise 95 % band (Bayesian, of the "
                  "penalised fit).",
-                 [this, csv, prefix, &map](std::string* svg, std::string* warning) {
-                   WriteForceMapCsv(csv, map);
-                   const bool ok = RenderGnuplotSvg(
-                       scratch_dir_,
-                       [&](const std::string& output) {
-                         return ForceMapPlotScript(map, csv, output, true);
-                       },
-                       "force map", prefix, svg, warning);
-                   std::error_code ec;
-                   fs::remove(csv, ec);
-                   return ok;
-                 });
+                 [&map](const std::string& csv) { WriteForceMapCsv(csv, map); },
+                 Gnuplot("force map", [&map](const std::string& csv, const std::string& output) {
+                   return ForceMapPlotScript(map, csv, output, true);
+                 }));
   }
 
   // Draws every figure asked for and replaces its placeholder in the
@@ -253,15 +231,47 @@ class Plotter {
  private:
   // Draws into *svg; false with *warning set if it could not.
   using DrawFn = std::function<bool(std::string* svg, std::string* warning)>;
+  // Writes a figure's data to the scratch CSV `csv`.
+  using WriteFn = std::function<void(const std::string& csv)>;
+  // Draws that CSV into *svg, the plot's ids prefixed with `prefix`
+  // (RenderGnuplotSvg); false with *warning set if it could not.
+  using RenderFn = std::function<bool(const std::string& csv, const std::string& prefix,
+                                      std::string* svg, std::string* warning)>;
   struct Plot {
     std::string caption;
     DrawFn draw;
   };
   static constexpr std::string_view kPlaceholder = "<!--plot ";
 
-  std::string Later(const std::string& caption, DrawFn draw) {
-    plots_.push_back({caption, std::move(draw)});
+  // Queues a figure drawn from a scratch CSV (write, then render, then the
+  // CSV removed) and returns its placeholder. The CSV's name and the ids'
+  // prefix are numbered here, in call order.
+  std::string Later(const std::string& caption, WriteFn write, RenderFn render) {
+    const std::string csv = Scratch("csv");
+    const std::string prefix = NextPrefix();
+    plots_.push_back({caption, [csv, prefix, write = std::move(write),
+                                render = std::move(render)](std::string* svg,
+                                                            std::string* warning) {
+                        write(csv);
+                        const bool ok = render(csv, prefix, svg, warning);
+                        std::error_code ec;
+                        fs::remove(csv, ec);
+                        return ok;
+                      }});
     return std::string(kPlaceholder) + std::to_string(plots_.size() - 1) + "-->";
+  }
+  // Renders with the gnuplot commands script(csv, output) (RenderGnuplotSvg
+  // in the scratch folder), `what` naming the plot in a warning.
+  RenderFn Gnuplot(const std::string& what,
+                   std::function<std::string(const std::string& csv, const std::string& output)>
+                       script) const {
+    return [dir = scratch_dir_, what, script = std::move(script)](
+               const std::string& csv, const std::string& prefix, std::string* svg,
+               std::string* warning) {
+      return RenderGnuplotSvg(
+          dir, [&](const std::string& output) { return script(csv, output); }, what, prefix, svg,
+          warning);
+    };
   }
   std::string Scratch(const char* extension) {
     return (fs::path(scratch_dir_) /
