@@ -17,6 +17,7 @@
 #include "fit/fit.h"
 #include "fit/progress.h"
 #include "fit/report.h"
+#include "fit/screen.h"
 #include "fit/statistics.h"
 #include "sim/config.h"
 
@@ -240,35 +241,6 @@ size_t LowestFiniteBic(const std::vector<FitResult>& fits) {
     if (better(k)) best = k;
   }
   return best;
-}
-
-// A refit stops once the lower bound of its BIC on a shorter horizon
-// (fit/fit.h FitParameters) exceeds this many times the level that decides
-// (the BIC before the step, or the lowest a refit of the step has reached;
-// BICs here are positive). Not 1: the bound takes the shorter horizon's
-// minimum as the one its stage found, and a stage can end in a local
-// minimum above the whole record's (motor-side Coulomb friction on the
-// coulomb case: 3.90e5 at the 0.2 s horizon, 2.93e5 at the end, 1.33
-// times less), so the stop needs a margin.
-constexpr double kStopFactor = 2.0;
-
-// How many horizons of the continuation (first_horizon, 2·, 4·, 8·) the
-// screen of a batch of refits runs before ordering them (run_batch in
-// Discover): on the load_offset case the true offset, seventh by score,
-// comes first after the screen, and seven of the eight others stop at the
-// first horizon.
-constexpr int kScreenStages = 4;
-
-// Why a refit stopped early (FitResult::abandoned_horizon), for
-// DiscoveryStep::stopped: its horizon, the bound and the level it passed
-// (`level_name`, e.g. "coulomb's BIC" or "the BIC before the step").
-std::string StoppedText(const FitResult& fit, double level, const std::string& level_name) {
-  if (fit.abandoned_horizon == 0.0) return "";
-  std::ostringstream out;
-  out << std::setprecision(4) << "at the " << fit.abandoned_horizon
-      << " s horizon: BIC >= " << fit.bic << " there already, more than " << kStopFactor
-      << " times " << level_name << " (" << level << ")";
-  return out.str();
 }
 
 // ">= " before a step's bic_after that is a lower bound (a stopped refit,
@@ -760,22 +732,15 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       std::vector<std::vector<std::shared_ptr<const HorizonCheckpoint>>> resume(batch.size());
       if (batch.size() > 1 && first_horizon > 0.0) {
         std::vector<FitJob> screen;
-        for (const Pending& q : batch) {
-          for (FitJob j : q.starts) {
-            j.solver.stop_after_horizon = first_horizon * std::pow(2.0, kScreenStages - 1);
-            screen.push_back(std::move(j));
-          }
-        }
-        std::vector<double> secs;
-        const std::vector<FitResult> screened =
-            FitConcurrently(screen, job->solver.threads, &secs);
+        for (const Pending& q : batch) screen.insert(screen.end(), q.starts.begin(), q.starts.end());
+        const std::vector<ScreenedFit> screened = ScreenFits(std::move(screen), job->solver.threads);
         std::vector<double> key(batch.size(), std::numeric_limits<double>::infinity());
         size_t k = 0;
         for (size_t c = 0; c < batch.size(); ++c) {
           resume[c].resize(batch[c].starts.size());
           for (size_t s = 0; s < batch[c].starts.size(); ++s, ++k) {
-            if (std::isfinite(screened[k].bic)) key[c] = std::min(key[c], screened[k].bic);
-            screen_seconds[c] += secs[k];
+            key[c] = std::min(key[c], screened[k].bound);
+            screen_seconds[c] += screened[k].seconds;
             resume[c][s] = screened[k].checkpoint;
           }
         }

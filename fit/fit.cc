@@ -26,6 +26,7 @@
 #include "fit/progress.h"
 #include "fit/published.h"
 #include "fit/report.h"
+#include "fit/screen.h"
 #include "fit/statistics.h"
 #include "fit/uncertainty.h"
 #include "sim/controller.h"
@@ -598,9 +599,33 @@ void AppendEstimates(const FitJob& job, const ParameterMap& map,
   AppendFixedEstimates(map.Apply(theta.data()), result);
 }
 
-}  // namespace
+// Ends a stage once solver.pending_level is published and a shorter
+// stage's bound recorded before (`bounds`: (stage, bound)) passed it,
+// together with `abandon_above` (the job's own level): the start stops at
+// that stage, and what this one would still do is not needed.
+class PendingLevelStop : public ceres::IterationCallback {
+ public:
+  PendingLevelStop(const SharedLevel* level, double abandon_above,
+                   const std::vector<std::pair<size_t, double>>* bounds)
+      : level_(level), abandon_above_(abandon_above), bounds_(bounds) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    const std::optional<double> level = level_->TryAbandonAbove();
+    if (!level) return ceres::SOLVER_CONTINUE;
+    const double above = std::min(abandon_above_, *level);
+    for (const auto& entry : *bounds_) {
+      if (entry.second > above) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
 
-FitResult FitParameters(const FitJob& job, std::ostream* progress) {
+ private:
+  const SharedLevel* level_;
+  double abandon_above_;
+  const std::vector<std::pair<size_t, double>>* bounds_;
+};
+
+// FitParameters without publishing to solver.publish_level.
+FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   Problem p;
   p.map = std::make_unique<ParameterMap>(job.model.params, job.free);
   const int n_free = p.map->num_free();
@@ -746,11 +771,53 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     // and the horizon (s); −1 and 0 otherwise.
     int joined = -1;
     double joined_horizon = 0.0;
+    // The stage it stopped after (abandoned_horizon > 0), and the bounds of
+    // the stages it ran while a solver.pending_level was not yet known:
+    // (stage, bound).
+    size_t abandoned_stage = 0;
+    std::vector<std::pair<size_t, double>> waiting_bounds;
   };
   std::vector<StartRun> runs(starts.size());
   // For the progress: the starts that will run the last stage, and how many have.
   size_t finals_total = starts.size();
   size_t finals_done = 0;
+  double abandon_above = job.solver.abandon_above_bic;
+  // With solver.pending_level the level is another fit's, published while
+  // this one runs (fit/screen.h SharedLevel): until then every shorter
+  // stage's bound is recorded (StartRun::waiting_bounds); once it is known
+  // the start stops at the first recorded stage whose bound passed it (at
+  // the next stage end, or at once inside a stage: PendingLevelStop), as
+  // if the level had been known from the start. A start that ends its last
+  // stage first waits for the level. One start only: the joins of several
+  // would depend on when the level came.
+  const SharedLevel* pending = job.solver.pending_level.get();
+  if (pending != nullptr && job.solver.starts != 0) {
+    throw std::invalid_argument(
+        "FitParameters: expected solver.starts 0 with solver.pending_level, got " +
+        std::to_string(job.solver.starts));
+  }
+  bool level_known = pending == nullptr;
+  // Takes the pending level if it is published (`wait`: waits for it).
+  const auto refresh_level = [&](bool wait) {
+    if (level_known) return;
+    const std::optional<double> level =
+        wait ? std::optional<double>(pending->AbandonAbove()) : pending->TryAbandonAbove();
+    if (!level) return;
+    level_known = true;
+    abandon_above = std::min(abandon_above, *level);
+  };
+  // Stops `run` at the first recorded stage whose bound passed the level.
+  const auto passed_recorded = [&](StartRun* run) {
+    for (const auto& [i, bound] : run->waiting_bounds) {
+      if (bound > abandon_above) {
+        run->abandoned_horizon = stages[i].horizon;
+        run->bic_bound = bound;
+        run->abandoned_stage = i;
+        return true;
+      }
+    }
+    return false;
+  };
   // Runs stage i of start s (its point in p.theta on entry and exit).
   const auto run_stage = [&](size_t s, size_t i, StartRun* run) {
     Stage& stage = stages[i];
@@ -798,6 +865,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     }
     ceres::Solver::Options o = options;
     o.callbacks.push_back(&printer);
+    PendingLevelStop level_stop(pending, job.solver.abandon_above_bic, &run->waiting_bounds);
+    if (!level_known && !run->waiting_bounds.empty()) o.callbacks.push_back(&level_stop);
     if (i + 1 < stages.size()) {
       // Intermediate horizons only deliver a warm start for the next.
       o.function_tolerance = std::max(o.function_tolerance, kStageParameterTolerance);
@@ -835,7 +904,6 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   // start); a local minimum makes this a heuristic bound, checked on the
   // discovery cases (tests/discovery_test.cc) and campaigns (README).
   const double bic_penalty = n_free * std::log(static_cast<double>(num_residuals));
-  const double abandon_above = job.solver.abandon_above_bic;
   // With solver.stop_after_horizon every start also stops, with its bound,
   // after the stage of that horizon (a screen of the refits: fit/discovery.cc).
   const double stop_after = job.solver.stop_after_horizon;
@@ -856,16 +924,24 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     return at_start;
   };
   const auto passed_bound = [&](size_t s, size_t i, StartRun* run) {
+    if (!run->usable) return false;
+    refresh_level(false);
+    if (level_known && passed_recorded(run)) return true;
     const bool screen_end = stop_after > 0.0 && stages[i].horizon >= stop_after * (1.0 - 1e-9);
-    if (!run->usable ||
-        (!screen_end && !(abandon_above < std::numeric_limits<double>::infinity()))) {
+    if (!screen_end && level_known &&
+        !(abandon_above < std::numeric_limits<double>::infinity())) {
       return false;
     }
     const double bound =
         2.0 * std::min(run->summary.final_cost, cost_at_start(s, i)) + bic_penalty;
+    if (!level_known && !screen_end) {
+      run->waiting_bounds.emplace_back(i, bound);
+      return false;
+    }
     if (!screen_end && !(bound > abandon_above)) return false;
     run->abandoned_horizon = stages[i].horizon;
     run->bic_bound = bound;
+    run->abandoned_stage = i;
     return true;
   };
   // A start whose point after a stage lies within that stage's parameter
@@ -932,7 +1008,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
         ends[s].push_back(p.theta);
         if (joined(s, i, &run) || passed_bound(s, i, &run)) break;
       }
-      run.theta = p.theta;
+      run.theta = run.abandoned_horizon > 0.0 ? ends[s][run.abandoned_stage] : p.theta;
       if (s == 0) {
         // The cost of the job's initial point on all the data.
         result.initial_cost = CostAt(&full_problem, starts[0], job.solver.threads, &p.theta);
@@ -957,8 +1033,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       order.push_back(s);
     }
   }
-  if (order.empty() && abandoned < starts.size()) {
-    const StartRun& run = runs[abandoned];
+  // The result of a fit whose every start stopped: the lowest bound's.
+  const auto stopped_result = [&](const StartRun& run) {
     result.abandoned_horizon = run.abandoned_horizon;
     result.bic = run.bic_bound;
     result.final_cost = result.aic = result.residual_variance =
@@ -972,7 +1048,8 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     result.simulations = p.counter.simulations;
     result.jacobian_evaluations = p.counter.jacobians;
     return result;
-  }
+  };
+  if (order.empty() && abandoned < starts.size()) return stopped_result(runs[abandoned]);
   if (last > 0) {
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
       return runs[a].summary.final_cost < runs[b].summary.final_cost;
@@ -1016,6 +1093,15 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
       best = p.theta;
       best_summary = run.summary;
       for (int k = 0; k < theta_size; ++k) best_step[k] = p.theta[k] - run.previous_start[k];
+    }
+  }
+  // solver.pending_level (one start): a start that ran to the end before
+  // the level came stops where the level says, as if it had been known.
+  if (pending != nullptr && !runs[0].waiting_bounds.empty()) {
+    refresh_level(true);
+    if (passed_recorded(&runs[0])) {
+      runs[0].theta = ends[0][runs[0].abandoned_stage];
+      return stopped_result(runs[0]);
     }
   }
   std::copy(best.begin(), best.end(), p.theta.begin());
@@ -1444,6 +1530,24 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   result.simulations = p.counter.simulations;
   result.jacobian_evaluations = p.counter.jacobians;
   return result;
+}
+
+}  // namespace
+
+FitResult FitParameters(const FitJob& job, std::ostream* progress) {
+  SharedLevel* publish = job.solver.publish_level.get();
+  if (publish == nullptr) return FitAndKeepLevel(job, progress);
+  // The fits waiting for this level must get one whatever happens here.
+  try {
+    FitResult result = FitAndKeepLevel(job, progress);
+    publish->Publish(result.abandoned_horizon == 0.0 && std::isfinite(result.bic)
+                         ? result.bic
+                         : std::numeric_limits<double>::infinity());
+    return result;
+  } catch (...) {
+    publish->Publish(std::numeric_limits<double>::infinity());
+    throw;
+  }
 }
 
 void AsWarmRefit(FitJob* job) {

@@ -99,9 +99,16 @@ struct SmoothingChoice {
 // One form's first refit (at the first λ), the forms competing by BIC.
 struct ForceMapForm {
   std::string name;   // "force_map.x" etc.
-  double bic = 0.0;   // data Σr² + edf·ln(m); +inf if the refit failed
-  double edf = 0.0;
-  double seconds = 0.0;
+  // Data Σr² + edf·ln(m); for a refit stopped under the level (`stopped`)
+  // the lower bound of its Σr² + n·ln(m) where it stopped; +inf if the
+  // refit failed.
+  double bic = 0.0;
+  double edf = 0.0;   // 0 for a stopped or failed refit
+  double seconds = 0.0;  // the screen's and the refit's wall time (s)
+  // Why the refit stopped early (StoppedText, fit/screen.h): a lower
+  // bound of its BIC passed kStopFactor times the leading form's; "" if it
+  // ran to the end.
+  std::string stopped;
 };
 
 // A library effect refitted away with the map in the model (the backward
@@ -153,12 +160,15 @@ struct ForceMapReport {
 // at the verdict's threshold. Then: the score tests of f(x), f(x)·sgn_ε(v)
 // and f(v) (about settings.force_map_knots knots over the values the fitted
 // experiments visit, half at their quantiles, half uniform);
-// every form significant at alpha/(number of forms) refitted at a small λ (concurrently),
-// the lowest BIC (edf) wins; for it, the λ of the lowest linearised BIC over
+// every form significant at alpha/(number of forms) refitted at a small λ
+// (screened, the leading one first, the others concurrently against its
+// level and stopped above it: fit/screen.h), the lowest BIC (edf) wins;
+// for it, the λ of the lowest linearised BIC over
 // 10⁻⁶..10² times the mean information per knot, refitted there; kept if
 // its BIC is below the library model's. With the map kept, a backward pass
 // refits without each effect the loop selected (the last first; Coulomb
-// while Stribeck is in stays) and drops it if BIC falls. Progress lines go
+// while Stribeck is in stays) and drops it if BIC does not rise beyond
+// the solver's accuracy (a tie: the map carries it). Progress lines go
 // to `progress`. Throws std::runtime_error if a simulation at a fitted
 // point fails.
 ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryReport& loop,
@@ -176,7 +186,7 @@ std::string FormatForceMap(const ForceMapReport& report);
 
 // report.json's "force_map" block: {"tried", "kept", "reason", "structure",
 // "scores": [{"effect", "chi2", "dof", "p_value"}], "forms": [{"effect",
-// "bic", "edf"}], "removals": [{"effect", "bic_with", "bic_without",
+// "bic", "edf", "stopped"}], "removals": [{"effect", "bic_with", "bic_without",
 // "removed"}], "kind", "variable",
 // "friction", "knots", "values", "std_errors", "lambda", "edf", "s2",
 // "bic_before", "bic_after", "grid": [{"lambda", "edf", "chi2", "bic"}],

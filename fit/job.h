@@ -21,6 +21,8 @@
 
 namespace axis {
 
+class SharedLevel;  // fit/screen.h
+
 // A fitted channel and the σ its residual is divided by (channel unit).
 struct FittedChannel {
   Channel channel;
@@ -106,6 +108,16 @@ struct SolverSettings {
   // stop_after_horizon), which the fit takes as done and goes on after
   // (fit/fit.h FitParameters); null runs every stage.
   std::shared_ptr<const HorizonCheckpoint> resume;
+  // Set by the force map's forms (fit/force_map.cc), not job keys: the
+  // level of competing refits that run side by side (fit/screen.h
+  // SharedLevel). publish_level: this fit publishes its BIC there when it
+  // ends. pending_level: this fit stops as if abandon_above_bic were that
+  // level (the lower of the two), its shorter horizons' bounds checked once
+  // the level is published (waiting for it at the end if need be); one
+  // start only (solver.starts 0, else FitParameters throws
+  // std::invalid_argument).
+  std::shared_ptr<SharedLevel> publish_level;
+  std::shared_ptr<const SharedLevel> pending_level;
 };
 
 // How the estimate's uncertainty is computed (job key `uncertainty:`;

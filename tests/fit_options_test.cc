@@ -4,11 +4,15 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <future>
+#include <limits>
+#include <memory>
 #include <iostream>
 #include <iterator>
 #include <stdexcept>
@@ -20,6 +24,7 @@
 
 #include "fit/fit.h"
 #include "fit/job.h"
+#include "fit/screen.h"
 
 #include "tests/test_files.h"
 
@@ -321,6 +326,83 @@ TEST(FitOptionsTest, AFitThatCannotReachTheLevelStopsOnAShorterHorizon) {
     EXPECT_TRUE(std::isfinite(e.value)) << name;
     EXPECT_TRUE(std::isnan(e.std_error)) << name;
   }
+}
+
+// solver.pending_level (the force map's forms, fit/screen.h SharedLevel):
+// a fit whose level another fit publishes while it runs ends exactly as the
+// same fit with solver.abandon_above_bic at that level (same threads:
+// bit-for-bit) — stopped at the first horizon, at a later one (the first
+// horizon's bound recorded and passed over, the second's passing), or not
+// at all — whether the level comes before it starts or after it has run
+// every stage, when it waits for it; the publishing fit publishes its BIC;
+// several starts are refused.
+TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
+  FitJob job = LoadFitJob(ScreenedJob(1));
+  job.solver.progress = false;
+  job.solver.starts = 0;
+  const FitResult whole = FitParameters(job);
+  ASSERT_TRUE(std::isfinite(whole.bic));
+  FitJob first_job = job;
+  first_job.solver.abandon_above_bic = 1.0;
+  const FitResult first = FitParameters(first_job);
+  ASSERT_DOUBLE_EQ(first.abandoned_horizon, 0.05);
+  FitJob later_job = job;
+  later_job.solver.abandon_above_bic = first.bic * (1.0 + 1e-9);
+  const FitResult later = FitParameters(later_job);
+  ASSERT_GT(later.abandoned_horizon, 0.05);
+  ASSERT_GT(later.bic, later_job.solver.abandon_above_bic);
+
+  const auto expect_same = [](const FitResult& a, const FitResult& b) {
+    EXPECT_EQ(a.abandoned_horizon, b.abandoned_horizon);
+    EXPECT_EQ(a.bic, b.bic);
+    EXPECT_EQ(std::isnan(a.final_cost), std::isnan(b.final_cost));
+    if (!std::isnan(b.final_cost)) EXPECT_EQ(a.final_cost, b.final_cost);
+    ASSERT_EQ(a.parameters.size(), b.parameters.size());
+    for (size_t k = 0; k < b.parameters.size(); ++k) {
+      EXPECT_EQ(a.parameters[k].value, b.parameters[k].value) << b.parameters[k].name;
+    }
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<std::pair<double, const FitResult*>> cases = {
+      {1.0, &first}, {later_job.solver.abandon_above_bic, &later}, {inf, &whole}};
+  for (const auto& [threshold, reference] : cases) {
+    SCOPED_TRACE(threshold);
+    // Published before the fit starts.
+    {
+      auto level = std::make_shared<SharedLevel>(1.0);
+      level->Publish(threshold);
+      FitJob pending = job;
+      pending.solver.pending_level = level;
+      expect_same(FitParameters(pending), *reference);
+    }
+    // Published only after the fit has waited for it (1 s: about five
+    // times the whole fit here; under load it may come mid-run, which must
+    // give the same end, and the fit cannot end without it).
+    {
+      auto level = std::make_shared<SharedLevel>(1.0);
+      FitJob pending = job;
+      pending.solver.pending_level = level;
+      std::future<FitResult> fit =
+          std::async(std::launch::async, [&pending] { return FitParameters(pending); });
+      EXPECT_EQ(fit.wait_for(std::chrono::seconds(1)), std::future_status::timeout);
+      level->Publish(threshold);
+      const FitResult result = fit.get();
+      expect_same(result, *reference);
+      EXPECT_GE(result.jacobian_evaluations, reference->jacobian_evaluations);
+    }
+  }
+
+  FitJob leader = job;
+  auto published = std::make_shared<SharedLevel>(2.0);
+  leader.solver.publish_level = published;
+  const FitResult led = FitParameters(leader);
+  ASSERT_TRUE(published->TryAbandonAbove().has_value());
+  EXPECT_EQ(*published->TryAbandonAbove(), 2.0 * led.bic);
+
+  FitJob several = job;
+  several.solver.starts = 2;
+  several.solver.pending_level = std::make_shared<SharedLevel>(1.0);
+  EXPECT_THROW(FitParameters(several), std::invalid_argument);
 }
 
 // solver.resume (the discovery loop's refits after their screen, issue 11):

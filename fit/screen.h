@@ -1,0 +1,94 @@
+// Competing refits under a level (issue 11): the screen that runs every
+// refit over the first horizons of its continuation only, and the rule that
+// stops a refit once it can no longer end below the lowest BIC a competing
+// refit has reached. Used by the discovery loop's candidates
+// (fit/discovery.cc) and the force map's forms (fit/force_map.cc), which
+// are alike: several refits of which only the lowest BIC matters.
+#ifndef FIT_SCREEN_H_
+#define FIT_SCREEN_H_
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fit/fit_result.h"
+#include "fit/horizon_checkpoint.h"
+#include "fit/job.h"
+
+namespace axis {
+
+// A refit stops once the lower bound of its BIC on a shorter horizon
+// (fit/fit.h FitParameters) exceeds this many times the level that decides
+// (the BIC before the step, or the lowest a competing refit has reached;
+// BICs here are positive). Not 1: the bound takes the shorter horizon's
+// minimum as the one its stage found, and a stage can end in a local
+// minimum above the whole record's (motor-side Coulomb friction on the
+// coulomb case: 3.90e5 at the 0.2 s horizon, 2.93e5 at the end, 1.33
+// times less), so the stop needs a margin.
+constexpr double kStopFactor = 2.0;
+
+// How many horizons of the continuation (first_horizon, 2·, 4·, 8·) the
+// screen runs (ScreenFits): on the load_offset case the true offset,
+// seventh by score, comes first after the screen, and seven of the eight
+// others stop at the first horizon.
+constexpr int kScreenStages = 4;
+
+// A level that one fit (the leader) decides while others run beside it
+// (SolverSettings::publish_level, pending_level): the leader's FitParameters
+// publishes its BIC when it ends (+inf if it stopped early, failed or
+// threw). A fit given it as pending_level records the BIC bounds of its
+// shorter horizons until then, and once it is published stops at the first
+// stage whose bound passed `factor` times it: it ends as it would have
+// ended had it run after the leader with solver.abandon_above_bic set to
+// that level, only without waiting for the leader to start. Thread-safe.
+class SharedLevel {
+ public:
+  // factor: the margin (kStopFactor), > 0.
+  explicit SharedLevel(double factor) : factor_(factor) {}
+  // Publishes the leader's BIC (+inf: no level); later calls are ignored.
+  void Publish(double bic);
+  // factor·BIC once published (+inf for no level), else nothing.
+  std::optional<double> TryAbandonAbove() const;
+  // factor·BIC, waiting until it is published.
+  double AbandonAbove() const;
+
+ private:
+  const double factor_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable published_;
+  bool known_ = false;
+  double bic_ = 0.0;
+};
+
+// What the screen left of one refit.
+struct ScreenedFit {
+  // The lower bound of the BIC the refit can end with, from its last
+  // screened horizon (FitResult::bic of the stopped fit); +inf if it failed.
+  double bound = 0.0;
+  double seconds = 0.0;  // wall time of the screen's fit (s)
+  // Its shorter horizons, to resume from (SolverSettings::resume); null if
+  // the fit ended before them.
+  std::shared_ptr<const HorizonCheckpoint> checkpoint;
+};
+
+// Runs every job's first kScreenStages horizons only
+// (SolverSettings::stop_after_horizon = first_horizon·2^(kScreenStages−1)),
+// up to `threads` fits at once (FitConcurrently, fit/fit.h), and returns
+// per job (same order) the bound, time and checkpoint. Ordering competing
+// refits by the bound, lowest first, lets the leading one set a low level
+// early; it changes which refits stop, not which wins. Throws
+// std::invalid_argument if a job's solver.first_horizon is not > 0 (no
+// continuation: nothing to screen) and as FitParameters does.
+std::vector<ScreenedFit> ScreenFits(std::vector<FitJob> jobs, int threads);
+
+// Why a refit stopped early (FitResult::abandoned_horizon) against `level`
+// (a BIC) named `level_name` (e.g. "coulomb's BIC"): its horizon, the bound
+// and the level it passed; "" for a refit that ran to the end. Never throws.
+std::string StoppedText(const FitResult& fit, double level, const std::string& level_name);
+
+}  // namespace axis
+
+#endif  // FIT_SCREEN_H_
