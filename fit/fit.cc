@@ -349,6 +349,7 @@ constexpr double kStageParameterTolerance = 1e-4;
 // own stop); a χ² difference of 2e-6 means nothing statistically, and on
 // noise-free records (cost ~1e-8 at the optimum) smaller differences are
 // round-off that would otherwise restart the solver again and again.
+// (Also in χ² units, by hand: fit/force_map.cc RemovalTolerance.)
 constexpr double kLowerRelative = 1e-9;
 constexpr double kLowerAbsolute = 1e-6;
 
@@ -619,9 +620,9 @@ class PendingLevelStop : public ceres::IterationCallback {
   }
 
  private:
-  const SharedLevel* level_;
-  double abandon_above_;
-  const std::vector<std::pair<size_t, double>>* bounds_;
+  const SharedLevel* const level_;
+  const double abandon_above_;
+  const std::vector<std::pair<size_t, double>>* const bounds_;
 };
 
 // FitParameters without publishing to solver.publish_level.
@@ -795,6 +796,12 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
     throw std::invalid_argument(
         "FitParameters: expected solver.starts 0 with solver.pending_level, got " +
         std::to_string(job.solver.starts));
+  }
+  if (pending != nullptr && job.solver.stop_after_horizon > 0.0) {
+    throw std::invalid_argument(
+        "FitParameters: expected no solver.stop_after_horizon with solver.pending_level (a "
+        "screen's stop would not wait for the level), got " +
+        std::to_string(job.solver.stop_after_horizon) + " s");
   }
   bool level_known = pending == nullptr;
   // Takes the pending level if it is published (`wait`: waits for it).
@@ -1035,6 +1042,11 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   }
   // The result of a fit whose every start stopped: the lowest bound's.
   const auto stopped_result = [&](const StartRun& run) {
+    // As before the finals (a start stopped after them under a pending
+    // level ran a final stage that does not count).
+    result.start_costs.clear();
+    result.start_screen_costs.clear();
+    result.screen_horizon = 0.0;
     result.abandoned_horizon = run.abandoned_horizon;
     result.bic = run.bic_bound;
     result.final_cost = result.aic = result.residual_variance =

@@ -38,9 +38,15 @@ namespace axis {
 // the same end as running them again (bit for bit on the same number of
 // threads; fit/horizon_checkpoint.h). A start that meets an earlier start's
 // point after a shorter horizon (within its parameter tolerance) stops
-// (FitResult::start_joined). Throws std::invalid_argument for an
-// inconsistent job (LoadFitJob has checked) and for a solver.resume that is
-// not a checkpoint of this job; the solver itself never throws.
+// (FitResult::start_joined). With job.solver.publish_level the fit
+// publishes its BIC there when it ends (also when it throws: +inf); with
+// job.solver.pending_level it stops as under abandon_above_bic at that
+// level once another fit publishes it, and may block until then
+// (fit/screen.h SharedLevel). Throws std::invalid_argument for an
+// inconsistent job (LoadFitJob has checked), for a solver.resume that is
+// not a checkpoint of this job, and for a pending_level with
+// solver.starts > 0 or a stop_after_horizon; the solver itself never
+// throws.
 FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
 
 // Turns `job` into a warm refit: a fit that starts next to its optimum (the
@@ -58,8 +64,11 @@ void AsWarmRefit(FitJob* job);
 // Fits jobs[k] (FitParameters, no progress) for every k, up to `threads`
 // fits at once on their own std::threads; each fit's Ceres evaluation gets
 // threads / (fits at once) threads, at least 1 (its job.solver.threads is
-// overridden). The fits are independent (each builds its own problems), so
-// the results are those of fitting one after the other. `seconds`, if
+// overridden), taken in index order. The fits are independent (each builds
+// its own problems), so the results are those of fitting one after the
+// other, except that a fit with solver.pending_level waits for its level:
+// its publisher must come at a lower index (it then always runs first or
+// beside it; fit/screen.h SharedLevel). `seconds`, if
 // non-null, receives each fit's wall time (s). Rethrows the exception of
 // the lowest-indexed fit that threw (std::invalid_argument for an
 // inconsistent job), after every fit has run (fit/concurrency.h

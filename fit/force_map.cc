@@ -51,15 +51,16 @@ constexpr double kAnchorFactor = 1e3;
 
 // How far above the BIC with an effect (`bic`) the backward pass's refit
 // without it may end and still remove it: the solver's accuracy (its
-// relative `function_tolerance`, at least 1e-9, of the BIC, plus 2e-6, the
-// χ² of fit.cc's LowerThan). The effect goes into the map whole where the
-// map can carry it (TransferToMap: a load offset is a constant of f(v)),
+// relative `function_tolerance`, at least 1e-9, of the BIC, plus 2e-6:
+// the χ² form of fit.cc's LowerThan, kLowerRelative and 2·kLowerAbsolute,
+// kept equal to them by hand). The effect goes into the map whole where
+// the map can carry it (TransferToMap: a load offset is a constant of f(v)),
 // and the two models are then one function whose BICs differ by round-off
 // and the solver's stop: on the velocity bump case 26834.934363 both ways,
 // the sign of the difference (+6e-8 or −6e-10) changing with the number
 // of threads a sum ran on. The model without it says the same with fewer
 // parameters.
-double RemovalTie(double bic, double function_tolerance) {
+double RemovalTolerance(double bic, double function_tolerance) {
   return std::max(1e-9, function_tolerance) * std::abs(bic) + 2e-6;
 }
 
@@ -530,7 +531,7 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
   std::string level_name;
   if (fits[0].abandoned_horizon == 0.0 && std::isfinite(fits[0].bic)) {
     level = fits[0].bic;
-    level_name = form_name(0) + "'s BIC";
+    level_name = form_name(0) + "'s fit BIC (2·cost + n·ln m)";
   }
   size_t winner = jobs.size();
   for (size_t f = 0; f < jobs.size(); ++f) {
@@ -647,8 +648,8 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
         const Assessment a = Assess(without);
         removal.bic_without = a.bic;
         // Not higher than with the effect beyond the solver's accuracy: a
-        // tie (see RemovalTie), which parsimony decides.
-        if (a.bic < at.bic + RemovalTie(at.bic, without.solver.function_tolerance)) {
+        // tie (see RemovalTolerance), which parsimony decides.
+        if (a.bic < at.bic + RemovalTolerance(at.bic, without.solver.function_tolerance)) {
           removal.removed = true;
           map_job = std::move(without);
           fit = std::move(refit);

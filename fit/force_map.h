@@ -104,10 +104,13 @@ struct ForceMapForm {
   // refit failed.
   double bic = 0.0;
   double edf = 0.0;   // 0 for a stopped or failed refit
-  double seconds = 0.0;  // the screen's and the refit's wall time (s)
+  // The refit's wall time (s), beside the other forms, and for a form that
+  // ran to its end before the leading one any wait for its level.
+  double seconds = 0.0;
   // Why the refit stopped early (StoppedText, fit/screen.h): a lower
-  // bound of its BIC passed kStopFactor times the leading form's; "" if it
-  // ran to the end.
+  // bound of its BIC passed kStopFactor times the leading form's fit BIC
+  // (2·cost + n·ln(m), its roughness penalty included); "" if it ran to
+  // the end.
   std::string stopped;
 };
 
@@ -161,8 +164,8 @@ struct ForceMapReport {
 // and f(v) (about settings.force_map_knots knots over the values the fitted
 // experiments visit, half at their quantiles, half uniform);
 // every form significant at alpha/(number of forms) refitted at a small λ
-// (screened, the leading one first, the others concurrently against its
-// level and stopped above it: fit/screen.h), the lowest BIC (edf) wins;
+// (all at once, the first by score publishing its BIC as the level the
+// others stop above: fit/screen.h SharedLevel), the lowest BIC (edf) wins;
 // for it, the λ of the lowest linearised BIC over
 // 10⁻⁶..10² times the mean information per knot, refitted there; kept if
 // its BIC is below the library model's. With the map kept, a backward pass

@@ -5,7 +5,6 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
-#include <utility>
 
 #include "fit/fit.h"
 
@@ -30,6 +29,13 @@ std::vector<ScreenedFit> ScreenFits(std::vector<FitJob> jobs, int threads) {
     out[k].checkpoint = fits[k].checkpoint;
   }
   return out;
+}
+
+SharedLevel::SharedLevel(double factor) : factor_(factor) {
+  if (!(factor > 0.0)) {
+    throw std::invalid_argument("SharedLevel: expected a factor > 0, got " +
+                                std::to_string(factor));
+  }
 }
 
 void SharedLevel::Publish(double bic) {

@@ -1,9 +1,10 @@
-// Competing refits under a level (issue 11): the screen that runs every
-// refit over the first horizons of its continuation only, and the rule that
-// stops a refit once it can no longer end below the lowest BIC a competing
-// refit has reached. Used by the discovery loop's candidates
-// (fit/discovery.cc) and the force map's forms (fit/force_map.cc), which
-// are alike: several refits of which only the lowest BIC matters.
+// Competing refits under a level (issue 11): the rule that stops a refit
+// once it can no longer end below the lowest BIC a competing refit has
+// reached, the screen that runs every refit over the first horizons of its
+// continuation only (the discovery loop's candidates, fit/discovery.cc),
+// and the level one fit publishes for others running beside it (the force
+// map's forms, fit/force_map.cc). Both are several refits of which only
+// the lowest BIC matters.
 #ifndef FIT_SCREEN_H_
 #define FIT_SCREEN_H_
 
@@ -43,11 +44,16 @@ constexpr int kScreenStages = 4;
 // shorter horizons until then, and once it is published stops at the first
 // stage whose bound passed `factor` times it: it ends as it would have
 // ended had it run after the leader with solver.abandon_above_bic set to
-// that level, only without waiting for the leader to start. Thread-safe.
+// that level, only without waiting for the leader to start. The leader
+// must run before or beside its pending fits (FitConcurrently: a lower
+// index), or they wait for ever. Thread-safe.
 class SharedLevel {
  public:
-  // factor: the margin (kStopFactor), > 0.
-  explicit SharedLevel(double factor) : factor_(factor) {}
+  // factor: the margin (kStopFactor), > 0; throws std::invalid_argument
+  // otherwise.
+  explicit SharedLevel(double factor);
+  SharedLevel(const SharedLevel&) = delete;
+  SharedLevel& operator=(const SharedLevel&) = delete;
   // Publishes the leader's BIC (+inf: no level); later calls are ignored.
   void Publish(double bic);
   // factor·BIC once published (+inf for no level), else nothing.

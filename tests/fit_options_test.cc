@@ -15,8 +15,10 @@
 #include <memory>
 #include <iostream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -328,14 +330,45 @@ TEST(FitOptionsTest, AFitThatCannotReachTheLevelStopsOnAShorterHorizon) {
   }
 }
 
+// A stream buffer that publishes `bic` to `level` once the text written to
+// it contains `trigger` (a fit's progress line: the level arrives inside
+// the stage that line begins).
+class PublishOnText : public std::stringbuf {
+ public:
+  PublishOnText(std::string trigger, SharedLevel* level, double bic)
+      : trigger_(std::move(trigger)), level_(level), bic_(bic) {}
+  bool published() const { return published_; }
+
+ protected:
+  int sync() override {
+    if (!published_ && str().find(trigger_) != std::string::npos) {
+      level_->Publish(bic_);
+      published_ = true;
+    }
+    return 0;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    const std::streamsize written = std::stringbuf::xsputn(s, n);
+    sync();
+    return written;
+  }
+
+ private:
+  const std::string trigger_;
+  SharedLevel* const level_;
+  const double bic_;
+  bool published_ = false;
+};
+
 // solver.pending_level (the force map's forms, fit/screen.h SharedLevel):
 // a fit whose level another fit publishes while it runs ends exactly as the
 // same fit with solver.abandon_above_bic at that level (same threads:
 // bit-for-bit) — stopped at the first horizon, at a later one (the first
 // horizon's bound recorded and passed over, the second's passing), or not
-// at all — whether the level comes before it starts or after it has run
-// every stage, when it waits for it; the publishing fit publishes its BIC;
-// several starts are refused.
+// at all — whether the level comes before it starts, inside its second or
+// its last stage, or after it has run every stage, when it waits for it;
+// the publishing fit publishes its BIC, +inf when it throws; several
+// starts, a screen and a factor ≤ 0 are refused.
 TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
   FitJob job = LoadFitJob(ScreenedJob(1));
   job.solver.progress = false;
@@ -354,9 +387,14 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
 
   const auto expect_same = [](const FitResult& a, const FitResult& b) {
     EXPECT_EQ(a.abandoned_horizon, b.abandoned_horizon);
+    EXPECT_EQ(a.start_costs.size(), b.start_costs.size());
+    EXPECT_EQ(a.start_screen_costs.size(), b.start_screen_costs.size());
+    EXPECT_EQ(a.screen_horizon, b.screen_horizon);
     EXPECT_EQ(a.bic, b.bic);
     EXPECT_EQ(std::isnan(a.final_cost), std::isnan(b.final_cost));
-    if (!std::isnan(b.final_cost)) EXPECT_EQ(a.final_cost, b.final_cost);
+    if (!std::isnan(b.final_cost)) {
+      EXPECT_EQ(a.final_cost, b.final_cost);
+    }
     ASSERT_EQ(a.parameters.size(), b.parameters.size());
     for (size_t k = 0; k < b.parameters.size(); ++k) {
       EXPECT_EQ(a.parameters[k].value, b.parameters[k].value) << b.parameters[k].name;
@@ -386,9 +424,24 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
           std::async(std::launch::async, [&pending] { return FitParameters(pending); });
       EXPECT_EQ(fit.wait_for(std::chrono::seconds(1)), std::future_status::timeout);
       level->Publish(threshold);
+      ASSERT_EQ(fit.wait_for(std::chrono::seconds(60)), std::future_status::ready);
       const FitResult result = fit.get();
       expect_same(result, *reference);
       EXPECT_GE(result.jacobian_evaluations, reference->jacobian_evaluations);
+    }
+    // Published inside a stage, by the fit's own progress line as that
+    // stage begins: the second horizon's (the first one's bound recorded,
+    // the stage ended by the level once it passes) and the whole record's.
+    for (const char* stage : {"horizon 0.100 s  iter   0", "horizon 0.300 s  iter   0"}) {
+      SCOPED_TRACE(stage);
+      auto level = std::make_shared<SharedLevel>(1.0);
+      PublishOnText publisher(stage, level.get(), threshold);
+      std::ostream progress(&publisher);
+      FitJob pending = job;
+      pending.solver.pending_level = level;
+      pending.solver.progress = true;
+      expect_same(FitParameters(pending, &progress), *reference);
+      EXPECT_TRUE(publisher.published());
     }
   }
 
@@ -403,6 +456,22 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
   several.solver.starts = 2;
   several.solver.pending_level = std::make_shared<SharedLevel>(1.0);
   EXPECT_THROW(FitParameters(several), std::invalid_argument);
+  FitJob screen = job;
+  screen.solver.stop_after_horizon = 0.1;
+  screen.solver.pending_level = std::make_shared<SharedLevel>(1.0);
+  EXPECT_THROW(FitParameters(screen), std::invalid_argument);
+  // A publisher that throws (a checkpoint of another job) publishes +inf:
+  // no level, its pending fits run on.
+  screen.solver.pending_level = nullptr;
+  FitJob throwing = job;
+  throwing.solver.resume = FitParameters(screen).checkpoint;
+  throwing.solver.starts = 1;
+  auto none = std::make_shared<SharedLevel>(2.0);
+  throwing.solver.publish_level = none;
+  EXPECT_THROW(FitParameters(throwing), std::invalid_argument);
+  ASSERT_TRUE(none->TryAbandonAbove().has_value());
+  EXPECT_EQ(*none->TryAbandonAbove(), inf);
+  EXPECT_THROW(SharedLevel(0.0), std::invalid_argument);
 }
 
 // solver.resume (the discovery loop's refits after their screen, issue 11):
@@ -450,7 +519,9 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
          {&FitResult::start_screen_costs, &FitResult::start_costs}) {
       const double a = (resumed.*costs)[s], b = (whole.*costs)[s];
       EXPECT_EQ(std::isnan(a), std::isnan(b)) << s;
-      if (!std::isnan(b)) EXPECT_EQ(a, b) << s;
+      if (!std::isnan(b)) {
+        EXPECT_EQ(a, b) << s;
+      }
     }
   }
   // The screen's Jacobians and the resumed fit's are the whole fit's: no
