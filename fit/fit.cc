@@ -348,14 +348,14 @@ constexpr double kStageParameterTolerance = 1e-4;
 // for a decrease of 4.6e-5 in a cost of 4070, where 4.1e-5 is the solver's
 // own stop); a χ² difference of 2e-6 means nothing statistically, and on
 // noise-free records (cost ~1e-8 at the optimum) smaller differences are
-// round-off that would otherwise restart the solver again and again.
-// (Also in χ² units, by hand: fit/force_map.cc RemovalTolerance.)
+// round-off that would otherwise restart the solver again and again
+// (CostResolution, fit/fit.h).
 constexpr double kLowerRelative = 1e-9;
 constexpr double kLowerAbsolute = 1e-6;
 
 // The cost a point must be below to count as lower than `cost` (see above).
 double LowerThan(double cost, double relative) {
-  return cost - (std::max(kLowerRelative, relative) * std::abs(cost) + kLowerAbsolute);
+  return cost - CostResolution(cost, relative);
 }
 
 // One round of the optimum check: the cost at θ* + s·d for the probe
@@ -600,6 +600,16 @@ void AppendEstimates(const FitJob& job, const ParameterMap& map,
   AppendFixedEstimates(map.Apply(theta.data()), result);
 }
 
+// The first of a start's recorded (stage, BIC bound) pairs whose bound
+// passed `above`, or null.
+const std::pair<size_t, double>* FirstPassed(
+    const std::vector<std::pair<size_t, double>>& bounds, double above) {
+  for (const auto& entry : bounds) {
+    if (entry.second > above) return &entry;
+  }
+  return nullptr;
+}
+
 // Ends a stage once solver.pending_level is published and a shorter
 // stage's bound recorded before (`bounds`: (stage, bound)) passed it,
 // together with `abandon_above` (the job's own level): the start stops at
@@ -612,11 +622,9 @@ class PendingLevelStop : public ceres::IterationCallback {
   ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
     const std::optional<double> level = level_->TryAbandonAbove();
     if (!level) return ceres::SOLVER_CONTINUE;
-    const double above = std::min(abandon_above_, *level);
-    for (const auto& entry : *bounds_) {
-      if (entry.second > above) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
-    }
-    return ceres::SOLVER_CONTINUE;
+    return FirstPassed(*bounds_, std::min(abandon_above_, *level)) != nullptr
+               ? ceres::SOLVER_TERMINATE_SUCCESSFULLY
+               : ceres::SOLVER_CONTINUE;
   }
 
  private:
@@ -815,15 +823,12 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   };
   // Stops `run` at the first recorded stage whose bound passed the level.
   const auto passed_recorded = [&](StartRun* run) {
-    for (const auto& [i, bound] : run->waiting_bounds) {
-      if (bound > abandon_above) {
-        run->abandoned_horizon = stages[i].horizon;
-        run->bic_bound = bound;
-        run->abandoned_stage = i;
-        return true;
-      }
-    }
-    return false;
+    const std::pair<size_t, double>* passed = FirstPassed(run->waiting_bounds, abandon_above);
+    if (passed == nullptr) return false;
+    run->abandoned_horizon = stages[passed->first].horizon;
+    run->bic_bound = passed->second;
+    run->abandoned_stage = passed->first;
+    return true;
   };
   // Runs stage i of start s (its point in p.theta on entry and exit).
   const auto run_stage = [&](size_t s, size_t i, StartRun* run) {
@@ -1545,6 +1550,10 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
 }
 
 }  // namespace
+
+double CostResolution(double cost, double function_tolerance) {
+  return std::max(kLowerRelative, function_tolerance) * std::abs(cost) + kLowerAbsolute;
+}
 
 FitResult FitParameters(const FitJob& job, std::ostream* progress) {
   SharedLevel* publish = job.solver.publish_level.get();

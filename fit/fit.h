@@ -61,6 +61,14 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
 // ended the Stribeck refit in a minimum 100 BIC higher).
 void AsWarmRefit(FitJob* job);
 
+// The smallest change of a cost (½Σr² of σ-weighted residuals) that the
+// solver resolves: `function_tolerance` (Ceres' relative stop, at least
+// 1e-9) times |cost|, plus 1e-6. Two fits whose costs differ by less ended
+// at the same optimum as far as the solver can tell (the optimum check's
+// "lower" point, fit/fit.cc; the force map's removal ties,
+// fit/force_map.cc). Never throws.
+double CostResolution(double cost, double function_tolerance);
+
 // Fits jobs[k] (FitParameters, no progress) for every k, up to `threads`
 // fits at once on their own std::threads; each fit's Ceres evaluation gets
 // threads / (fits at once) threads, at least 1 (its job.solver.threads is

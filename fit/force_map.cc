@@ -6,7 +6,6 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
-#include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -50,18 +49,16 @@ constexpr double kFirstLambda = 1e-3;
 constexpr double kAnchorFactor = 1e3;
 
 // How far above the BIC with an effect (`bic`) the backward pass's refit
-// without it may end and still remove it: the solver's accuracy (its
-// relative `function_tolerance`, at least 1e-9, of the BIC, plus 2e-6:
-// the χ² form of fit.cc's LowerThan, kLowerRelative and 2·kLowerAbsolute,
-// kept equal to them by hand). The effect goes into the map whole where
-// the map can carry it (TransferToMap: a load offset is a constant of f(v)),
-// and the two models are then one function whose BICs differ by round-off
-// and the solver's stop: on the velocity bump case 26834.934363 both ways,
-// the sign of the difference (+6e-8 or −6e-10) changing with the number
-// of threads a sum ran on. The model without it says the same with fewer
-// parameters.
+// without it may end and still remove it: the solver's accuracy
+// (CostResolution, fit/fit.h, in χ² = 2·cost units). The effect goes into
+// the map whole where the map can carry it (TransferToMap: a load offset is
+// a constant of f(v)), and the two models are then one function whose
+// BICs differ by round-off and the solver's stop: on the velocity bump case
+// 26834.934363 both ways, the sign of the difference (+6e-8 or −6e-10)
+// changing with the number of threads a sum ran on. The model without it
+// says the same with fewer parameters.
 double RemovalTolerance(double bic, double function_tolerance) {
-  return std::max(1e-9, function_tolerance) * std::abs(bic) + 2e-6;
+  return 2.0 * CostResolution(0.5 * bic, function_tolerance);
 }
 
 double SecondsSince(Clock::time_point start) {

@@ -48,16 +48,20 @@ void SharedLevel::Publish(double bic) {
   published_.notify_all();
 }
 
+double SharedLevel::Threshold() const {
+  return std::isfinite(bic_) ? factor_ * bic_ : std::numeric_limits<double>::infinity();
+}
+
 std::optional<double> SharedLevel::TryAbandonAbove() const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!known_) return std::nullopt;
-  return std::isfinite(bic_) ? factor_ * bic_ : std::numeric_limits<double>::infinity();
+  return Threshold();
 }
 
 double SharedLevel::AbandonAbove() const {
   std::unique_lock<std::mutex> lock(mutex_);
   published_.wait(lock, [this] { return known_; });
-  return std::isfinite(bic_) ? factor_ * bic_ : std::numeric_limits<double>::infinity();
+  return Threshold();
 }
 
 std::string StoppedText(const FitResult& fit, double level, const std::string& level_name) {

@@ -62,6 +62,9 @@ class SharedLevel {
   double AbandonAbove() const;
 
  private:
+  // factor·BIC or +inf; mutex_ held.
+  double Threshold() const;
+
   const double factor_;
   mutable std::mutex mutex_;
   mutable std::condition_variable published_;
