@@ -213,9 +213,13 @@ ResidualVerdict JudgeResiduals(const std::vector<ChannelDiagnostics>& diagnostic
     for (const BinnedResidual& b : d.bins) v.tests += b.dof > 0 ? 1 : 0;
   }
   v.threshold = alpha / v.tests;
-  const int dof = fit.num_residuals - static_cast<int>(fit.free_names.size());
-  v.s2 = dof > 0 ? 2.0 * fit.final_cost / dof : std::numeric_limits<double>::quiet_NaN();
-  v.s2_p_value = dof > 0 ? ChiSquaredSurvival(2.0 * fit.final_cost, dof)
+  // The fit's own s² and degrees of freedom (m − edf after a kept force
+  // map: not an integer; the χ² tail at the nearest one).
+  const double dof = fit.residual_dof;
+  const bool has_dof = dof >= 0.5;
+  v.s2 = has_dof ? fit.residual_variance : std::numeric_limits<double>::quiet_NaN();
+  v.s2_p_value = has_dof ? ChiSquaredSurvival(fit.residual_variance * dof,
+                                              static_cast<int>(std::lround(dof)))
                          : std::numeric_limits<double>::quiet_NaN();
   std::ostringstream head;
   head << std::setprecision(3);

@@ -24,9 +24,13 @@ struct BinnedResidual {
   std::vector<int> count;
   double width = 0.0;  // bin width, unit of the variable
   // Σ (mean/std_error)² over the bins, χ² with `dof` = number of bins under
-  // "the residual does not depend on the variable"; std_error = s/√n with s
-  // the residual's standard deviation (ignores autocorrelation, so p is
-  // optimistic for coloured residuals: read it as a ranking).
+  // "every bin's mean residual is 0": the bin means are tested against zero,
+  // not against their overall mean, so a constant offset of the residual
+  // (a sensor bias the model lacks) fails this test for every variable
+  // alike, and a failed test says "depends on" the variable for either.
+  // std_error = s/√n with s the residual's standard deviation about its
+  // mean (ignores autocorrelation, so p is optimistic for coloured
+  // residuals: read it as a ranking).
   double chi2 = 0.0;
   int dof = 0;
   double p_value = 1.0;
@@ -77,12 +81,13 @@ void WriteDiagnostics(const std::string& dir,
 // "explained" when they are consistent with the declared noise, else
 // "incomplete" with what remains. At family-wise level `alpha`, Bonferroni
 // over all the tests below (threshold = alpha / tests):
-// - s² = Σ((ŷ − y)/σ)²/(m − n) (FitResult::residual_variance) not above 1:
-//   P(χ²_{m−n} > Σ((ŷ − y)/σ)²) ≥ threshold (upper tail only: a σ declared
-//   too large is not a missing effect);
+// - s² = Σ((ŷ − y)/σ)²/(m − n) (FitResult::residual_variance, m − n its
+//   residual_dof) not above 1: P(χ²_{m−n} > Σ((ŷ − y)/σ)²) ≥ threshold
+//   (upper tail only: a σ declared too large is not a missing effect);
 // - per fitted channel, Ljung–Box (20 lags) p ≥ threshold: white;
 // - per channel and binned variable, the χ² of the bin means p ≥
-//   threshold: the residual does not depend on v, x, a or θ mod rev.
+//   threshold: the residual's mean is 0 in every bin of v, x, a and θ mod
+//   rev (no dependence on them, and no offset: BinnedResidual).
 // A failed bin test names where the residual is significant: the runs of
 // bins whose own χ²₁ = (mean/std_error)² has p < threshold / bins.
 struct ResidualVerdict {
@@ -101,7 +106,8 @@ struct ResidualVerdict {
 };
 
 // Judges `diagnostics` (DiagnoseResiduals of the final model) with the
-// fit's s² (`fit`: num_residuals, the free parameter count, final_cost).
+// fit's s² (`fit`: residual_variance and residual_dof; s² and its p-value
+// NaN if residual_dof < 0.5).
 // Throws std::invalid_argument unless alpha > 0 (a level of 1 or more
 // makes every test fail: nothing counts as explained).
 ResidualVerdict JudgeResiduals(const std::vector<ChannelDiagnostics>& diagnostics,

@@ -377,6 +377,11 @@ void ApplyEstimates(const FitResult& result, FitJob* job) {
       }
     }
   }
+  if (result.initial_states.size() != job->experiments.size()) return;  // no estimate
+  for (size_t j = 0; j < job->experiments.size(); ++j) {
+    FitExperiment& e = job->experiments[j];
+    if (e.estimate_initial_state) SetArmState(result.initial_states[j], job->model.params.r_g, &e);
+  }
 }
 
 nlohmann::json ChannelChangesToJson(const std::vector<ChannelChange>& changes) {

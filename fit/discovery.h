@@ -126,15 +126,22 @@ Eigen::MatrixXd Basis(const Eigen::MatrixXd& a);
 FitJob JobWithout(const FitJob& job, const std::string& effect);
 
 // Writes the free parameters' estimates of `result` into `job` as model
-// values and as initial values (clamped to their bounds): the warm start of
-// the next fit. Never throws.
+// values and as initial values (clamped to their bounds), and the fitted
+// initial states (FitResult::initial_states) into its experiments with
+// `initial_state: estimate`: the model at the estimate, for the score test
+// and the diagnostics, and the warm start of the next fit. Never throws.
 void ApplyEstimates(const FitResult& result, FitJob* job);
 
 // The σ-weighted residuals r (m) of the job's fitted experiments at its
 // free parameters' initial values (FreeParameter::initial) and their
 // Jacobian (m × n) in the optimiser's coordinates θ (fit/experiment_cost.h
 // ParameterMap), stacked in experiment order. Throws std::runtime_error if
-// a simulation fails.
+// a simulation fails. The experiments start from their `initial_state`
+// (after ApplyEstimates the fitted one) and the Jacobian has no columns for
+// estimated initial states: at the estimate the residual is orthogonal to
+// those directions, so a candidate column's share along them adds to the
+// score test's variance and nothing to its score (the test errs
+// conservative).
 void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac);
 
 // The candidate's Jacobian columns (m × number of columns) at the job's

@@ -915,7 +915,7 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   // end point and the start itself (the last stage may go back to the
   // start); a local minimum makes this a heuristic bound, checked on the
   // discovery cases (tests/discovery_test.cc) and campaigns (README).
-  const double bic_penalty = n_free * std::log(static_cast<double>(num_residuals));
+  const double bic_penalty = theta_size * std::log(static_cast<double>(num_residuals));
   // With solver.stop_after_horizon every start also stops, with its bound,
   // after the stage of that horizon (a screen of the refits: fit/discovery.cc).
   const double stop_after = job.solver.stop_after_horizon;
@@ -1054,7 +1054,7 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
     result.screen_horizon = 0.0;
     result.abandoned_horizon = run.abandoned_horizon;
     result.bic = run.bic_bound;
-    result.final_cost = result.aic = result.residual_variance =
+    result.final_cost = result.aic = result.residual_variance = result.residual_dof =
         std::numeric_limits<double>::quiet_NaN();
     std::ostringstream why;
     why << "stopped at the " << run.abandoned_horizon << " s horizon: BIC >= "
@@ -1242,6 +1242,7 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   int local_passes = 0;
   for (;;) {
     result.residual_variance = 2.0 * best_cost / dof;
+    result.residual_dof = dof;
     std::optional<PhaseTimer> timer(std::in_place, "covariance", p.counter, &result);
     cov_theta = std::isfinite(best_cost)
                     ? CovarianceOfTheta(&full_problem, theta, theta_size, job.solver.threads)
@@ -1430,15 +1431,16 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
     const std::vector<bool> null = NullSpaceMembers(&full_problem, n_free);
     for (int i = 0; i < n_free; ++i) determined[i] = !null[i];
   }
+  // Both members of a nearly collinear pair are undetermined: the pairs are
+  // judged on the null-space flags alone (`outside_null`), so flagging one member
+  // does not spare the other when the loop reaches it.
+  const std::vector<bool> outside_null = determined;
   for (int i = 0; i < n_free; ++i) {
     for (int j = 0; j < n_free; ++j) {
       if (i == j) continue;
       const double r = cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
       result.correlation(i, j) = r;
-      // Both members of a nearly collinear pair are undetermined.
-      if (determined[i] && determined[j] && std::abs(r) > 0.99) {
-        determined[i] = false;
-      }
+      if (outside_null[i] && outside_null[j] && std::abs(r) > 0.99) determined[i] = false;
     }
   }
   // Likelihood-ratio intervals (fit/uncertainty.h): the cost itself along
@@ -1521,7 +1523,9 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   }
   AppendFixedEstimates(fitted, &result);
 
-  const int n = n_free;
+  // Every fitted entry of θ counts: the free parameters and the estimated
+  // initial states.
+  const int n = theta_size;
   result.aic = 2.0 * best_cost + 2.0 * n;
   result.bic = 2.0 * best_cost + n * std::log(static_cast<double>(num_residuals));
 
@@ -1530,11 +1534,9 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   for (size_t j = 0; j < job.experiments.size(); ++j) {
     FitExperiment e = job.experiments[j];
     if (state_index[j] >= 0) {
-      e.initial_state[0] = p.theta[state_index[j]];
-      e.initial_state[1] = p.theta[state_index[j] + 1];
-      e.initial_state[2] = e.initial_state[0] / fitted.r_g;
-      e.initial_state[3] = e.initial_state[1] / fitted.r_g;
+      SetArmState({p.theta[state_index[j]], p.theta[state_index[j] + 1]}, fitted.r_g, &e);
     }
+    result.initial_states.push_back({e.initial_state[0], e.initial_state[1]});
     result.experiments.push_back(
         EvaluateExperiment(job.model.structure, fitted, e));
   }
@@ -1569,6 +1571,13 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress) {
     publish->Publish(std::numeric_limits<double>::infinity());
     throw;
   }
+}
+
+void SetArmState(const std::array<double, 2>& y, double r_g, FitExperiment* e) {
+  e->initial_state[0] = y[0];
+  e->initial_state[1] = y[1];
+  e->initial_state[2] = y[0] / r_g;
+  e->initial_state[3] = y[1] / r_g;
 }
 
 void AsWarmRefit(FitJob* job) {
@@ -1659,9 +1668,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     // discovery they are those of the declared model, above).
     stage("diagnosing the residuals");
     FitJob fitted = job;
-    for (const ParameterEstimate& e : result.parameters) {
-      if (e.free) *FindParam(&fitted.model.params, e.name) = e.value;
-    }
+    ApplyEstimates(result, &fitted);  // parameters and estimated initial states
     try {
       run.diagnostics = DiagnoseResiduals(fitted);
     } catch (const std::runtime_error&) {

@@ -49,6 +49,12 @@ namespace axis {
 // throws.
 FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
 
+// Sets `e`'s initial arm position y0 = y[0] (m) and velocity y1 = y[1]
+// (m/s), with the motor's y2 = y0/r_g (rad), y3 = y1/r_g (rad/s): the gear
+// undeflected, as `initial_state: estimate` fits them (configs/README.md;
+// MODEL.md §1). r_g in m/rad, > 0.
+void SetArmState(const std::array<double, 2>& y, double r_g, FitExperiment* e);
+
 // Turns `job` into a warm refit: a fit that starts next to its optimum (the
 // residual bootstrap's refits of resampled data at the estimate) and only
 // needs that optimum and its Gauss–Newton covariance. One start, no optimum

@@ -4,6 +4,7 @@
 #ifndef FIT_FIT_RESULT_H_
 #define FIT_FIT_RESULT_H_
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -102,9 +103,20 @@ struct FitResult {
   std::vector<double> start_joined_horizon;
   double screen_horizon = 0.0;
   int num_residuals = 0;
-  double residual_variance = 0.0;  // 2·final_cost/(m − n)
+  // s² = Σr²/(m − n) and its degrees of freedom m − n, n the fitted entries
+  // of θ (free parameters and estimated initial states); for a fit with a
+  // kept force map (fit/force_map.h) the data's Σr² (without the roughness
+  // penalty) over m − edf.
+  double residual_variance = 0.0;
+  double residual_dof = 0.0;
   double aic = 0.0;   // Σr² + 2n (Gaussian, σ known up to the weights)
   double bic = 0.0;   // Σr² + n·ln(m)
+  // (y0 m, y1 m/s) of each of the job's `experiments` (its order) at the
+  // estimate: fitted for an experiment with `initial_state: estimate`, the
+  // declared state otherwise (MODEL.md §1). Empty for a fit that ended
+  // without an estimate. ApplyEstimates (fit/discovery.h) writes the fitted
+  // ones back into a job.
+  std::vector<std::array<double, 2>> initial_states;
   // A fit stopped by solver.abandon_above_bic (fit/fit.h FitParameters):
   // the horizon (s) of the stage where its BIC's lower bound passed that
   // level; 0 for a fit that ran to the whole record. Then `bic` is that

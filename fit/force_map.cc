@@ -692,8 +692,12 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
   if (!runs.empty()) report.significant.push_back(runs);
 
   if (report.kept) {
+    // The map's figures: the data's χ² (the fit's cost holds the roughness
+    // penalty too) over m − edf, as the verdict's s² test needs them.
     fit.bic = at.bic;
     fit.aic = at.chi2 + 2.0 * at.edf;
+    fit.residual_dof = std::max(1.0, fit.num_residuals - at.edf);
+    fit.residual_variance = at.s2;
     *job = std::move(map_job);
     *result = std::move(fit);
     report.diagnostics = DiagnoseResiduals(*job);

@@ -113,8 +113,8 @@ TEST(DiagnosticsTest, VerdictFromHandComputedTests) {
   d.bins = {v, x};
   FitResult fit;
   fit.num_residuals = 1000;
-  fit.free_names = {"V_L", "B_a", "b_g", "k_g", "T_p"};
-  fit.final_cost = 0.5 * 995.0;  // s² = 1 exactly
+  fit.residual_dof = 995.0;  // five free parameters
+  fit.residual_variance = 1.0;
 
   ResidualVerdict verdict = JudgeResiduals({d}, fit, 1e-3);
   EXPECT_EQ(verdict.tests, 4);
@@ -139,7 +139,7 @@ TEST(DiagnosticsTest, VerdictFromHandComputedTests) {
   // above its mean, p ≈ 2e-6 < 2.5e-4; and a coloured residual.
   d.bins[0] = v;
   d.ljung_box_p = 1e-5;
-  fit.final_cost = 600.0;
+  fit.residual_variance = 1200.0 / 995.0;
   verdict = JudgeResiduals({d}, fit, 1e-3);
   EXPECT_EQ(verdict.verdict, "incomplete");
   EXPECT_NEAR(verdict.s2, 1200.0 / 995.0, 1e-12);
@@ -147,6 +147,19 @@ TEST(DiagnosticsTest, VerdictFromHandComputedTests) {
   EXPECT_GT(verdict.s2_p_value, 1e-7);
   ASSERT_EQ(verdict.remains.size(), 2u);
   EXPECT_NE(verdict.remains[1].find("not white"), std::string::npos);
+
+  // After a kept force map the degrees of freedom are m − edf (21.4 here),
+  // not an integer: the tail is taken at the nearest integer, 979.
+  d.ljung_box_p = 0.5;
+  fit.residual_dof = 1000.0 - 21.4;
+  fit.residual_variance = 1.1;
+  verdict = JudgeResiduals({d}, fit, 1e-3);
+  EXPECT_DOUBLE_EQ(verdict.s2, 1.1);
+  EXPECT_DOUBLE_EQ(verdict.s2_p_value, ChiSquaredSurvival(1.1 * 978.6, 979));
+  // No degrees of freedom left: no s² test.
+  fit.residual_dof = 0.0;
+  verdict = JudgeResiduals({d}, fit, 1e-3);
+  EXPECT_TRUE(std::isnan(verdict.s2));
 
   EXPECT_THROW(JudgeResiduals({d}, fit, 0.0), std::invalid_argument);
   EXPECT_THROW(JudgeResiduals({d}, fit, -1.0), std::invalid_argument);
