@@ -1867,6 +1867,7 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& terminal,
         ": expected an output directory (--out DIR or output.dir in the job), "
         "got none");
   }
+  CheckOutputDirectory(job.out_dir);  // before the fit, not after it
   SetInterruptTarget(job.out_dir);
   out << "fit-params: " << job.title << "\n"
       << "  " << job.experiments.size() << " fitted experiment(s), "

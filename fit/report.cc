@@ -958,6 +958,26 @@ bool WriteExperimentPlot(const std::string& png_path,
       fit.name, warning);
 }
 
+void CheckOutputDirectory(const std::string& dir) {
+  std::error_code ec;
+  fs::path p = fs::absolute(fs::path(dir), ec);
+  if (ec) p = fs::path(dir);
+  while (!p.empty() && !fs::exists(p, ec)) {
+    if (p == p.parent_path()) break;
+    p = p.parent_path();
+  }
+  const std::string expected =
+      ": expected an output directory (an existing folder, or a path whose existing part is a "
+      "folder this process may write into), got ";
+  if (fs::exists(p, ec) && !fs::is_directory(p, ec)) {
+    throw std::invalid_argument(dir + expected + "'" + p.string() + "', an existing file");
+  }
+  if (fs::is_directory(p, ec) && ::access(p.c_str(), W_OK | X_OK) != 0) {
+    throw std::invalid_argument(dir + expected + "'" + p.string() +
+                                "', a folder that cannot be written into");
+  }
+}
+
 std::string MakeStagingDirectory(const std::string& dir) {
   fs::path target = fs::path(dir);
   if (!target.has_filename()) target = target.parent_path();  // "out/" → "out"

@@ -228,6 +228,13 @@ bool RenderExperimentSvg(const std::string& csv_path, const ExperimentFit& fit,
 // only when all of them are complete, so that a failure or an interrupt
 // (sim/interrupt.h) leaves no partial output folder.
 //
+// Checks, before any work, that the outputs can go to `dir`: the nearest
+// of `dir` and its parents that exists is a directory this process may
+// write into (so `dir` exists as a folder or can be created). Throws
+// std::invalid_argument "<dir>: expected an output directory …, got …"
+// naming the file in the way or the folder that cannot be written.
+void CheckOutputDirectory(const std::string& dir);
+
 // Creates and returns an empty sibling of `dir`, "<dir>.partial.<pid>"
 // (creating the parents of `dir` if missing; removing a stale staging folder
 // of the same name). Throws std::runtime_error naming the folder.

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -141,6 +142,23 @@ TEST_F(FitParamsBadInput, EmptyExperimentList) {
                                 "experiments: []\n");
   ExpectRejected(job, {"no_experiments.yaml:4", "expected a non-empty list of experiments",
                        "got an empty list"});
+}
+
+// An output folder that cannot be made (an existing file in the way, as
+// the folder itself or as one of its parents) is refused before the fit,
+// naming the file (it was found after the fit, exit 1, "filesystem
+// error"), and the file is left as it was.
+TEST_F(FitParamsBadInput, OutputPathThroughAFile) {
+  const std::string job = Job("out_file.yaml", kRoot + "/testdata/x_step_10V.csv");
+  const std::string file = Write("not_a_folder.csv", "t,u\n0,0\n");
+  for (const std::string& out : {file, file + "/sub"}) {
+    const Result r = RunCli(job + " --out " + out);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(out + ": expected an output directory"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("got '" + file + "', an existing file"), std::string::npos) << r.err;
+  }
+  std::ifstream in(file);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "t,u\n0,0\n");
 }
 
 TEST_F(FitParamsBadInput, CommandLine) {
