@@ -84,6 +84,7 @@ int RunFitFleet(const FitFleetOptions& options, const MpiSession& mpi, std::ostr
                                   ": expected an output folder (--out DIR or output.dir in "
                                   "the manifest), got none");
     }
+    CheckOutputDirectory(out_dir);  // before the jobs, not after them
     if (!options.baseline_path.empty()) baseline = LoadFleetJson(options.baseline_path);
   };
   if (!LoadOnEveryRank(mpi, load, "fit-fleet", "the manifest or the baseline", err)) {

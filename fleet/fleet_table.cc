@@ -378,6 +378,10 @@ FleetComparison CompareFleets(const std::vector<FleetRow>& rows,
 }
 
 std::vector<FleetRow> LoadFleetJson(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw std::invalid_argument(path + ": expected a fleet.json file, got a directory");
+  }
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot read");
   nlohmann::json doc;
@@ -385,6 +389,8 @@ std::vector<FleetRow> LoadFleetJson(const std::string& path) {
     doc = nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(path + ": invalid JSON: " + e.what());
+  } catch (const std::ios_base::failure& e) {
+    throw std::invalid_argument(path + ": cannot read: " + e.what());
   }
   std::vector<FleetRow> rows;
   const nlohmann::json& list = JsonArrayField(doc, "rows", path);

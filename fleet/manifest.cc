@@ -300,7 +300,9 @@ FitJob MakeFleetJob(const FleetManifest& manifest, const FleetEntry& entry,
   if (!entry.job_path.empty()) {
     job = LoadFitJob(entry.job_path);
   } else {
-    YAML::Node root = YAML::Clone(manifest.template_root);
+    // Read afresh, not YAML::Clone'd: a clone loses the line marks that the
+    // job's error messages name ("template.yaml:11: key …").
+    YAML::Node root = LoadYamlFile(manifest.template_path);
     // Absolute: ParseFitJob resolves relative paths against the template's folder.
     root["model"] = fs::absolute(entry.model_path).string();
     root["experiments"][0]["data"] = fs::absolute(entry.data_path).string();

@@ -168,6 +168,32 @@ TEST(FleetManifestTest, ABrokenDataFileFailsOnlyWhenItsJobIsMade) {
   }
 }
 
+// A template whose experiment has a key no job has fails each job with the
+// template's file and line (its copy per job kept the line marks; it said
+// ":1:").
+TEST(FleetManifestTest, ATemplateErrorNamesItsLine) {
+  const std::string t = testing_files::WriteTemp("typo_template.yaml",
+      "free:\n"
+      "  B_a: {lower: 10, upper: 2000}\n"
+      "experiments:\n"
+      "  - name: s\n"
+      "    channels: {u: u, a: a}\n"
+      "    input: {column: u}\n"
+      "    typo_key: 3\n"
+      "    fit: {a: 0.02}\n");
+  const std::string path = testing_files::WriteTemp(
+      "manifest.yaml", "template: " + t + "\naxes:\n" +
+                           Axis("r01/x", kSource + "/testdata/fleet/r01_x/now.csv"));
+  const FleetManifest m = LoadFleetManifest(path);
+  try {
+    MakeFleetJob(m, m.entries[0], testing_files::TestTempDir() + "out");
+    ADD_FAILURE() << "no error for an unknown key";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("typo_template.yaml:7:"));
+    EXPECT_THAT(e.what(), HasSubstr("typo_key"));
+  }
+}
+
 // A row of a made-up fleet.
 FleetRow Row(const std::string& axis, const std::string& log, double F_c, double F_c_se,
              double B_a = 200.0) {
@@ -364,6 +390,19 @@ TEST(FleetRunTest, BadManifestIsRefusedOnEveryRankWithExitCode2) {
   EXPECT_FALSE(fs::exists(dir + "out"));
   EXPECT_EQ(fleet_checks::RunFitFleet("'" + manifest + "' --baseline", 1, dir + "run1.log", &log), 2)
       << log;
+  // A good manifest with an output path through a file, or a folder given
+  // as the baseline: refused before any job (they were found after all the
+  // jobs, exit 1, and with a message without the path).
+  const std::string file = testing_files::WriteTemp("a_file", "x\n");
+  EXPECT_EQ(fleet_checks::RunFitFleet(kFleet + "/now.yaml --out '" + file + "/out'", 1,
+                                      dir + "run2.log", &log), 2)
+      << log;
+  EXPECT_THAT(log, HasSubstr(file + "/out: expected an output directory"));
+  EXPECT_EQ(fleet_checks::RunFitFleet(kFleet + "/now.yaml --out '" + dir + "out' --baseline '" +
+                                          dir + "'", 1, dir + "run3.log", &log), 2)
+      << log;
+  EXPECT_THAT(log, HasSubstr("expected a fleet.json file, got a directory"));
+  EXPECT_FALSE(fs::exists(dir + "out"));
 }
 
 }  // namespace
