@@ -996,8 +996,34 @@ std::string MakeStagingDirectory(const std::string& dir) {
   return staging.string();
 }
 
+namespace {
+
+// Writes the list of `folder`'s entries (sorted, without the list itself)
+// into `folder`/kOutputList and into each subfolder the same way; returns
+// the names.
+std::vector<std::string> WriteOutputLists(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    if (name == kOutputList) continue;
+    names.push_back(name);
+    std::error_code ec;
+    if (entry.is_directory(ec)) WriteOutputLists(entry.path());
+  }
+  std::sort(names.begin(), names.end());
+  std::string list;
+  for (const std::string& name : names) list += name + "\n";
+  WriteFileAtomic((folder / kOutputList).string(), list);
+  return names;
+}
+
+}  // namespace
+
 void CommitStagingDirectory(const std::string& staging, const std::string& dir) {
   std::error_code ec;
+  // The lists of this run's outputs, in the staging folders so they move
+  // with them.
+  const std::vector<std::string> names = WriteOutputLists(staging);
   if (!fs::exists(dir, ec)) {
     fs::rename(staging, dir, ec);
     if (ec) {
@@ -1009,6 +1035,20 @@ void CommitStagingDirectory(const std::string& staging, const std::string& dir) 
   if (!fs::is_directory(dir, ec)) {
     throw std::runtime_error(dir + ": cannot create the output directory: "
                              "exists and is not a directory");
+  }
+  // An earlier run's outputs that this run does not write. Names with a
+  // path separator or "." / ".." are not outputs (a list edited by hand).
+  std::ifstream old_list(fs::path(dir) / kOutputList);
+  for (std::string name; std::getline(old_list, name);) {
+    if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
+        std::binary_search(names.begin(), names.end(), name)) {
+      continue;
+    }
+    fs::remove_all(fs::path(dir) / name, ec);
+    if (ec) {
+      throw std::runtime_error((fs::path(dir) / name).string() +
+                               ": cannot remove an earlier run's output: " + ec.message());
+    }
   }
   for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
     const fs::path to = fs::path(dir) / entry.path().filename();

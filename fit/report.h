@@ -241,11 +241,19 @@ void CheckOutputDirectory(const std::string& dir);
 std::string MakeStagingDirectory(const std::string& dir);
 
 // Moves the outputs of `staging` to `dir`: a single rename if `dir` does not
-// exist, else file by file (each rename atomic; files of `dir` with other
-// names stay; a subfolder that exists in both is merged the same way), then
-// removes `staging`. Throws std::runtime_error naming the
-// file that cannot be moved.
+// exist, else file by file (each rename atomic; a subfolder that exists in
+// both is merged the same way), then removes `staging`. Each folder it
+// fills gets a list of the outputs it moved there (kOutputList, one name a
+// line); an earlier run's outputs that this run does not write (a
+// validation experiment dropped from the job, say) are removed before the
+// move, so the folder holds one run's outputs. Files of `dir` that no run
+// listed (the user's own) stay. Throws std::runtime_error naming the file
+// that cannot be moved or removed.
 void CommitStagingDirectory(const std::string& staging, const std::string& dir);
+
+// The name of the list of its outputs that CommitStagingDirectory keeps in
+// each output folder.
+inline constexpr const char* kOutputList = ".outputs";
 
 // Writes every output of a fit into `dir` (created with its parents if
 // missing): params.csv, params.md (titled `title`), report.json, and for each

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -312,6 +313,35 @@ TEST_F(ReportTest, FailedFileLeavesNoPartialFile) {
   EXPECT_TRUE(fs::is_empty(dir_ / "params.md"));
   // Written before the failure, and complete.
   EXPECT_EQ(ReadText(dir_ / "params.csv").substr(0, 9), "name,unit");
+}
+
+// A second run into the same folder leaves one run's outputs: the first
+// run's files the second does not write are removed (also in a merged
+// subfolder, a benchmark criterion's), the user's own files stay.
+TEST_F(ReportTest, ARerunReplacesTheEarlierRunsOutputs) {
+  const fs::path out = dir_ / "out";
+  const auto stage = [&](const std::map<std::string, std::string>& files) {
+    const std::string staging = MakeStagingDirectory(out.string());
+    for (const auto& [name, text] : files) {
+      fs::create_directories((fs::path(staging) / name).parent_path());
+      std::ofstream(fs::path(staging) / name) << text;
+    }
+    CommitStagingDirectory(staging, out.string());
+  };
+  stage({{"params.csv", "1"}, {"fit_v1.csv", "1"}, {"crit/fit_a.csv", "1"},
+         {"crit/fit_b.csv", "1"}, {"old/x.csv", "1"}});
+  std::ofstream(out / "notes.txt") << "mine";
+  std::ofstream(out / "crit" / "mine.txt") << "mine";
+  stage({{"params.csv", "2"}, {"crit/fit_a.csv", "2"}});
+  EXPECT_EQ(ReadText(out / "params.csv"), "2");
+  EXPECT_EQ(ReadText(out / "crit" / "fit_a.csv"), "2");
+  EXPECT_FALSE(fs::exists(out / "fit_v1.csv"));
+  EXPECT_FALSE(fs::exists(out / "old"));
+  EXPECT_FALSE(fs::exists(out / "crit" / "fit_b.csv"));
+  EXPECT_EQ(ReadText(out / "notes.txt"), "mine");
+  EXPECT_EQ(ReadText(out / "crit" / "mine.txt"), "mine");
+  EXPECT_EQ(ReadText(out / kOutputList), "crit\nparams.csv\n");
+  EXPECT_TRUE(Temporaries(dir_).empty());
 }
 
 TEST_F(ReportTest, MarkdownReport) {
