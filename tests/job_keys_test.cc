@@ -200,6 +200,47 @@ TEST(JobKeysTest, ControllerInAnOpenLoopExperimentIsAnError) {
   EXPECT_NE(msg.find("closed loop"), std::string::npos) << msg;
 }
 
+// Numbers are finite (configs/README.md, Ranges): an infinite scale or
+// offset of a drive column or a measured channel, or an infinite solver
+// tolerance, is refused naming its key; `input: {column: u, scale: .inf}`
+// used to fit NaN and exit 0.
+TEST(JobKeysTest, InfiniteNumbersAreRefusedNamingTheKey) {
+  const auto job = [](const std::string& channels, const std::string& input,
+                      const std::string& top) {
+    return "model: " + kRoot + "/configs/axes/emps.yaml\n"
+           "free:\n"
+           "  M: {initial: 95, lower: 10, upper: 500}\n"
+           "experiments:\n"
+           "  - name: ramp\n"
+           "    data: " + RampCsv() + "\n"
+           "    channels: " + channels + "\n"
+           "    input: " + input + "\n"
+           "    fit: {x: 1.0e-6}\n" + top;
+  };
+  const std::string channels = "{u: u, x: x}", input = "{column: u}";
+  struct Case {
+    std::string yaml, key, expected;
+  };
+  const Case cases[] = {
+      {job(channels, "{column: u, scale: .inf}", ""), "experiments[0].input.scale",
+       "a finite number, got '.inf'"},
+      {job(channels, "{column: u, offset: -.inf}", ""), "experiments[0].input.offset",
+       "a finite number, got '-.inf'"},
+      {job("{u: u, x: {column: x, scale: .inf}}", input, ""), "experiments[0].channels.x.scale",
+       "a finite number, got '.inf'"},
+      {job(channels, input, "solver: {parameter_tolerance: .inf}\n"),
+       "solver.parameter_tolerance", "a finite number >= 0, got '.inf'"},
+  };
+  EXPECT_EQ(LoadError(Write("finite.yaml", job(channels, input, ""))), "no error");
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.key);
+    const std::string path = Write("infinite.yaml", c.yaml);
+    const std::string msg = LoadError(path);
+    EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("key '" + c.key + "': expected " + c.expected), std::string::npos) << msg;
+  }
+}
+
 TEST(JobKeysTest, PublishedReferenceNamesAKnownExperiment) {
   const std::string msg = LoadError(Write(
       "published_bad.yaml",

@@ -120,7 +120,7 @@ void ExpectRefused(const std::string& body, const std::vector<std::string>& need
 
 TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
   ExpectRefused("duration: 0.1\nchannels: [v]\ninput: {type: step, amplitude: 1}\nset: {M: -5}\n",
-                {"$", "'M'", "expected a positive number"});
+                {"$", "'M'", "expected a finite positive number"});
 }
 
 // A step beyond RK4's stability limit is refused before simulating (exit 2),
@@ -145,6 +145,21 @@ TEST(SimulateAxisCli, BadCommandLineExitsTwo) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("'NOPE'"), std::string::npos) << r.err;
   EXPECT_EQ(RunCli("/nonexistent.yaml --out /tmp/x.csv").exit_code, 2);
+}
+
+// --set takes the ranges of the config: B_a=inf is refused naming B_a (it
+// used to simulate NaN and exit 0); V_L=inf (no preamp limit) is allowed.
+TEST(SimulateAxisCli, SetInfinityOnlyWhereTheRangeAllowsIt) {
+  const std::string out = axis::testing_files::TestTempDir() + "set_inf.csv";
+  const std::string experiment = kRoot + "/configs/experiments/x_step_10V.yaml --out " + out;
+  std::remove(out.c_str());
+  const Result r = RunCli(experiment + " --set B_a=inf");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--set B_a=inf: parameter 'B_a': expected a finite number >= 0, got inf"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(Exists(out));
+  EXPECT_EQ(RunCli(experiment + " --set V_L=inf").exit_code, 0);
 }
 
 TEST(SimulateAxisCli, UnwritableOutputFailsWithoutPartialFile) {
