@@ -61,21 +61,6 @@ std::vector<std::string> RequiredParams(const AxisStructure& s) {
   return out;
 }
 
-// Range of each parameter that has one (MODEL.md §2, §7).
-Range ParamRange(const std::string& name) {
-  static const std::set<std::string> positive = {
-      "L", "J_m", "r_g", "M", "T_p", "T_r", "K_i", "V_M", "K_a",
-      "w", "v_eps", "omega_eps", "v_st"};
-  static const std::set<std::string> non_negative = {
-      "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
-  if (name == "w_pt" || name == "lambda_rp" || name == "w_vb") return Range::kFinitePositive;
-  if (name == "v_vb") return Range::kNonNegative;
-  if (name == "V_L") return Range::kPositiveOrInfinite;  // .inf: no preamp limit
-  if (positive.count(name)) return Range::kPositive;
-  if (non_negative.count(name)) return Range::kNonNegative;
-  if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
-  return Range::kAny;
-}
 
 std::string FormatNumber(double x) {
   std::ostringstream out;
@@ -164,6 +149,21 @@ void ParseSensorEffect(YamlMap& map, bool delay, AxisConfig* config) {
 }
 
 }  // namespace
+
+Range ParamRange(const std::string& name) {
+  static const std::set<std::string> positive = {
+      "L", "J_m", "r_g", "M", "T_p", "T_r", "K_i", "V_M", "K_a",
+      "w", "v_eps", "omega_eps", "v_st"};
+  static const std::set<std::string> non_negative = {
+      "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
+  if (name == "w_pt" || name == "lambda_rp" || name == "w_vb") return Range::kFinitePositive;
+  if (name == "v_vb") return Range::kNonNegative;
+  if (name == "V_L") return Range::kPositiveOrInfinite;  // .inf: no preamp limit
+  if (positive.count(name)) return Range::kPositive;
+  if (non_negative.count(name)) return Range::kNonNegative;
+  if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
+  return Range::kAny;
+}
 
 const std::vector<EffectInfo>& DynamicEffectTable() {
   static const std::vector<EffectInfo> effects = {

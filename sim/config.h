@@ -93,6 +93,13 @@ std::string EffectNameList();
 // knots, values} (sim/force_map.h).
 void ParseEffects(YamlMap& effects, AxisConfig* config);
 
+// The range of parameter `name` (a VisitParams name; MODEL.md §2, §7,
+// configs/README.md): kPositive for masses, inertias, time constants, ...,
+// kNonNegative for frictions, backlash, delays, ..., kPositiveOrInfinite
+// for V_L (.inf: no limit), kAny for the rest. Every value a model holds,
+// and every bound of a free parameter, must be in it.
+YamlMap::Range ParamRange(const std::string& name);
+
 // Checks the parameters of `config` against the ranges of MODEL.md §2
 // (positive masses, inertias, time constants, ...). `where` prefixes the
 // message (a file or "--set"). Throws std::invalid_argument.

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -239,6 +240,35 @@ TEST(JobKeysTest, InfiniteNumbersAreRefusedNamingTheKey) {
     EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
     EXPECT_NE(msg.find("key '" + c.key + "': expected " + c.expected), std::string::npos) << msg;
   }
+}
+
+// The quick form's bounds (value/10 and value*10, [-1, 1] about zero) are
+// clipped to the parameter's range: F_s = 0 (F_s >= 0) gets [0, 1], where
+// it used to get [-1, 1]; a parameter without a finite value has none.
+TEST(JobKeysTest, QuickFormBoundsRespectTheRange) {
+  const std::string model = kRoot + "/configs/axes/x_axis.yaml";
+  const std::string data = kRoot + "/testdata/x_step_10V_clean.csv";
+  const FitJob job = MakeQuickJob(model, data, "u", {"tach"}, {"F_s", "B_a"});
+  ASSERT_EQ(job.free.size(), 2u);
+  EXPECT_EQ(job.free[0].name, "F_s");
+  EXPECT_EQ(job.free[0].lower, 0.0);
+  EXPECT_EQ(job.free[0].upper, 1.0);
+  EXPECT_EQ(job.free[1].lower, 20.0);  // B_a = 200: unchanged
+  EXPECT_EQ(job.free[1].upper, 2000.0);
+  std::ifstream in(model);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("V_L: 2.7"), 8, "V_L: .inf");
+  const std::string unlimited = Write("unlimited.yaml", text);
+  std::string msg = "no error";
+  try {
+    MakeQuickJob(unlimited, data, "u", {"tach"}, {"V_L"});
+  } catch (const std::invalid_argument& e) {
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("--free V_L: expected a parameter with a finite value in " + unlimited),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("got inf"), std::string::npos) << msg;
 }
 
 TEST(JobKeysTest, PublishedReferenceNamesAKnownExperiment) {
