@@ -653,6 +653,10 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
           map.Integer("max_effects", job.discover.max_effects, 1, 20));
       job.discover.alpha = map.Number("alpha", job.discover.alpha,
                                       Range::kFinitePositive);
+      if (job.discover.alpha >= 1.0) {  // a level: 1 or more makes every candidate significant
+        ThrowConfigError(path, map.Optional("alpha"), "discover.alpha", "a level in (0, 1)",
+                         Describe(map.Optional("alpha")));
+      }
       job.discover.tries = static_cast<int>(
           map.Integer("tries", job.discover.tries, 1, 20));
       job.discover.misspecified_tries = static_cast<int>(

@@ -242,6 +242,27 @@ TEST(JobKeysTest, InfiniteNumbersAreRefusedNamingTheKey) {
   }
 }
 
+// discover.alpha is a level: in (0, 1), as the fleet's `alpha`; 5 used to
+// be accepted (every candidate significant).
+TEST(JobKeysTest, DiscoverAlphaIsALevel) {
+  EXPECT_EQ(LoadError(Write("alpha_ok.yaml", Job("", "discover: {alpha: 0.05}\n"))), "no error");
+  struct Case {
+    std::string alpha, expected;
+  };
+  const Case cases[] = {
+      {"5", "expected a level in (0, 1), got '5'"},
+      {"1", "expected a level in (0, 1), got '1'"},
+      {"0", "expected a finite positive number, got '0'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.alpha);
+    const std::string path = Write("alpha.yaml", Job("", "discover: {alpha: " + c.alpha + "}\n"));
+    const std::string msg = LoadError(path);
+    EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("key 'discover.alpha': " + c.expected), std::string::npos) << msg;
+  }
+}
+
 // The quick form's bounds (value/10 and value*10, [-1, 1] about zero) are
 // clipped to the parameter's range: F_s = 0 (F_s >= 0) gets [0, 1], where
 // it used to get [-1, 1]; a parameter without a finite value has none.
