@@ -713,11 +713,17 @@ ExperimentConfig ParseExperiment(const YAML::Node& document, const std::string& 
                        "a list of channel names (" + ChannelNameList() + ")",
                        Describe(channels));
     }
+    std::set<Channel> listed;
     for (const YAML::Node& c : channels) {
       const auto channel = c.IsScalar() ? ParseChannel(c.Scalar()) : std::nullopt;
       if (!channel) {
         ThrowConfigError(path, c, "channels",
                          "a channel name (" + ChannelNameList() + ")", Describe(c));
+      }
+      // Each names a column of the trace; a CSV reader refuses a repeated one.
+      if (!listed.insert(*channel).second) {
+        ThrowConfigError(path, c, "channels", "each channel once (each names a column)",
+                         Describe(c) + " again");
       }
       if (*channel != Channel::kT) e.options.channels.push_back(*channel);
     }

@@ -123,6 +123,16 @@ TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
                 {"$", "'M'", "expected a finite positive number"});
 }
 
+// A channel listed twice is refused (exit 2, the key and the name): the
+// CSV it made had a repeated column, which ReadCsv refuses.
+TEST(SimulateAxisCli, RepeatedChannelIsRefused) {
+  ExpectRefused("duration: 0.1\nchannels: [u, tach, tach]\ninput: {type: step, amplitude: 1}\n",
+                {"$:3: key 'channels': expected each channel once (each names a column), "
+                 "got 'tach' again"});
+  ExpectRefused("duration: 0.1\nchannels: [t, v, t]\ninput: {type: step, amplitude: 1}\n",
+                {"$:3: key 'channels'", "got 't' again"});
+}
+
 // A step beyond RK4's stability limit is refused before simulating (exit 2),
 // naming the limit and the eigenvalue (the current loop, −1.42·10⁵ 1/s).
 TEST(SimulateAxisCli, UnstableStepIsRefusedUpFront) {
