@@ -757,7 +757,7 @@ ExperimentConfig ParseExperiment(const YAML::Node& document, const std::string& 
            << rate << " Hz)";
     CheckMemory(bytes, path, "the simulation", advice.str());
   }
-  e.seed = static_cast<std::uint64_t>(root.Integer("seed", 0, 0, 1L << 62));
+  e.seed = static_cast<std::uint64_t>(root.Integer("seed", 0, 0, kMaxExperimentSeed));
   if (const YAML::Node node = root.Optional("initial_state")) {
     YamlMap map(node, path, "initial_state.");
     for (int k = 0; k < kNumStates; ++k) {

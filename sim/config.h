@@ -162,6 +162,10 @@ ControllerConfig ParseController(YamlMap& map, const ControllerConfig& defaults)
 // Throws std::invalid_argument naming the file, line and key.
 void ParseModelOverrides(YamlMap& root, AxisConfig* model);
 
+// The largest noise seed of an experiment (its `seed` key, simulate-axis
+// --seed): 2^62.
+constexpr long kMaxExperimentSeed = 1L << 62;
+
 // An experiment file: the model (with overrides), what drives it, the time
 // grid, recorded channels, noise and seed.
 struct ExperimentConfig {
@@ -171,7 +175,7 @@ struct ExperimentConfig {
   Drive drive;
   SimulationOptions options;
   std::array<double, kNumChannels> noise_sigma{};  // Gaussian σ per channel
-  std::uint64_t seed = 0;
+  std::uint64_t seed = 0;  // 0..kMaxExperimentSeed
   AxisState<double> initial_state = AxisState<double>::Zero();
 };
 
