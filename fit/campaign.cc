@@ -244,8 +244,8 @@ CampaignConfig LoadCampaign(const std::string& path) {
   }
   {
     YamlMap seeds(map.Required("seeds"), path, "seeds.");
-    c.first_seed = static_cast<int>(seeds.Integer("first", 1, 0, 1000000));
-    c.last_seed = static_cast<int>(seeds.Integer("last", c.first_seed, 0, 1000000));
+    c.first_seed = static_cast<int>(seeds.Integer("first", 1, 0, kMaxCampaignSeed));
+    c.last_seed = static_cast<int>(seeds.Integer("last", c.first_seed, 0, kMaxCampaignSeed));
     if (c.last_seed < c.first_seed) {
       ThrowConfigError(path, seeds.Optional("last"), "seeds.last",
                        "a seed at or above seeds.first = " + std::to_string(c.first_seed),

@@ -336,5 +336,31 @@ TEST(CampaignTest, CommandLineErrorsExitWithTwo) {
   EXPECT_NE(r.err.find("missing.yaml"), std::string::npos) << r.err;
 }
 
+// --first and --last take the range of seeds.first and seeds.last, 0..10^6:
+// `--first 0 --last 2147483647` used to overflow the seed count and die in
+// std::vector; a negative or overflowing number is refused by the flag too.
+TEST(CampaignTest, SeedFlagsHaveTheRangeOfTheSeedsKeys) {
+  const std::string campaign = WriteCampaign("seeds: {first: 1, last: 2}\noutput: {dir: out}\n");
+  struct Case {
+    std::string args, expected;
+  };
+  const std::string range = ": expected an integer in 0..1000000 (the range of seeds.first and "
+                            "seeds.last), got '";
+  const Case cases[] = {
+      {"--first 0 --last 2147483647", "--last" + range + "2147483647'"},
+      {"--first -1", "--first" + range + "-1'"},
+      {"--last 99999999999999999999999", "--last" + range + "99999999999999999999999'"},
+      {"--first 1000001", "--first" + range + "1000001'"},
+      {"--first 1x", "--first" + range + "1x'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto r = testing_files::RunCommand(std::string(BINARY_DIR) + "/fit-campaign",
+                                             campaign + " " + c.args, true);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace axis
