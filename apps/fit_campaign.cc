@@ -16,7 +16,9 @@
 #include <CLI/CLI.hpp>
 #include <glog/logging.h>
 
+#include "apps/integer_option.h"
 #include "apps/mpi_command_line.h"
+#include "fit/campaign.h"
 #include "fleet/campaign_run.h"
 
 int main(int argc, char** argv) {
@@ -33,10 +35,10 @@ int main(int argc, char** argv) {
                    "seeds run in parallel in one process (default: the number of cores); "
                    "under mpirun each rank runs one seed at a time")
         ->check(CLI::PositiveNumber);
-    app.add_option("--first", options.first, "first seed (overrides seeds.first)")
-        ->check(CLI::NonNegativeNumber);
-    app.add_option("--last", options.last, "last seed (overrides seeds.last)")
-        ->check(CLI::NonNegativeNumber);
+    const CLI::Validator seed =
+        axis::IntegerIn(0, axis::kMaxCampaignSeed, "the range of seeds.first and seeds.last");
+    app.add_option("--first", options.first, "first seed (overrides seeds.first)")->check(seed);
+    app.add_option("--last", options.last, "last seed (overrides seeds.last)")->check(seed);
     if (const auto code = axis::ParseOnEveryRank(app, argc, argv, mpi.rank())) return *code;
     return axis::RunFitCampaign(options, mpi, std::cout, std::cerr);
   } catch (const std::exception& e) {  // MPI could not start

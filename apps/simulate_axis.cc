@@ -13,6 +13,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/integer_option.h"
+#include "sim/config.h"
 #include "sim/experiment.h"
 #include "sim/interrupt.h"
 
@@ -24,7 +26,9 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("--out", options.out_path, "output CSV file")->required();
   auto* seed = app.add_option("--seed", options.seed,
-                              "noise seed (overrides the experiment's)");
+                              "noise seed (overrides the experiment's)")
+                   ->check(axis::IntegerIn(0, axis::kMaxExperimentSeed,
+                                           "the range of the experiment's seed key"));
   app.add_option("--set", options.sets,
                  "parameter override NAME=VALUE (MODEL.md names), repeatable");
   app.add_flag("--no-noise", options.no_noise,

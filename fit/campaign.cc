@@ -54,6 +54,20 @@ struct ScopedTempDir {
   const std::string path;
 };
 
+// The parameters the discovery loop frees when it adds the effect `name` (a
+// truth.effects name): those of MODEL.md section 7, for a sensor effect the
+// channel's tau_d.<channel> or b.<channel>.
+std::vector<std::string> EffectParameters(const std::string& name) {
+  const size_t dot = name.find('.');
+  if (dot != std::string::npos) {
+    return {(name.substr(0, dot) == "sensor_delay" ? "tau_d" : "b") + name.substr(dot)};
+  }
+  for (const EffectInfo& e : DynamicEffectTable()) {
+    if (name == e.name) return {e.params.begin(), e.params.end()};
+  }
+  return {};
+}
+
 // The names of the job's experiments (fitted and validation) in its YAML.
 std::vector<std::pair<std::string, YAML::Node>> JobExperiments(YAML::Node root) {
   std::vector<std::pair<std::string, YAML::Node>> out;
@@ -230,8 +244,8 @@ CampaignConfig LoadCampaign(const std::string& path) {
   }
   {
     YamlMap seeds(map.Required("seeds"), path, "seeds.");
-    c.first_seed = static_cast<int>(seeds.Integer("first", 1, 0, 1000000));
-    c.last_seed = static_cast<int>(seeds.Integer("last", c.first_seed, 0, 1000000));
+    c.first_seed = static_cast<int>(seeds.Integer("first", 1, 0, kMaxCampaignSeed));
+    c.last_seed = static_cast<int>(seeds.Integer("last", c.first_seed, 0, kMaxCampaignSeed));
     if (c.last_seed < c.first_seed) {
       ThrowConfigError(path, seeds.Optional("last"), "seeds.last",
                        "a seed at or above seeds.first = " + std::to_string(c.first_seed),
@@ -246,6 +260,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
     c.discover = d.Scalar() == "true";
   }
   std::vector<std::pair<const EffectInfo*, YAML::Node>> outside_nodes;
+  std::vector<YAML::Node> truth_value_keys;  // of c.truth_values, for messages
   if (const YAML::Node truth = map.Optional("truth")) {
     YamlMap t(truth, path, "truth.");
     if (const YAML::Node effects = t.Optional("effects")) {
@@ -273,6 +288,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
       for (const auto& entry : values) {
         const std::string name = entry.first.Scalar();
         c.truth_values.emplace_back(name, v.Number(name, Range::kAny));
+        truth_value_keys.push_back(entry.first);
       }
       v.Finish();
     }
@@ -359,7 +375,31 @@ CampaignConfig LoadCampaign(const std::string& path) {
   // Every generating config and the job with the first seed's data (its
   // `data:` paths are replaced, so they need not exist).
   const ScopedTempDir check("check");
-  (void)JobForSeed(c, c.first_seed, check.path);
+  const FitJob job = JobForSeed(c, c.first_seed, check.path);
+  // Each true value names a parameter the fits estimate: a free parameter
+  // of the job or, with discovery, one of an effect of truth.effects (the
+  // loop frees it when it adds the effect). Another name, a misspelt one,
+  // would be tallied as a parameter no seed estimates.
+  std::vector<std::string> free_names, effect_names;
+  for (const FreeParameter& f : job.free) free_names.push_back(f.name);
+  if (c.discover) {
+    for (const std::string& e : c.truth_effects) {
+      for (const std::string& p : EffectParameters(e)) effect_names.push_back(p);
+    }
+  }
+  for (size_t k = 0; k < c.truth_values.size(); ++k) {
+    const std::string& name = c.truth_values[k].first;
+    const auto has = [&](const std::vector<std::string>& list) {
+      return std::find(list.begin(), list.end(), name) != list.end();
+    };
+    if (has(free_names) || has(effect_names)) continue;
+    std::string expected = "a free parameter of " + c.job_path + " (" + Join(free_names, ", ") + ")";
+    if (!effect_names.empty()) {
+      expected += " or of an effect of truth.effects (" + Join(effect_names, ", ") + ")";
+    }
+    ThrowConfigError(path, truth_value_keys[k], "truth.values." + name, expected,
+                     "'" + name + "'");
+  }
   return c;
 }
 

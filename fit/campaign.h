@@ -18,6 +18,10 @@
 
 namespace axis {
 
+// The largest seed of a campaign (seeds.first, seeds.last, fit-campaign
+// --first and --last).
+constexpr int kMaxCampaignSeed = 1000000;
+
 // A campaign file (configs/campaigns/*.yaml; paths relative to it):
 //   title: "..."
 //   job: ../jobs/discover/none.yaml     # the fitting job
@@ -39,7 +43,7 @@ struct CampaignConfig {
   std::string title;
   std::string job_path;
   std::vector<std::pair<std::string, std::string>> generate;
-  int first_seed = 1;
+  int first_seed = 1;  // both 0..kMaxCampaignSeed
   int last_seed = 10;
   bool discover = true;
   std::vector<std::string> truth_effects;  // Candidate names, sorted

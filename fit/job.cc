@@ -571,12 +571,25 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
                          "'" + name + "'");
       }
       YamlMap spec(free.Optional(name), path, "free." + name + ".");
+      // The values a free parameter takes lie in its range, as a value of
+      // set: must (M > 0, B_a >= 0, ...), and are finite, V_L's too: the
+      // solver needs finite bounds.
+      const Range range = ParamRange(name) == Range::kPositiveOrInfinite ? Range::kPositive
+                                                                          : ParamRange(name);
+      const auto in_range = [&](const std::string& key, double x) {
+        if (!InRange(x, range)) {
+          ThrowConfigError(path, spec.Optional(key), spec.KeyPath(key),
+                           std::string(RangeText(range)) + " (the range of " + name + ")",
+                           Describe(spec.Optional(key)));
+        }
+        return x;
+      };
       FreeParameter f;
       f.name = name;
       f.unit = ParamUnit(name);
-      f.initial = spec.Number("initial", *field);
-      f.lower = spec.Number("lower");
-      f.upper = spec.Number("upper");
+      f.initial = spec.Has("initial") ? in_range("initial", spec.Number("initial")) : *field;
+      f.lower = in_range("lower", spec.Number("lower"));
+      f.upper = in_range("upper", spec.Number("upper"));
       f.scale = spec.Number("scale", 1.0, Range::kFinitePositive);
       f.log = f.lower > 0.0;
       spec.Finish();
@@ -640,6 +653,10 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
           map.Integer("max_effects", job.discover.max_effects, 1, 20));
       job.discover.alpha = map.Number("alpha", job.discover.alpha,
                                       Range::kFinitePositive);
+      if (job.discover.alpha >= 1.0) {  // a level: 1 or more makes every candidate significant
+        ThrowConfigError(path, map.Optional("alpha"), "discover.alpha", "a level in (0, 1)",
+                         Describe(map.Optional("alpha")));
+      }
       job.discover.tries = static_cast<int>(
           map.Integer("tries", job.discover.tries, 1, 20));
       job.discover.misspecified_tries = static_cast<int>(
@@ -772,9 +789,16 @@ FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
                                   "model, got '" + name + "'");
     }
     const double v = *field;
+    if (!std::isfinite(v)) {
+      throw std::invalid_argument("--free " + name + ": expected a parameter with a finite "
+                                  "value in " + model_path + " (the bounds are value/10 and "
+                                  "value*10), got " + Num(v));
+    }
     YAML::Node spec;
     spec["initial"] = v;
-    spec["lower"] = v > 0 ? v / 10 : (v < 0 ? v * 10 : -1.0);
+    // A zero's bounds [-1, 1] are clipped to the parameter's range (F_s >= 0: [0, 1]).
+    const double lower = v > 0 ? v / 10 : (v < 0 ? v * 10 : -1.0);
+    spec["lower"] = ParamRange(name) == YamlMap::Range::kNonNegative ? std::max(lower, 0.0) : lower;
     spec["upper"] = v > 0 ? v * 10 : (v < 0 ? v / 10 : 1.0);
     job["free"][name] = spec;
   }

@@ -67,6 +67,15 @@ int RunFitCampaign(const FitCampaignOptions& options, const MpiSession& mpi, std
                                   " ranks runs one seed at a time, got " +
                                   std::to_string(options.jobs));
     }
+    for (const auto& [flag, seed] : {std::pair{"--first", options.first},
+                                     std::pair{"--last", options.last}}) {
+      if (seed < -1 || seed > kMaxCampaignSeed) {  // -1: not given
+        throw std::invalid_argument(std::string(flag) + ": expected an integer in 0.." +
+                                    std::to_string(kMaxCampaignSeed) +
+                                    " (the range of seeds.first and seeds.last), got " +
+                                    std::to_string(seed));
+      }
+    }
     config = LoadCampaign(options.campaign_path);
     if (options.first >= 0) config.first_seed = options.first;
     if (options.last >= 0) config.last_seed = options.last;

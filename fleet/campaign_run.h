@@ -39,8 +39,8 @@ struct FitCampaignOptions {
   std::string campaign_path;
   std::string out_dir;  // overrides the campaign's output.dir
   int jobs = 0;         // seeds at once in one process (0: the number of cores); 1 rank only
-  int first = -1;       // overrides seeds.first (≥ 0)
-  int last = -1;        // overrides seeds.last (≥ 0)
+  int first = -1;       // overrides seeds.first (0..kMaxCampaignSeed; -1: not given)
+  int last = -1;        // overrides seeds.last (0..kMaxCampaignSeed; -1: not given)
 };
 
 // fit-campaign: loads the campaign on every rank and checks that every rank

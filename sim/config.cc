@@ -61,39 +61,6 @@ std::vector<std::string> RequiredParams(const AxisStructure& s) {
   return out;
 }
 
-// Range of each parameter that has one (MODEL.md §2, §7).
-Range ParamRange(const std::string& name) {
-  static const std::set<std::string> positive = {
-      "L", "J_m", "r_g", "M", "T_p", "T_r", "K_i", "V_M", "V_L", "K_a",
-      "w", "v_eps", "omega_eps", "v_st"};
-  static const std::set<std::string> non_negative = {
-      "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
-  if (name == "w_pt" || name == "lambda_rp" || name == "w_vb") return Range::kFinitePositive;
-  if (name == "v_vb") return Range::kNonNegative;
-  if (positive.count(name)) return Range::kPositive;
-  if (non_negative.count(name)) return Range::kNonNegative;
-  if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
-  return Range::kAny;
-}
-
-bool InRange(double x, Range r) {
-  if (std::isnan(x)) return false;
-  switch (r) {
-    case Range::kAny: return true;
-    case Range::kPositive: return x > 0.0;
-    case Range::kNonNegative: return x >= 0.0;
-    case Range::kFinitePositive: return x > 0.0 && std::isfinite(x);
-  }
-  return true;
-}
-
-const char* RangeWords(Range r) {
-  switch (r) {
-    case Range::kPositive: return "a positive number";
-    case Range::kNonNegative: return "a number >= 0";
-    default: return "a number";
-  }
-}
 
 std::string FormatNumber(double x) {
   std::ostringstream out;
@@ -182,6 +149,21 @@ void ParseSensorEffect(YamlMap& map, bool delay, AxisConfig* config) {
 }
 
 }  // namespace
+
+Range ParamRange(const std::string& name) {
+  static const std::set<std::string> positive = {
+      "L", "J_m", "r_g", "M", "T_p", "T_r", "K_i", "V_M", "K_a",
+      "w", "v_eps", "omega_eps", "v_st"};
+  static const std::set<std::string> non_negative = {
+      "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
+  if (name == "w_pt" || name == "lambda_rp" || name == "w_vb") return Range::kFinitePositive;
+  if (name == "v_vb") return Range::kNonNegative;
+  if (name == "V_L") return Range::kPositiveOrInfinite;  // .inf: no preamp limit
+  if (positive.count(name)) return Range::kPositive;
+  if (non_negative.count(name)) return Range::kNonNegative;
+  if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
+  return Range::kAny;
+}
 
 const std::vector<EffectInfo>& DynamicEffectTable() {
   static const std::vector<EffectInfo> effects = {
@@ -404,7 +386,7 @@ void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
     const Range r = ParamRange(name);
     if (!InRange(value, r)) {
       throw std::invalid_argument(where + ": parameter '" + name +
-                                  "': expected " + RangeWords(r) + ", got " +
+                                  "': expected " + RangeText(r) + ", got " +
                                   FormatNumber(value));
     }
   }, p);
@@ -691,7 +673,11 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
                          "and 7, e.g. V_L, B_a, k_g)",
                          "'" + name + "'");
       }
-      *FindParam(&model->params, name) = map.Number(name);
+      // .inf only where the parameter's range has it (V_L: no limit); the
+      // range itself is checked with the others by ValidateAxisConfig.
+      const Range range = ParamRange(name);
+      *FindParam(&model->params, name) =
+          map.Number(name, range == Range::kPositiveOrInfinite ? range : Range::kAny);
     }
     map.Finish();
   }
@@ -727,11 +713,17 @@ ExperimentConfig ParseExperiment(const YAML::Node& document, const std::string& 
                        "a list of channel names (" + ChannelNameList() + ")",
                        Describe(channels));
     }
+    std::set<Channel> listed;
     for (const YAML::Node& c : channels) {
       const auto channel = c.IsScalar() ? ParseChannel(c.Scalar()) : std::nullopt;
       if (!channel) {
         ThrowConfigError(path, c, "channels",
                          "a channel name (" + ChannelNameList() + ")", Describe(c));
+      }
+      // Each names a column of the trace; a CSV reader refuses a repeated one.
+      if (!listed.insert(*channel).second) {
+        ThrowConfigError(path, c, "channels", "each channel once (each names a column)",
+                         Describe(c) + " again");
       }
       if (*channel != Channel::kT) e.options.channels.push_back(*channel);
     }
@@ -765,7 +757,7 @@ ExperimentConfig ParseExperiment(const YAML::Node& document, const std::string& 
            << rate << " Hz)";
     CheckMemory(bytes, path, "the simulation", advice.str());
   }
-  e.seed = static_cast<std::uint64_t>(root.Integer("seed", 0, 0, 1L << 62));
+  e.seed = static_cast<std::uint64_t>(root.Integer("seed", 0, 0, kMaxExperimentSeed));
   if (const YAML::Node node = root.Optional("initial_state")) {
     YamlMap map(node, path, "initial_state.");
     for (int k = 0; k < kNumStates; ++k) {

@@ -93,6 +93,13 @@ std::string EffectNameList();
 // knots, values} (sim/force_map.h).
 void ParseEffects(YamlMap& effects, AxisConfig* config);
 
+// The range of parameter `name` (a VisitParams name; MODEL.md §2, §7,
+// configs/README.md): kPositive for masses, inertias, time constants, ...,
+// kNonNegative for frictions, backlash, delays, ..., kPositiveOrInfinite
+// for V_L (.inf: no limit), kAny for the rest. Every value a model holds,
+// and every bound of a free parameter, must be in it.
+YamlMap::Range ParamRange(const std::string& name);
+
 // Checks the parameters of `config` against the ranges of MODEL.md §2
 // (positive masses, inertias, time constants, ...). `where` prefixes the
 // message (a file or "--set"). Throws std::invalid_argument.
@@ -155,6 +162,10 @@ ControllerConfig ParseController(YamlMap& map, const ControllerConfig& defaults)
 // Throws std::invalid_argument naming the file, line and key.
 void ParseModelOverrides(YamlMap& root, AxisConfig* model);
 
+// The largest noise seed of an experiment (its `seed` key, simulate-axis
+// --seed): 2^62.
+constexpr long kMaxExperimentSeed = 1L << 62;
+
 // An experiment file: the model (with overrides), what drives it, the time
 // grid, recorded channels, noise and seed.
 struct ExperimentConfig {
@@ -164,7 +175,7 @@ struct ExperimentConfig {
   Drive drive;
   SimulationOptions options;
   std::array<double, kNumChannels> noise_sigma{};  // Gaussian σ per channel
-  std::uint64_t seed = 0;
+  std::uint64_t seed = 0;  // 0..kMaxExperimentSeed
   AxisState<double> initial_state = AxisState<double>::Zero();
 };
 

@@ -40,7 +40,15 @@ void WriteTraceCsv(const std::string& path, const Trace<double>& trace,
 Trace<double> SimulateExperiment(ExperimentConfig e, const SimulateAxisOptions& options) {
   for (const std::string& set : options.sets) ApplySetArgument(&e.model, set);
   e.initial_state = ConsistentInitialState(e.model, e.initial_state);
-  if (options.has_seed) e.seed = options.seed;
+  if (options.has_seed) {
+    if (options.seed > static_cast<std::uint64_t>(kMaxExperimentSeed)) {
+      throw std::invalid_argument("--seed: expected an integer in 0.." +
+                                  std::to_string(kMaxExperimentSeed) +
+                                  " (the range of the experiment's seed key), got " +
+                                  std::to_string(options.seed));
+    }
+    e.seed = options.seed;
+  }
   std::function<void(double)> progress;
   if (options.show_progress) {
     progress = [](double fraction) {

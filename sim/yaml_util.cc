@@ -21,17 +21,27 @@ std::string Location(const std::string& file, const YAML::Node& node) {
   return out.str();
 }
 
-const char* RangeText(YamlMap::Range range) {
+}  // namespace
+
+bool InRange(double x, YamlMap::Range range) {
   switch (range) {
-    case YamlMap::Range::kAny: return "a number";
-    case YamlMap::Range::kPositive: return "a positive number";
-    case YamlMap::Range::kNonNegative: return "a number >= 0";
-    case YamlMap::Range::kFinitePositive: return "a finite positive number";
+    case YamlMap::Range::kAny: return std::isfinite(x);
+    case YamlMap::Range::kPositive: return std::isfinite(x) && x > 0.0;
+    case YamlMap::Range::kNonNegative: return std::isfinite(x) && x >= 0.0;
+    case YamlMap::Range::kPositiveOrInfinite: return x > 0.0;  // +inf too; NaN compares false
   }
-  return "a number";
+  return false;
 }
 
-}  // namespace
+const char* RangeText(YamlMap::Range range) {
+  switch (range) {
+    case YamlMap::Range::kAny: return "a finite number";
+    case YamlMap::Range::kPositive: return "a finite positive number";
+    case YamlMap::Range::kNonNegative: return "a finite number >= 0";
+    case YamlMap::Range::kPositiveOrInfinite: return "a positive number or .inf";
+  }
+  return "a finite number";
+}
 
 namespace {
 
@@ -159,15 +169,7 @@ double YamlMap::NumberFrom(const YAML::Node& value, const std::string& key_path,
       ok = false;
     }
   }
-  if (ok && std::isnan(x)) ok = false;
-  if (ok) {
-    switch (range) {
-      case Range::kAny: break;
-      case Range::kPositive: ok = x > 0.0; break;
-      case Range::kNonNegative: ok = x >= 0.0; break;
-      case Range::kFinitePositive: ok = x > 0.0 && std::isfinite(x); break;
-    }
-  }
+  if (ok) ok = InRange(x, range);
   if (!ok) ThrowConfigError(file_, value, key_path, RangeText(range), Describe(value));
   return x;
 }

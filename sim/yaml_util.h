@@ -56,9 +56,18 @@ class YamlMap {
   // The child node or an undefined node if absent.
   YAML::Node Optional(const std::string& key);
 
-  // Numbers. `range` is checked: kAny, kPositive (> 0, +inf allowed),
-  // kNonNegative (≥ 0).
-  enum class Range { kAny, kPositive, kNonNegative, kFinitePositive };
+  // Numbers. A number is finite (NaN, .inf and -.inf are refused) unless
+  // its range opts in to infinity, and `range` is checked: kAny, kPositive
+  // (> 0), kNonNegative (≥ 0), kPositiveOrInfinite (> 0 or .inf: a limit
+  // whose documentation says .inf means none, V_L). kFinitePositive is
+  // kPositive (from before numbers were finite by default).
+  enum class Range {
+    kAny,
+    kPositive,
+    kNonNegative,
+    kPositiveOrInfinite,
+    kFinitePositive = kPositive,
+  };
   double Number(const std::string& key, Range range = Range::kAny);
   double Number(const std::string& key, double fallback,
                 Range range = Range::kAny);
@@ -90,6 +99,12 @@ class YamlMap {
   std::string prefix_;
   std::set<std::string> used_;
 };
+
+// Whether `x` is in `range` (NaN never is), and what the range expects, as
+// messages say it ("a finite number >= 0"): the rule of YamlMap::Number, for
+// checks made after parsing (ValidateAxisConfig).
+bool InRange(double x, YamlMap::Range range);
+const char* RangeText(YamlMap::Range range);
 
 // Directory part of a path ("." if none), and `relative` resolved against it
 // (absolute paths are kept).

@@ -58,6 +58,32 @@ TEST(CampaignTest, StrictLoader) {
   e = LoadError(ok + "truth: {outside_library: [quadratic_drag]}\n");
   EXPECT_NE(e.find("a force that a generating config switches on (effects.quadratic_drag)"),
             std::string::npos) << e;
+  // truth.values names what the fits estimate: a free parameter of the job
+  // (B_a), or, with discovery, a parameter of an effect of truth.effects
+  // (F_c of coulomb); a misspelt name used to be reported with 0/1 coverage.
+  struct Case {
+    std::string truth, expected;
+  };
+  const Case cases[] = {
+      {"truth: {values: {B_aa: 200}}\n",
+       "key 'truth.values.B_aa': expected a free parameter of " + testing_files::TestTempDir() +
+           "job.yaml (B_a), got 'B_aa'"},
+      {"truth: {effects: [coulomb], values: {B_a: 200, F_s: 30}}\n",
+       "key 'truth.values.F_s': expected a free parameter of " + testing_files::TestTempDir() +
+           "job.yaml (B_a) or of an effect of truth.effects (F_c), got 'F_s'"},
+      {"discover: false\ntruth: {effects: [coulomb], values: {F_c: 30}}\n",
+       "key 'truth.values.F_c': expected a free parameter of " + testing_files::TestTempDir() +
+           "job.yaml (B_a), got 'F_c'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.truth);
+    e = LoadError(ok + c.truth);
+    EXPECT_NE(e.find("campaign.yaml:"), std::string::npos) << e;
+    EXPECT_NE(e.find(c.expected), std::string::npos) << e;
+  }
+  EXPECT_EQ(LoadError(ok + "truth: {effects: [coulomb, sensor_delay.a], "
+                           "values: {B_a: 200, F_c: 30, tau_d.a: 0.002}}\n"),
+            "");
   // A generating config for an experiment the job does not have.
   const std::string path = WriteCampaign(ok);
   std::ofstream(path) << "job: job.yaml\ngenerate: {sine: sine.yaml, step: sine.yaml}\n" << ok;
@@ -308,6 +334,32 @@ TEST(CampaignTest, CommandLineErrorsExitWithTwo) {
                                            testing_files::TestTempDir() + "missing.yaml", true);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("missing.yaml"), std::string::npos) << r.err;
+}
+
+// --first and --last take the range of seeds.first and seeds.last, 0..10^6:
+// `--first 0 --last 2147483647` used to overflow the seed count and die in
+// std::vector; a negative or overflowing number is refused by the flag too.
+TEST(CampaignTest, SeedFlagsHaveTheRangeOfTheSeedsKeys) {
+  const std::string campaign = WriteCampaign("seeds: {first: 1, last: 2}\noutput: {dir: out}\n");
+  struct Case {
+    std::string args, expected;
+  };
+  const std::string range = ": expected an integer in 0..1000000 (the range of seeds.first and "
+                            "seeds.last), got '";
+  const Case cases[] = {
+      {"--first 0 --last 2147483647", "--last" + range + "2147483647'"},
+      {"--first -1", "--first" + range + "-1'"},
+      {"--last 99999999999999999999999", "--last" + range + "99999999999999999999999'"},
+      {"--first 1000001", "--first" + range + "1000001'"},
+      {"--first 1x", "--first" + range + "1x'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto r = testing_files::RunCommand(std::string(BINARY_DIR) + "/fit-campaign",
+                                             campaign + " " + c.args, true);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace

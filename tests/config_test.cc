@@ -3,6 +3,7 @@
 // the key and saying what was expected.
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -193,7 +194,7 @@ TEST(ConfigTest, NonPositiveMassInertiaAndTimeConstantsAreRejected) {
     const std::string msg = ErrorOf([&] { LoadExperiment(path); });
     EXPECT_NE(msg.find(path), std::string::npos) << msg;
     EXPECT_NE(msg.find(std::string("'") + name + "'"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("expected a positive number, got -1"), std::string::npos)
+    EXPECT_NE(msg.find("expected a finite positive number, got -1"), std::string::npos)
         << msg;
   }
 }
@@ -315,13 +316,65 @@ TEST(ConfigTest, SetArgumentOverridesAndValidates) {
   ApplySetArgument(&c, "V_L=3.1");
   EXPECT_EQ(c.params.V_L, 3.1);
   EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "M=0"); })
-                .find("parameter 'M': expected a positive number, got 0"),
+                .find("parameter 'M': expected a finite positive number, got 0"),
             std::string::npos);
   EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "Q=1"); }).find("got 'Q'"),
             std::string::npos);
   EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "V_L"); }).find("NAME=VALUE"),
             std::string::npos);
   EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "V_L=abc"); }).find("'abc'"),
+            std::string::npos);
+}
+
+// Numbers are finite unless the key's range allows .inf (V_L, "no preamp
+// limit"): an infinite scale, offset, amplitude, noise σ, delay or
+// parameter is refused at load, naming its key, where it used to load and
+// simulate NaN (or fail naming the output file).
+TEST(ConfigTest, InfiniteNumbersAreRefusedNamingTheKey) {
+  const std::string csv = WriteTemp("inf_input.csv", "t,u\n0,1\n0.01,2\n");
+  const std::string column = "input: {type: column, file: " + csv + ", column: u, ";
+  struct Case {
+    std::string input, extra, key, expected;
+  };
+  const Case cases[] = {
+      {column + "scale: .inf}\n", "", "input.scale", "a finite number, got '.inf'"},
+      {column + "offset: -.inf}\n", "", "input.offset", "a finite number, got '-.inf'"},
+      {"input: {type: sine, amplitude: .inf, frequency: 1}\n", "", "input.amplitude",
+       "a finite number, got '.inf'"},
+      {"input: {type: step, amplitude: 1, start: .inf}\n", "", "input.start",
+       "a finite number >= 0, got '.inf'"},
+      {"", "noise: {v: .inf}\n", "noise.v", "a finite number >= 0, got '.inf'"},
+      {"", "effects: {sensor_delay: {v: .inf}}\n", "effects.sensor_delay.v",
+       "a finite number >= 0, got '.inf'"},
+      {"", "effects: {coulomb: {F_c: -.inf}}\n", "effects.coulomb.F_c",
+       "a finite number, got '-.inf'"},
+      {"", "initial_state: {y0: .inf}\n", "initial_state.y0", "a finite number, got '.inf'"},
+      {"", "set: {B_a: .inf}\n", "set.B_a", "a finite number, got '.inf'"},
+      {"", "set: {V_L: -1}\n", "set.V_L", "a positive number or .inf, got '-1'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.key);
+    const std::string path =
+        WriteTemp("inf.yaml", c.input.empty() ? Experiment(c.extra) : Experiment(c.extra, c.input));
+    const std::string msg = ErrorOf([&] { LoadExperiment(path); });
+    EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("key '" + c.key + "': expected " + c.expected), std::string::npos) << msg;
+  }
+  const std::string model = WriteTemp(
+      "inf_model.yaml", "name: m\namplifier: force_source\ncoupling: rigid\n"
+                        "parameters: {g_F: 1, M: .inf, B_a: 1}\n");
+  EXPECT_NE(ErrorOf([&] { LoadAxisConfig(model); })
+                .find("key 'parameters.M': expected a finite positive number, got '.inf'"),
+            std::string::npos);
+  // V_L's documented .inf still loads, from set: and from --set.
+  const ExperimentConfig no_limit =
+      LoadExperiment(WriteTemp("inf_vl.yaml", Experiment("set: {V_L: .inf}\n")));
+  EXPECT_EQ(no_limit.model.params.V_L, std::numeric_limits<double>::infinity());
+  AxisConfig c = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
+  ApplySetArgument(&c, "V_L=inf");
+  EXPECT_EQ(c.params.V_L, std::numeric_limits<double>::infinity());
+  EXPECT_NE(ErrorOf([&] { ApplySetArgument(&c, "B_a=inf"); })
+                .find("--set B_a=inf: parameter 'B_a': expected a finite number >= 0, got inf"),
             std::string::npos);
 }
 

@@ -106,6 +106,40 @@ TEST_F(FitParamsBadInput, InitialOutsideBounds) {
                  {"outside.yaml:3", "free.B_a", "within [10, 2000]", "5000"});
 }
 
+// A free parameter's initial value and bounds are finite and in the
+// parameter's range, as set: requires of a value (configs/README.md, free:):
+// an infinite B_a used to fit inf/nan and a negative mass to fit, both with
+// exit 0. V_L may be .inf in a model, never as a bound.
+TEST_F(FitParamsBadInput, FreeParameterOutsideItsRange) {
+  const std::string csv = kRoot + "/testdata/x_step_10V_clean.csv";
+  struct Case {
+    std::string free, key, expected;
+  };
+  const Case cases[] = {
+      {"  B_a: {initial: .inf, lower: 10, upper: .inf}\n", "free.B_a.initial",
+       "expected a finite number, got '.inf'"},
+      {"  B_a: {initial: 150, lower: 10, upper: .inf}\n", "free.B_a.upper",
+       "expected a finite number, got '.inf'"},
+      {"  B_a: {initial: 150, lower: -1, upper: 2000}\n", "free.B_a.lower",
+       "expected a finite number >= 0 (the range of B_a), got '-1'"},
+      {"  M: {initial: -100, lower: -500, upper: 1000}\n", "free.M.initial",
+       "expected a finite positive number (the range of M), got '-100'"},
+      {"  M: {initial: 100, lower: -500, upper: 1000}\n", "free.M.lower",
+       "expected a finite positive number (the range of M), got '-500'"},
+      {"  T_p: {lower: 0, upper: 1}\n", "free.T_p.lower",
+       "expected a finite positive number (the range of T_p), got '0'"},
+      {"  V_L: {initial: 2.7, lower: 0.5, upper: .inf}\n", "free.V_L.upper",
+       "expected a finite number, got '.inf'"},
+      {"  V_L: {initial: 2.7, lower: -1, upper: 20}\n", "free.V_L.lower",
+       "expected a finite positive number (the range of V_L), got '-1'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.key);
+    ExpectRejected(Job("free_range.yaml", csv, c.free),
+                   {"free_range.yaml:3: key '" + c.key + "': " + c.expected});
+  }
+}
+
 TEST_F(FitParamsBadInput, UnknownJobKey) {
   const std::string job = Job("unknown_key.yaml", kRoot + "/testdata/x_step_10V_clean.csv");
   std::ofstream(job, std::ios::app) << "solvr: {starts: 2}\n";

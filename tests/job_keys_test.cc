@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -198,6 +199,97 @@ TEST(JobKeysTest, ControllerInAnOpenLoopExperimentIsAnError) {
       Write("open_loop_controller.yaml", Job("    controller: {delay_samples: 1}\n")));
   EXPECT_NE(msg.find("experiments[0].controller"), std::string::npos) << msg;
   EXPECT_NE(msg.find("closed loop"), std::string::npos) << msg;
+}
+
+// Numbers are finite (configs/README.md, Ranges): an infinite scale or
+// offset of a drive column or a measured channel, or an infinite solver
+// tolerance, is refused naming its key; `input: {column: u, scale: .inf}`
+// used to fit NaN and exit 0.
+TEST(JobKeysTest, InfiniteNumbersAreRefusedNamingTheKey) {
+  const auto job = [](const std::string& channels, const std::string& input,
+                      const std::string& top) {
+    return "model: " + kRoot + "/configs/axes/emps.yaml\n"
+           "free:\n"
+           "  M: {initial: 95, lower: 10, upper: 500}\n"
+           "experiments:\n"
+           "  - name: ramp\n"
+           "    data: " + RampCsv() + "\n"
+           "    channels: " + channels + "\n"
+           "    input: " + input + "\n"
+           "    fit: {x: 1.0e-6}\n" + top;
+  };
+  const std::string channels = "{u: u, x: x}", input = "{column: u}";
+  struct Case {
+    std::string yaml, key, expected;
+  };
+  const Case cases[] = {
+      {job(channels, "{column: u, scale: .inf}", ""), "experiments[0].input.scale",
+       "a finite number, got '.inf'"},
+      {job(channels, "{column: u, offset: -.inf}", ""), "experiments[0].input.offset",
+       "a finite number, got '-.inf'"},
+      {job("{u: u, x: {column: x, scale: .inf}}", input, ""), "experiments[0].channels.x.scale",
+       "a finite number, got '.inf'"},
+      {job(channels, input, "solver: {parameter_tolerance: .inf}\n"),
+       "solver.parameter_tolerance", "a finite number >= 0, got '.inf'"},
+  };
+  EXPECT_EQ(LoadError(Write("finite.yaml", job(channels, input, ""))), "no error");
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.key);
+    const std::string path = Write("infinite.yaml", c.yaml);
+    const std::string msg = LoadError(path);
+    EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("key '" + c.key + "': expected " + c.expected), std::string::npos) << msg;
+  }
+}
+
+// discover.alpha is a level: in (0, 1), as the fleet's `alpha`; 5 used to
+// be accepted (every candidate significant).
+TEST(JobKeysTest, DiscoverAlphaIsALevel) {
+  EXPECT_EQ(LoadError(Write("alpha_ok.yaml", Job("", "discover: {alpha: 0.05}\n"))), "no error");
+  struct Case {
+    std::string alpha, expected;
+  };
+  const Case cases[] = {
+      {"5", "expected a level in (0, 1), got '5'"},
+      {"1", "expected a level in (0, 1), got '1'"},
+      {"0", "expected a finite positive number, got '0'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.alpha);
+    const std::string path = Write("alpha.yaml", Job("", "discover: {alpha: " + c.alpha + "}\n"));
+    const std::string msg = LoadError(path);
+    EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("key 'discover.alpha': " + c.expected), std::string::npos) << msg;
+  }
+}
+
+// The quick form's bounds (value/10 and value*10, [-1, 1] about zero) are
+// clipped to the parameter's range: F_s = 0 (F_s >= 0) gets [0, 1], where
+// it used to get [-1, 1]; a parameter without a finite value has none.
+TEST(JobKeysTest, QuickFormBoundsRespectTheRange) {
+  const std::string model = kRoot + "/configs/axes/x_axis.yaml";
+  const std::string data = kRoot + "/testdata/x_step_10V_clean.csv";
+  const FitJob job = MakeQuickJob(model, data, "u", {"tach"}, {"F_s", "B_a"});
+  ASSERT_EQ(job.free.size(), 2u);
+  EXPECT_EQ(job.free[0].name, "F_s");
+  EXPECT_EQ(job.free[0].lower, 0.0);
+  EXPECT_EQ(job.free[0].upper, 1.0);
+  EXPECT_EQ(job.free[1].lower, 20.0);  // B_a = 200: unchanged
+  EXPECT_EQ(job.free[1].upper, 2000.0);
+  std::ifstream in(model);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("V_L: 2.7"), 8, "V_L: .inf");
+  const std::string unlimited = Write("unlimited.yaml", text);
+  std::string msg = "no error";
+  try {
+    MakeQuickJob(unlimited, data, "u", {"tach"}, {"V_L"});
+  } catch (const std::invalid_argument& e) {
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("--free V_L: expected a parameter with a finite value in " + unlimited),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("got inf"), std::string::npos) << msg;
 }
 
 TEST(JobKeysTest, PublishedReferenceNamesAKnownExperiment) {

@@ -120,7 +120,17 @@ void ExpectRefused(const std::string& body, const std::vector<std::string>& need
 
 TEST(SimulateAxisCli, BadConfigExitsTwoAndWritesNothing) {
   ExpectRefused("duration: 0.1\nchannels: [v]\ninput: {type: step, amplitude: 1}\nset: {M: -5}\n",
-                {"$", "'M'", "expected a positive number"});
+                {"$", "'M'", "expected a finite positive number"});
+}
+
+// A channel listed twice is refused (exit 2, the key and the name): the
+// CSV it made had a repeated column, which ReadCsv refuses.
+TEST(SimulateAxisCli, RepeatedChannelIsRefused) {
+  ExpectRefused("duration: 0.1\nchannels: [u, tach, tach]\ninput: {type: step, amplitude: 1}\n",
+                {"$:3: key 'channels': expected each channel once (each names a column), "
+                 "got 'tach' again"});
+  ExpectRefused("duration: 0.1\nchannels: [t, v, t]\ninput: {type: step, amplitude: 1}\n",
+                {"$:3: key 'channels'", "got 't' again"});
 }
 
 // A step beyond RK4's stability limit is refused before simulating (exit 2),
@@ -145,6 +155,40 @@ TEST(SimulateAxisCli, BadCommandLineExitsTwo) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("'NOPE'"), std::string::npos) << r.err;
   EXPECT_EQ(RunCli("/nonexistent.yaml --out /tmp/x.csv").exit_code, 2);
+}
+
+// --seed takes the range of the experiment's seed key, 0..2^62: -1 and a
+// number beyond 64 bits used to wrap silently.
+TEST(SimulateAxisCli, SeedFlagHasTheRangeOfTheSeedKey) {
+  const std::string out = axis::testing_files::TestTempDir() + "seed_range.csv";
+  const std::string experiment = kRoot + "/configs/experiments/x_step_10V.yaml --out " + out;
+  const std::string range =
+      ": expected an integer in 0..4611686018427387904 (the range of the experiment's seed "
+      "key), got '";
+  for (const std::string seed : {"-1", "99999999999999999999999", "4611686018427387905", "2.5"}) {
+    SCOPED_TRACE(seed);
+    std::remove(out.c_str());
+    const Result r = RunCli(experiment + " --seed " + seed);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--seed" + range + seed + "'"), std::string::npos) << r.err;
+    EXPECT_FALSE(Exists(out));
+  }
+  EXPECT_EQ(RunCli(experiment + " --seed 4611686018427387904").exit_code, 0);
+}
+
+// --set takes the ranges of the config: B_a=inf is refused naming B_a (it
+// used to simulate NaN and exit 0); V_L=inf (no preamp limit) is allowed.
+TEST(SimulateAxisCli, SetInfinityOnlyWhereTheRangeAllowsIt) {
+  const std::string out = axis::testing_files::TestTempDir() + "set_inf.csv";
+  const std::string experiment = kRoot + "/configs/experiments/x_step_10V.yaml --out " + out;
+  std::remove(out.c_str());
+  const Result r = RunCli(experiment + " --set B_a=inf");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--set B_a=inf: parameter 'B_a': expected a finite number >= 0, got inf"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(Exists(out));
+  EXPECT_EQ(RunCli(experiment + " --set V_L=inf").exit_code, 0);
 }
 
 TEST(SimulateAxisCli, UnwritableOutputFailsWithoutPartialFile) {
