@@ -3,6 +3,7 @@
 // beside the fit, and the errors for keys that would otherwise be ignored.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -66,6 +67,30 @@ std::string LoadError(const std::string& path) {
 // changing every 5th sample: 80 of 99 consecutive pairs equal, 80.8 %) is held and
 // the job says so, naming the key; a column that changes at every sample is
 // read linearly without a note; an explicit `interpolation` is obeyed.
+// Every committed job (configs/jobs/, recursively) loads under the strict
+// loader as it is now (a rule added to it must not refuse the project's own
+// jobs), and every model config and experiment (configs/, the generating
+// configs of testdata/) too.
+TEST(JobKeysTest, EveryCommittedJobLoads) {
+  namespace fs = std::filesystem;
+  // The YAML files under `dir` (of the project) loaded by `load`; how many.
+  const auto load_all = [](const std::string& dir, const auto& load) {
+    int n = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(kRoot + dir)) {
+      if (entry.path().extension() != ".yaml") continue;
+      SCOPED_TRACE(entry.path().string());
+      EXPECT_NO_THROW(load(entry.path().string()));
+      ++n;
+    }
+    return n;
+  };
+  EXPECT_GE(load_all("/configs/jobs", LoadFitJob), 10);
+  EXPECT_GE(load_all("/configs/axes", LoadAxisConfig), 1);
+  EXPECT_GE(load_all("/configs/experiments", LoadExperiment) +
+                load_all("/testdata/generate", LoadExperiment),
+            10);
+}
+
 TEST(JobKeysTest, PiecewiseConstantInputColumnIsHeld) {
   std::string csv = "t,held,smooth,x\n";
   for (int k = 0; k < 100; ++k) {
