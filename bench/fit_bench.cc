@@ -1,5 +1,6 @@
 // Wall time of the paper job (configs/jobs/x_axis_paper.yaml: five unknowns,
-// two 2 s experiments at 1 kHz, RK4 at 10 µs) from its factor-2 start, single
+// two 2 s experiments at 1 kHz, the quasi-steady current loop at 100 µs; the
+// full loop at 10 µs until 2026-11-24: 12.2 s) from its factor-2 start, single
 // start, with the number of simulations and Jacobian evaluations as counters.
 #include <benchmark/benchmark.h>
 

@@ -1,5 +1,5 @@
 // report.html of the two example jobs as a person runs them (issue 14):
-// the paper's identification (configs/jobs/x_axis_paper.yaml, ~30–60 s)
+// the paper's identification (configs/jobs/x_axis_paper.yaml, ~2-5 s)
 // and the EMPS benchmark with discovery and the published reference
 // (configs/jobs/emps.yaml, ~1–2 min), each rendered in headless Chromium
 // and checked (tests/browser_checks.h). Labelled slow (tests/CMakeLists.txt);
