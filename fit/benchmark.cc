@@ -117,10 +117,11 @@ void ParseBenchmark(const YAML::Node& node, const std::string& path,
     c.name = item.first.Scalar();
     const std::string key = criteria_map.KeyPath(c.name);
     if (!IsOutputName(c.name) || c.name == "." || c.name == ".." || c.name == "benchmark.md" ||
-        c.name == "benchmark.json") {
+        c.name == "benchmark.json" || c.name == kOutputList) {
       ThrowConfigError(path, item.first, key,
                        "a criterion name of letters, digits, '_', '-', '.' (it names the "
-                       "output folder; not benchmark.md or benchmark.json)",
+                       "output folder; not benchmark.md, benchmark.json or " +
+                           std::string(kOutputList) + ")",
                        "'" + c.name + "'");
     }
     const YAML::Node list = criteria_map.Required(c.name);

@@ -54,20 +54,6 @@ struct ScopedTempDir {
   const std::string path;
 };
 
-// The parameters the discovery loop frees when it adds the effect `name` (a
-// truth.effects name): those of MODEL.md section 7, for a sensor effect the
-// channel's tau_d.<channel> or b.<channel>.
-std::vector<std::string> EffectParameters(const std::string& name) {
-  const size_t dot = name.find('.');
-  if (dot != std::string::npos) {
-    return {(name.substr(0, dot) == "sensor_delay" ? "tau_d" : "b") + name.substr(dot)};
-  }
-  for (const EffectInfo& e : DynamicEffectTable()) {
-    if (name == e.name) return {e.params.begin(), e.params.end()};
-  }
-  return {};
-}
-
 // The names of the job's experiments (fitted and validation) in its YAML.
 std::vector<std::pair<std::string, YAML::Node>> JobExperiments(YAML::Node root) {
   std::vector<std::pair<std::string, YAML::Node>> out;
@@ -148,7 +134,10 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
       }
       verdict = report.verdict;
     } else {
-      verdict = JudgeResiduals(DiagnoseResiduals(job), result, job.discover.alpha);
+      // At the estimate (the job's model holds the generating config's values).
+      FitJob fitted = job;
+      ApplyEstimates(result, &fitted);
+      verdict = JudgeResiduals(DiagnoseResiduals(fitted), result, job.discover.alpha);
     }
     std::sort(o.selected.begin(), o.selected.end());
     o.verdict = verdict.verdict;
@@ -384,7 +373,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
   for (const FreeParameter& f : job.free) free_names.push_back(f.name);
   if (c.discover) {
     for (const std::string& e : c.truth_effects) {
-      for (const std::string& p : EffectParameters(e)) effect_names.push_back(p);
+      for (const std::string& p : FreedParameters(e)) effect_names.push_back(p);
     }
   }
   for (size_t k = 0; k < c.truth_values.size(); ++k) {

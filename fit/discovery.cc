@@ -361,6 +361,10 @@ void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, Fi
 
 }  // namespace
 
+std::vector<std::string> FreedParameters(const std::string& effect) {
+  return EffectParameters(CandidateNamed(effect));
+}
+
 FitJob JobWithout(const FitJob& job, const std::string& effect) {
   const Candidate c = CandidateNamed(effect);
   FitJob out = job;

@@ -120,6 +120,12 @@ nlohmann::json ChannelChangesToJson(const std::vector<ChannelChange>& changes);
 // ColPivHouseholderQR, rank threshold 1e-10; no columns if a is zero).
 Eigen::MatrixXd Basis(const Eigen::MatrixXd& a);
 
+// The parameters the loop frees when it adds `effect` (a Candidate::name,
+// e.g. "coulomb" → F_c, "spring" → k_x (x_0 stays), "cogging" → A_cog,
+// phi_cog, "sensor_delay.a" → tau_d.a). Throws std::invalid_argument for a
+// name that is not an effect.
+std::vector<std::string> FreedParameters(const std::string& effect);
+
 // `job` with `effect` (a Candidate::name, e.g. "coulomb", "sensor_delay.a")
 // switched off and the parameters the loop frees for it fixed. Throws
 // std::invalid_argument for a name that is not an effect.

@@ -1645,9 +1645,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
         << FormatFitTable(result);
     // Diagnose the residual of the model as declared, before adding anything.
     FitJob declared = job;
-    for (const ParameterEstimate& e : result.parameters) {
-      if (e.free) *FindParam(&declared.model.params, e.name) = e.value;
-    }
+    ApplyEstimates(result, &declared);  // parameters and estimated initial states
     run.diagnostics = DiagnoseResiduals(declared);
     out << "\n" << FormatDiagnostics(run.diagnostics);
     DiscoverySettings settings = job.discover;

@@ -445,9 +445,9 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
     return report;
   }
   ApplyEstimates(*result, job);
-  // The library model's BIC from the same residuals as the map's (Assess:
-  // the experiments' declared initial states; FitResult::bic uses fitted
-  // ones where a job estimates them).
+  // The library model's BIC from the same residuals as the map's (Assess,
+  // at the fitted initial states ApplyEstimates wrote; its edf, like the
+  // map's, without them, so the two compare alike).
   report.bic_before = Assess(*job).bic;
   const Visited visited = VisitedValues(*job);
   std::vector<Candidate> candidates;
@@ -693,11 +693,16 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
 
   if (report.kept) {
     // The map's figures: the data's χ² (the fit's cost holds the roughness
-    // penalty too) over m − edf, as the verdict's s² test needs them.
-    fit.bic = at.bic;
-    fit.aic = at.chi2 + 2.0 * at.edf;
-    fit.residual_dof = std::max(1.0, fit.num_residuals - at.edf);
-    fit.residual_variance = at.s2;
+    // penalty too) over m − edf, as the verdict's s² test needs them, the
+    // estimated initial states counted as FitParameters counts them (edf
+    // has no columns for them, StackedJacobian).
+    double states = 0.0;
+    for (const FitExperiment& e : map_job.experiments) states += e.estimate_initial_state ? 2 : 0;
+    const double m = fit.num_residuals;
+    fit.bic = at.bic + states * std::log(m);
+    fit.aic = at.chi2 + 2.0 * (at.edf + states);
+    fit.residual_dof = std::max(1.0, m - at.edf - states);
+    fit.residual_variance = at.chi2 / fit.residual_dof;
     *job = std::move(map_job);
     *result = std::move(fit);
     report.diagnostics = DiagnoseResiduals(*job);

@@ -958,24 +958,35 @@ bool WriteExperimentPlot(const std::string& png_path,
       fit.name, warning);
 }
 
-void CheckOutputDirectory(const std::string& dir) {
+void CheckOutputDirectory(const std::string& dir, bool staged) {
   std::error_code ec;
-  fs::path p = fs::absolute(fs::path(dir), ec);
-  if (ec) p = fs::path(dir);
-  while (!p.empty() && !fs::exists(p, ec)) {
-    if (p == p.parent_path()) break;
-    p = p.parent_path();
-  }
+  fs::path target = fs::absolute(fs::path(dir), ec).lexically_normal();
+  if (ec) target = fs::path(dir).lexically_normal();
+  if (!target.has_filename()) target = target.parent_path();  // "out/" → "out"
   const std::string expected =
       ": expected an output directory (an existing folder, or a path whose existing part is a "
       "folder this process may write into), got ";
-  if (fs::exists(p, ec) && !fs::is_directory(p, ec)) {
-    throw std::invalid_argument(dir + expected + "'" + p.string() + "', an existing file");
+  // `p` must be a folder this process may write into, if it exists.
+  const auto check = [&](const fs::path& p) {
+    if (!fs::exists(p, ec)) return;
+    if (!fs::is_directory(p, ec)) {
+      throw std::invalid_argument(dir + expected + "'" + p.string() + "', an existing file");
+    }
+    if (::access(p.c_str(), W_OK | X_OK) != 0) {
+      throw std::invalid_argument(dir + expected + "'" + p.string() +
+                                  "', a folder that cannot be written into");
+    }
+  };
+  // The folder itself, if it exists (the outputs move into it), and the
+  // nearest existing one above it (the staging folder is made beside it,
+  // MakeStagingDirectory, with any missing parents).
+  check(target);
+  if (!staged && fs::exists(target, ec)) return;  // written into directly
+  fs::path above = target.parent_path();
+  while (!above.empty() && !fs::exists(above, ec) && above != above.parent_path()) {
+    above = above.parent_path();
   }
-  if (fs::is_directory(p, ec) && ::access(p.c_str(), W_OK | X_OK) != 0) {
-    throw std::invalid_argument(dir + expected + "'" + p.string() +
-                                "', a folder that cannot be written into");
-  }
+  check(above);
 }
 
 std::string MakeStagingDirectory(const std::string& dir) {
@@ -1017,6 +1028,37 @@ std::vector<std::string> WriteOutputLists(const fs::path& folder) {
   return names;
 }
 
+// Removes the outputs an earlier run listed in `folder`/kOutputList that
+// are not in `keep` (sorted): a file or link itself; a folder through its
+// own list, then the folder if nothing else is left in it, so a file the
+// user put there stays. Names with a path separator or "." / ".." are not
+// outputs (a list edited by hand). Throws std::runtime_error naming what
+// cannot be removed.
+void RemoveEarlierOutputs(const fs::path& folder, const std::vector<std::string>& keep) {
+  std::ifstream old_list(folder / kOutputList);
+  for (std::string name; std::getline(old_list, name);) {
+    if (name.empty() || name == "." || name == ".." || name == kOutputList ||
+        name.find('/') != std::string::npos ||
+        std::binary_search(keep.begin(), keep.end(), name)) {
+      continue;
+    }
+    const fs::path p = folder / name;
+    std::error_code ec;
+    if (fs::is_directory(fs::symlink_status(p, ec))) {
+      RemoveEarlierOutputs(p, {});
+      fs::remove(p / kOutputList, ec);
+      ec.clear();
+      if (fs::is_empty(p, ec) && !ec) fs::remove(p, ec);
+    } else {
+      fs::remove(p, ec);
+    }
+    if (ec) {
+      throw std::runtime_error(p.string() + ": cannot remove an earlier run's output: " +
+                               ec.message());
+    }
+  }
+}
+
 }  // namespace
 
 void CommitStagingDirectory(const std::string& staging, const std::string& dir) {
@@ -1036,20 +1078,7 @@ void CommitStagingDirectory(const std::string& staging, const std::string& dir) 
     throw std::runtime_error(dir + ": cannot create the output directory: "
                              "exists and is not a directory");
   }
-  // An earlier run's outputs that this run does not write. Names with a
-  // path separator or "." / ".." are not outputs (a list edited by hand).
-  std::ifstream old_list(fs::path(dir) / kOutputList);
-  for (std::string name; std::getline(old_list, name);) {
-    if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
-        std::binary_search(names.begin(), names.end(), name)) {
-      continue;
-    }
-    fs::remove_all(fs::path(dir) / name, ec);
-    if (ec) {
-      throw std::runtime_error((fs::path(dir) / name).string() +
-                               ": cannot remove an earlier run's output: " + ec.message());
-    }
-  }
+  RemoveEarlierOutputs(dir, names);
   for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
     const fs::path to = fs::path(dir) / entry.path().filename();
     if (entry.is_directory(ec) && fs::is_directory(to, ec)) {

@@ -228,12 +228,14 @@ bool RenderExperimentSvg(const std::string& csv_path, const ExperimentFit& fit,
 // only when all of them are complete, so that a failure or an interrupt
 // (sim/interrupt.h) leaves no partial output folder.
 //
-// Checks, before any work, that the outputs can go to `dir`: the nearest
-// of `dir` and its parents that exists is a directory this process may
-// write into (so `dir` exists as a folder or can be created). Throws
+// Checks, before any work, that the outputs can go to `dir`: `dir`, if it
+// exists, and the nearest existing folder above it (where the staging
+// folder is made, or `dir` created) are directories this process may write
+// into; with `staged` false (outputs written into `dir` directly, as
+// fit-campaign's) the folder above is not checked when `dir` exists. Throws
 // std::invalid_argument "<dir>: expected an output directory …, got …"
 // naming the file in the way or the folder that cannot be written.
-void CheckOutputDirectory(const std::string& dir);
+void CheckOutputDirectory(const std::string& dir, bool staged = true);
 
 // Creates and returns an empty sibling of `dir`, "<dir>.partial.<pid>"
 // (creating the parents of `dir` if missing; removing a stale staging folder
@@ -246,8 +248,8 @@ std::string MakeStagingDirectory(const std::string& dir);
 // fills gets a list of the outputs it moved there (kOutputList, one name a
 // line); an earlier run's outputs that this run does not write (a
 // validation experiment dropped from the job, say) are removed before the
-// move, so the folder holds one run's outputs. Files of `dir` that no run
-// listed (the user's own) stay. Throws std::runtime_error naming the file
+// move, so the folder holds one run's outputs. Files that no run listed
+// (the user's own) stay, also inside a listed folder, which is then kept. Throws std::runtime_error naming the file
 // that cannot be moved or removed.
 void CommitStagingDirectory(const std::string& staging, const std::string& dir);
 

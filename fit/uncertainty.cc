@@ -314,10 +314,7 @@ void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress
   }
   const int n_free = static_cast<int>(job.free.size());
   FitJob base = job;
-  for (int k = 0; k < n_free; ++k) {
-    base.free[k].initial = std::clamp(fit->parameters[k].value, base.free[k].lower,
-                                      base.free[k].upper);
-  }
+  ApplyEstimates(*fit, &base);  // the estimate and the estimated initial states
   AsWarmRefit(&base);
   base.solver.progress = false;
   base.uncertainty.bootstrap = 0;

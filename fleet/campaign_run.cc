@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fit/report.h"
+
 namespace axis {
 
 std::vector<SeedOutcome> RunCampaignOnRanks(const CampaignConfig& config, const MpiSession& mpi,
@@ -85,6 +87,8 @@ int RunFitCampaign(const FitCampaignOptions& options, const MpiSession& mpi, std
                                   std::to_string(config.last_seed));
     }
     if (!options.out_dir.empty()) config.out_dir = options.out_dir;
+    // Before the seeds, not after them (the files go into it directly).
+    CheckOutputDirectory(config.out_dir, /*staged=*/false);
   };
   if (!LoadOnEveryRank(mpi, load, "fit-campaign", "the campaign", err)) return 2;
   const int jobs = options.jobs > 0

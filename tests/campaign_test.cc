@@ -71,6 +71,11 @@ TEST(CampaignTest, StrictLoader) {
       {"truth: {effects: [coulomb], values: {B_a: 200, F_s: 30}}\n",
        "key 'truth.values.F_s': expected a free parameter of " + testing_files::TestTempDir() +
            "job.yaml (B_a) or of an effect of truth.effects (F_c), got 'F_s'"},
+      // The loop adds a spring with k_x free and x_0 held at 0: no seed
+      // estimates x_0.
+      {"truth: {effects: [spring], values: {k_x: 100, x_0: 0}}\n",
+       "key 'truth.values.x_0': expected a free parameter of " + testing_files::TestTempDir() +
+           "job.yaml (B_a) or of an effect of truth.effects (k_x), got 'x_0'"},
       {"discover: false\ntruth: {effects: [coulomb], values: {F_c: 30}}\n",
        "key 'truth.values.F_c': expected a free parameter of " + testing_files::TestTempDir() +
            "job.yaml (B_a), got 'F_c'"},
@@ -334,6 +339,15 @@ TEST(CampaignTest, CommandLineErrorsExitWithTwo) {
                                            testing_files::TestTempDir() + "missing.yaml", true);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("missing.yaml"), std::string::npos) << r.err;
+  // An output path through a file: refused before the seeds (it was found
+  // after all of them, exit 1).
+  const std::string campaign = WriteCampaign("seeds: {first: 1, last: 2}\noutput: {dir: out}\n");
+  const std::string file = testing_files::WriteTemp("a_file", "x\n");
+  const auto through = testing_files::RunCommand(std::string(BINARY_DIR) + "/fit-campaign",
+                                                 campaign + " --out " + file + "/out", true);
+  EXPECT_EQ(through.exit_code, 2);
+  EXPECT_NE(through.err.find(file + "/out: expected an output directory"), std::string::npos)
+      << through.err;
 }
 
 // --first and --last take the range of seeds.first and seeds.last, 0..10^6:

@@ -317,7 +317,8 @@ TEST_F(ReportTest, FailedFileLeavesNoPartialFile) {
 
 // A second run into the same folder leaves one run's outputs: the first
 // run's files the second does not write are removed (also in a merged
-// subfolder, a benchmark criterion's), the user's own files stay.
+// subfolder, a benchmark criterion's, and in a dropped one), the user's own
+// files stay, a dropped subfolder with one of them too.
 TEST_F(ReportTest, ARerunReplacesTheEarlierRunsOutputs) {
   const fs::path out = dir_ / "out";
   const auto stage = [&](const std::map<std::string, std::string>& files) {
@@ -329,9 +330,10 @@ TEST_F(ReportTest, ARerunReplacesTheEarlierRunsOutputs) {
     CommitStagingDirectory(staging, out.string());
   };
   stage({{"params.csv", "1"}, {"fit_v1.csv", "1"}, {"crit/fit_a.csv", "1"},
-         {"crit/fit_b.csv", "1"}, {"old/x.csv", "1"}});
+         {"crit/fit_b.csv", "1"}, {"old/x.csv", "1"}, {"dropped/y.csv", "1"}});
   std::ofstream(out / "notes.txt") << "mine";
   std::ofstream(out / "crit" / "mine.txt") << "mine";
+  std::ofstream(out / "dropped" / "mine.txt") << "mine";
   stage({{"params.csv", "2"}, {"crit/fit_a.csv", "2"}});
   EXPECT_EQ(ReadText(out / "params.csv"), "2");
   EXPECT_EQ(ReadText(out / "crit" / "fit_a.csv"), "2");
@@ -340,6 +342,8 @@ TEST_F(ReportTest, ARerunReplacesTheEarlierRunsOutputs) {
   EXPECT_FALSE(fs::exists(out / "crit" / "fit_b.csv"));
   EXPECT_EQ(ReadText(out / "notes.txt"), "mine");
   EXPECT_EQ(ReadText(out / "crit" / "mine.txt"), "mine");
+  EXPECT_FALSE(fs::exists(out / "dropped" / "y.csv"));
+  EXPECT_EQ(ReadText(out / "dropped" / "mine.txt"), "mine");
   EXPECT_EQ(ReadText(out / kOutputList), "crit\nparams.csv\n");
   EXPECT_TRUE(Temporaries(dir_).empty());
 }
