@@ -135,9 +135,8 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
       verdict = report.verdict;
     } else {
       // At the estimate (the job's model holds the generating config's values).
-      FitJob fitted = job;
-      ApplyEstimates(result, &fitted);
-      verdict = JudgeResiduals(DiagnoseResiduals(fitted), result, job.discover.alpha);
+      verdict = JudgeResiduals(DiagnoseResiduals(AtEstimate(job, result)), result,
+                               job.discover.alpha);
     }
     std::sort(o.selected.begin(), o.selected.end());
     o.verdict = verdict.verdict;

@@ -388,6 +388,12 @@ void ApplyEstimates(const FitResult& result, FitJob* job) {
   }
 }
 
+FitJob AtEstimate(const FitJob& job, const FitResult& result) {
+  FitJob out = job;
+  ApplyEstimates(result, &out);
+  return out;
+}
+
 nlohmann::json ChannelChangesToJson(const std::vector<ChannelChange>& changes) {
   nlohmann::json out = nlohmann::json::array();
   for (const ChannelChange& c : changes) {

@@ -138,6 +138,10 @@ FitJob JobWithout(const FitJob& job, const std::string& effect);
 // and the diagnostics, and the warm start of the next fit. Never throws.
 void ApplyEstimates(const FitResult& result, FitJob* job);
 
+// A copy of `job` with ApplyEstimates(result) applied: the model at the
+// estimate (for its residual diagnostics, or warm refits). Never throws.
+FitJob AtEstimate(const FitJob& job, const FitResult& result);
+
 // The σ-weighted residuals r (m) of the job's fitted experiments at its
 // free parameters' initial values (FreeParameter::initial) and their
 // Jacobian (m × n) in the optimiser's coordinates θ (fit/experiment_cost.h

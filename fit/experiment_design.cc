@@ -315,8 +315,7 @@ ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& resu
     throw std::invalid_argument(job_in.path + ": design: expected a job with a fitted "
                                 "experiment, got none");
   }
-  FitJob job = job_in;
-  ApplyEstimates(result, &job);
+  FitJob job = AtEstimate(job_in, result);
   p.duration = d.duration;
   p.start_x = 0.5 * (d.travel_low + d.travel_high);
   p.closed_loop = job.experiments.front().drive.closed_loop;
@@ -550,8 +549,7 @@ nlohmann::json ProposalToJson(const ExperimentProposal& p) {
 void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult& result,
                    const ExperimentProposal& p) {
   if (!p.proposed) return;
-  FitJob job = job_in;
-  ApplyEstimates(result, &job);
+  FitJob job = AtEstimate(job_in, result);
   AxisConfig model = job.model;
   model.name = job.model.name + "_fitted";
   model.source = "fit-params on " + job.title + " (the estimates the design was made at)";

@@ -1644,9 +1644,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     out << "\nBefore discovery:\n" << FormatParameterTable(result) << "\n"
         << FormatFitTable(result);
     // Diagnose the residual of the model as declared, before adding anything.
-    FitJob declared = job;
-    ApplyEstimates(result, &declared);  // parameters and estimated initial states
-    run.diagnostics = DiagnoseResiduals(declared);
+    run.diagnostics = DiagnoseResiduals(AtEstimate(job, result));
     out << "\n" << FormatDiagnostics(run.diagnostics);
     DiscoverySettings settings = job.discover;
     settings.enabled = true;
@@ -1665,10 +1663,8 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     // The residual diagnostics of the fitted model, for report.html (with
     // discovery they are those of the declared model, above).
     stage("diagnosing the residuals");
-    FitJob fitted = job;
-    ApplyEstimates(result, &fitted);  // parameters and estimated initial states
     try {
-      run.diagnostics = DiagnoseResiduals(fitted);
+      run.diagnostics = DiagnoseResiduals(AtEstimate(job, result));
     } catch (const std::runtime_error&) {
       run.diagnostics.clear();  // the fitted model does not simulate: no diagnostics
     }

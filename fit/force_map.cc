@@ -696,8 +696,7 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
     // penalty too) over m − edf, as the verdict's s² test needs them, the
     // estimated initial states counted as FitParameters counts them (edf
     // has no columns for them, StackedJacobian).
-    double states = 0.0;
-    for (const FitExperiment& e : map_job.experiments) states += e.estimate_initial_state ? 2 : 0;
+    const double states = EstimatedStateCount(map_job);
     const double m = fit.num_residuals;
     fit.bic = at.bic + states * std::log(m);
     fit.aic = at.chi2 + 2.0 * (at.edf + states);

@@ -726,8 +726,7 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     // Per fitted experiment, a Jacobian evaluation holds the simulated
     // channels and the residuals as Jets of 1 + |θ| doubles, and Ceres the
     // dense Jacobian (residuals × |θ|, twice for the QR factorisation).
-    double theta = static_cast<double>(job.free.size());
-    for (const FitExperiment& e : job.experiments) theta += e.estimate_initial_state ? 2.0 : 0.0;
+    const double theta = static_cast<double>(job.free.size() + EstimatedStateCount(job));
     double bytes = 0.0;
     for (const FitExperiment& e : job.experiments) {
       const double samples = static_cast<double>(e.t.size());
@@ -803,6 +802,12 @@ FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
     job["free"][name] = spec;
   }
   return ParseFitJob(job, "(command line)", ".");
+}
+
+int EstimatedStateCount(const FitJob& job) {
+  int n = 0;
+  for (const FitExperiment& e : job.experiments) n += e.estimate_initial_state ? 2 : 0;
+  return n;
 }
 
 FitJob LoadFitJob(const std::string& path) {

@@ -167,6 +167,11 @@ struct FitJob {
   std::string out_dir;  // from output.dir (relative to the job file) or --out
 };
 
+// How many initial states the job's fit estimates: 2 (y0, y1) per fitted
+// experiment with `initial_state: estimate`; they follow the free
+// parameters in θ (fit/fit.h FitParameters).
+int EstimatedStateCount(const FitJob& job);
+
 // Loads and checks a job: all files, columns and names are resolved here, so
 // that fitting cannot fail on input. An experiment's `data:` is a CSV file,
 // or a MAT file if its name ends in .mat (ReadDataTable, sim/data_table.h:

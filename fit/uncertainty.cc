@@ -313,8 +313,7 @@ void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress
                                 std::to_string(fit->experiments.size()));
   }
   const int n_free = static_cast<int>(job.free.size());
-  FitJob base = job;
-  ApplyEstimates(*fit, &base);  // the estimate and the estimated initial states
+  FitJob base = AtEstimate(job, *fit);  // the estimate and the estimated initial states
   AsWarmRefit(&base);
   base.solver.progress = false;
   base.uncertainty.bootstrap = 0;

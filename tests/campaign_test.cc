@@ -64,21 +64,18 @@ TEST(CampaignTest, StrictLoader) {
   struct Case {
     std::string truth, expected;
   };
+  const std::string free_of = "expected a free parameter of " + testing_files::TestTempDir() +
+                              "job.yaml (B_a)";
   const Case cases[] = {
-      {"truth: {values: {B_aa: 200}}\n",
-       "key 'truth.values.B_aa': expected a free parameter of " + testing_files::TestTempDir() +
-           "job.yaml (B_a), got 'B_aa'"},
+      {"truth: {values: {B_aa: 200}}\n", "key 'truth.values.B_aa': " + free_of + ", got 'B_aa'"},
       {"truth: {effects: [coulomb], values: {B_a: 200, F_s: 30}}\n",
-       "key 'truth.values.F_s': expected a free parameter of " + testing_files::TestTempDir() +
-           "job.yaml (B_a) or of an effect of truth.effects (F_c), got 'F_s'"},
+       "key 'truth.values.F_s': " + free_of + " or of an effect of truth.effects (F_c), got 'F_s'"},
       // The loop adds a spring with k_x free and x_0 held at 0: no seed
       // estimates x_0.
       {"truth: {effects: [spring], values: {k_x: 100, x_0: 0}}\n",
-       "key 'truth.values.x_0': expected a free parameter of " + testing_files::TestTempDir() +
-           "job.yaml (B_a) or of an effect of truth.effects (k_x), got 'x_0'"},
+       "key 'truth.values.x_0': " + free_of + " or of an effect of truth.effects (k_x), got 'x_0'"},
       {"discover: false\ntruth: {effects: [coulomb], values: {F_c: 30}}\n",
-       "key 'truth.values.F_c': expected a free parameter of " + testing_files::TestTempDir() +
-           "job.yaml (B_a), got 'F_c'"},
+       "key 'truth.values.F_c': " + free_of + ", got 'F_c'"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.truth);

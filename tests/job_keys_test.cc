@@ -35,16 +35,23 @@ std::string RampCsv() {
   return Write("ramp.csv", csv);
 }
 
-std::string Job(const std::string& experiment_extra, const std::string& top_extra = "") {
+// The ramp job with `channels` and `input` (YAML flow maps), the
+// experiment's `experiment_extra` keys and the top level's `top_extra`.
+std::string JobWith(const std::string& channels, const std::string& input,
+                    const std::string& experiment_extra, const std::string& top_extra) {
   return "model: " + kRoot + "/configs/axes/emps.yaml\n"
          "free:\n"
          "  M: {initial: 95, lower: 10, upper: 500}\n"
          "experiments:\n"
          "  - name: ramp\n"
          "    data: " + RampCsv() + "\n"
-         "    channels: {u: u, x: x}\n"
-         "    input: {column: u}\n"
+         "    channels: " + channels + "\n"
+         "    input: " + input + "\n"
          "    fit: {x: 1.0e-6}\n" + experiment_extra + top_extra;
+}
+
+std::string Job(const std::string& experiment_extra, const std::string& top_extra = "") {
+  return JobWith("{u: u, x: x}", "{column: u}", experiment_extra, top_extra);
 }
 
 double Estimate(const FitResult& r) {
@@ -232,17 +239,7 @@ TEST(JobKeysTest, ControllerInAnOpenLoopExperimentIsAnError) {
 // used to fit NaN and exit 0.
 TEST(JobKeysTest, InfiniteNumbersAreRefusedNamingTheKey) {
   const auto job = [](const std::string& channels, const std::string& input,
-                      const std::string& top) {
-    return "model: " + kRoot + "/configs/axes/emps.yaml\n"
-           "free:\n"
-           "  M: {initial: 95, lower: 10, upper: 500}\n"
-           "experiments:\n"
-           "  - name: ramp\n"
-           "    data: " + RampCsv() + "\n"
-           "    channels: " + channels + "\n"
-           "    input: " + input + "\n"
-           "    fit: {x: 1.0e-6}\n" + top;
-  };
+                      const std::string& top) { return JobWith(channels, input, "", top); };
   const std::string channels = "{u: u, x: x}", input = "{column: u}";
   struct Case {
     std::string yaml, key, expected;
