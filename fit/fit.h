@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "fit/current_loop_check.h"
 #include "fit/diagnostics.h"
 #include "fit/discovery.h"
 #include "fit/experiment_design.h"
@@ -116,6 +117,9 @@ struct JobRun {
   // With `design:` (fit/experiment_design.h): the next experiment, at the
   // final estimates.
   ExperimentProposal proposal;
+  // With current_loop: quasi_steady, what the approximation costs the final
+  // estimate (fit/current_loop_check.h); ran = false otherwise.
+  CurrentLoopCheck loop_check;
   bool has_published = false;     // the job has `published:`
   PublishedComparison published;  // if has_published
   // What params.md and report.json add to the fit's own tables: how input

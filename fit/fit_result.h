@@ -143,6 +143,15 @@ struct FitResult {
   // neglected time constant τ_i = L/(K_a/K_i + R) (MODEL.md eq. 3) is at
   // least half the delay's standard error. Empty otherwise.
   std::string model_note;
+  // Set when the job's start alone ended above kAutoStartsAbove and
+  // SolverSettings::auto_starts random starts were added (fit/job.h): what
+  // s² it ended with and which start won. Empty otherwise.
+  std::string auto_starts_note;
+  // Set when the fit ends with s² = residual_variance above
+  // kAutoStartsAbove (fit/job.h): the residual RMS more than twice the
+  // declared σ, i.e. a local minimum the starts did not leave, an effect
+  // the model lacks, or σ understated. Empty otherwise.
+  std::string residual_note;
   // How the model was integrated (FitParameters): RK4's step(s) and, with
   // an analog_velocity_loop, the current loop (sim/axis_params.h
   // CurrentLoop), e.g. "RK4, step 5e-05 s; current loop quasi_steady".

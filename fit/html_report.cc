@@ -701,6 +701,8 @@ std::string SummaryHtml(const HtmlReportInput& input) {
   item("AIC, BIC", HtmlEscape(Number(r.aic, 8) + ", " + Number(r.bic, 8)));
   item("optimum", HtmlEscape(r.optimum_check.empty() ? "not checked" : r.optimum_check));
   if (!r.model_note.empty()) item("note", HtmlEscape(r.model_note));
+  if (!r.auto_starts_note.empty()) item("starts", HtmlEscape(r.auto_starts_note));
+  if (!r.residual_note.empty()) item("warning", HtmlEscape(r.residual_note));
   item("uncertainty", HtmlEscape((r.uncertainty_method.empty() ? "-" : r.uncertainty_method) +
                                  ": " + r.uncertainty_note));
   // FormatPhases: "time: 41.2 s (…)". With discovery the result is the

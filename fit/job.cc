@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 
+#include "fit/statistics.h"
 #include "sim/csv.h"
 #include "sim/data_table.h"
 #include "sim/preflight.h"
@@ -342,6 +343,17 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
   }
   e.t_offset = time[first];
   const double period = (time[first + count - 1] - time[first]) / (count - 1);
+  // A servo axis's dynamics (the 5 ms controller, the gear resonance, the
+  // preamp's T_p) are milliseconds: a record sampled slower than 10 Hz sees
+  // none of them, and is most likely one whose time column is not in
+  // seconds (a 1 kHz record in ms reads as 1 s per sample, and its fit as
+  // a horizon of minutes).
+  if (period > kMaxSamplePeriod) {
+    throw std::invalid_argument(
+        data.RowLocation(first + 1) + ": expected time in seconds sampled at 10 Hz or faster " +
+        "(a sample period of at most " + Num(kMaxSamplePeriod) + " s), got a period of " +
+        Num(period) + " (is the time column in ms? convert it to s)");
+  }
   for (size_t k = first + 1; k < first + count; ++k) {
     const double dt = time[k] - time[k - 1];
     if (std::abs(dt - period) > 1e-3 * period) {
@@ -547,6 +559,8 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
   if (const YAML::Node node = root.Optional("simulation")) {
     YamlMap map(node, path, "simulation.");
     step = map.Number("step", step, Range::kFinitePositive);
+    job.full_loop_refit_above =
+        map.Number("full_loop_refit_above", job.full_loop_refit_above, Range::kPositiveOrInfinite);
     map.Finish();
   }
   {
@@ -619,6 +633,7 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
     s.parameter_tolerance = map.Number("parameter_tolerance", s.parameter_tolerance, Range::kNonNegative);
     s.gradient_tolerance = map.Number("gradient_tolerance", s.gradient_tolerance, Range::kNonNegative);
     s.starts = static_cast<int>(map.Integer("starts", s.starts, 0, 10000));
+    s.auto_starts = static_cast<int>(map.Integer("auto_starts", s.auto_starts, 0, 10000));
     s.finalists = static_cast<int>(map.Integer("finalists", s.finalists, 1, 10001));
     s.first_horizon = map.Number("first_horizon", s.first_horizon,
                                  Range::kNonNegative);
@@ -768,16 +783,29 @@ FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
   }
   experiment["channels"] = channels;
   experiment["input"]["column"] = input_column;
+  std::vector<std::string> sigma_notes;
   for (const std::string& name : fit_channels) {
     if (!data.HasColumn(name)) {
       throw std::invalid_argument("--fit: expected " + data.ColumnExpectation() +
                                   ", got " + data.DescribeName(name));
     }
+    // σ: the noise on the channel, from its second differences; where they
+    // are all 0 (a noise-free or linear record), the signal's spread (1 if
+    // it is constant), so that the channels are weighted alike.
     const std::vector<double>& y = data.Column(name);
-    double mean = 0.0, var = 0.0;
-    for (double v : y) mean += v / y.size();
-    for (double v : y) var += (v - mean) * (v - mean) / y.size();
-    experiment["fit"][name] = var > 0.0 ? std::sqrt(var) : 1.0;
+    double sigma = DifferenceNoiseSd(y);
+    std::string how = "estimated from the record's second differences";
+    if (!(sigma > 0.0)) {
+      double mean = 0.0, var = 0.0;
+      for (double v : y) mean += v / y.size();
+      for (double v : y) var += (v - mean) * (v - mean) / y.size();
+      sigma = var > 0.0 ? std::sqrt(var) : 1.0;
+      how = var > 0.0 ? "the signal's standard deviation (no noise found in its second differences)"
+                      : "1 (the channel is constant)";
+    }
+    experiment["fit"][name] = sigma;
+    sigma_notes.push_back("fitted channel " + name + ": sigma " + Num(sigma) + ", " + how +
+                          " (no job to declare it)");
   }
   job["experiments"].push_back(experiment);
   AxisConfig model = LoadAxisConfig(model_path);
@@ -801,7 +829,11 @@ FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
     spec["upper"] = v > 0 ? v * 10 : (v < 0 ? v / 10 : 1.0);
     job["free"][name] = spec;
   }
-  return ParseFitJob(job, "(command line)", ".");
+  FitJob parsed = ParseFitJob(job, "(command line)", ".");
+  for (std::string& note : sigma_notes) {
+    parsed.experiments[0].input_notes.push_back(std::move(note));
+  }
+  return parsed;
 }
 
 int EstimatedStateCount(const FitJob& job) {

@@ -45,13 +45,19 @@ struct FitExperiment {
   AxisState<double> initial_state = AxisState<double>::Zero();
   SimulationOptions options;  // duration, step, output period = data period
   // How data columns driving the experiment were read where the job did not
-  // say (a piecewise-constant column held; fit/job.cc ParseDriveSignal), one
-  // sentence each naming the key.
+  // say (a piecewise-constant column held; fit/job.cc ParseDriveSignal), and
+  // in the quick form the σ of each fitted channel (MakeQuickJob), one
+  // sentence each naming the key or channel.
   std::vector<std::string> input_notes;
 
   // Measured samples of channel c (throws std::invalid_argument if absent).
   const std::vector<double>& Measured(Channel c) const;
 };
+
+// The longest sample period (s) of a record LoadFitJob accepts: slower than
+// 10 Hz a record sees none of a servo axis's dynamics (milliseconds), and
+// it is most likely one whose time column is not in seconds.
+constexpr double kMaxSamplePeriod = 0.1;
 
 // A free parameter: a VisitParams name, its initial value and bounds.
 // Positive parameters (lower > 0) are optimised as log(value); the others as
@@ -66,12 +72,29 @@ struct FreeParameter {
   bool log = false;
 };
 
+// The s² (residual variance in units of the declared σ²) above which a fit
+// from the job's start alone adds SolverSettings::auto_starts random
+// starts, and above which the report warns (FitResult::residual_note): the
+// residual RMS more than twice the noise the job declares. With the right
+// minimum of the right model s² is 1 ± √(2/(m − n)) (0.02 for 4000
+// samples) plus the model's own error; the wrong minima met on unseen data
+// ended at s² = 95–575.
+constexpr double kAutoStartsAbove = 4.0;
+
 struct SolverSettings {
   int max_iterations = 100;
   double function_tolerance = 1e-8;   // relative cost change to stop
   double parameter_tolerance = 1e-8;  // relative step to stop
   double gradient_tolerance = 1e-10;
   int starts = 0;               // extra random starts (log-uniform in bounds)
+  // Random starts added when `starts` is 0 and the job's own start ends the
+  // continuation with s² = Σr²/(m − n) above kAutoStartsAbove (the residual
+  // RMS more than twice the declared σ): the fit is run again with this
+  // many `starts`, each a finalist (fit/fit.cc FitParameters;
+  // FitResult::auto_starts_note).
+  // Not with discovery on (its declared model is expected to miss an
+  // effect) nor in the loop's refits; 0 never adds any.
+  int auto_starts = 8;
   // Starts that fit the whole record: after the shorter horizons of the
   // continuation (every start), the `finalists` lowest there continue
   // (fit/fit.cc FitParameters); ≥ 1.
@@ -164,6 +187,11 @@ struct FitJob {
   // parameter produces exactly (its mean with F_0, its slope with B_a or
   // k_x; fit/force_map.h ConfoundedComponents) at zero; 0 for none.
   double force_map_anchor = 0.0;
+  // With `current_loop: quasi_steady`: the shift of the estimate against
+  // the full loop, in standard errors, past which fit-params refits with
+  // the full loop (key simulation.full_loop_refit_above; fit/fit.h RunJob,
+  // fit/current_loop_check.h); > 0, +inf never refits.
+  double full_loop_refit_above = 1.0;
   std::string out_dir;  // from output.dir (relative to the job file) or --out
 };
 
@@ -178,10 +206,11 @@ int EstimatedStateCount(const FitJob& job);
 // variables are columns). Throws std::invalid_argument naming the file, line
 // and key (YAML), file and line (CSV) or file and variable (MAT): unknown
 // keys, a missing column, NaN or empty cells, time not strictly increasing,
-// an empty file, a MAT variable that is not a vector as long as the time, a
-// free parameter the model does not have, reversed bounds, an initial value
-// outside its bounds, a fitted channel that is not measured, two experiments
-// (fitted or validated) of the same name.
+// a sample period above kMaxSamplePeriod (time not in seconds), an empty
+// file, a MAT variable that is not a vector as long as the time, a free
+// parameter the model does not have, reversed bounds, an initial value
+// outside its bounds, a fitted channel that is not measured, two
+// experiments (fitted or validated) of the same name.
 FitJob LoadFitJob(const std::string& path);
 
 // Whether `name` may name outputs (an experiment's fit_<name>.csv, a
@@ -197,10 +226,14 @@ FitJob ParseFitJob(const YAML::Node& root, const std::string& path,
 // The quick form of fit-params: one experiment from `data_path` (CSV, or MAT
 // if named *.mat; time column "t", every other column whose name is a
 // channel is measured), open loop
-// with input column `input_column`, fitting `fit_channels` each with σ set
-// to the standard deviation of its measured signal (equal weight per
-// channel; the covariance is rescaled by the residual variance), freeing `free_names` with initial values from the
-// model and bounds [value/10, value·10]. Throws std::invalid_argument.
+// with input column `input_column`, fitting `fit_channels` each with σ the
+// noise estimated from its record (fit/statistics.h DifferenceNoiseSd;
+// where that finds none, the signal's standard deviation, or 1 for a
+// constant channel), so that s² ≈ 1 at a fit down to the noise and the
+// score tests of --discover mean what they say; each σ and how it was found
+// is a note of the experiment (FitExperiment::input_notes, printed and
+// reported). Frees `free_names` with initial values from the model and
+// bounds [value/10, value·10]. Throws std::invalid_argument.
 FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
                     const std::string& input_column,
                     const std::vector<std::string>& fit_channels,

@@ -616,6 +616,8 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
          "\n";
   if (!result.stop_note.empty()) out += "- note: " + result.stop_note + "\n";
   if (!result.model_note.empty()) out += "- note: " + result.model_note + "\n";
+  if (!result.auto_starts_note.empty()) out += "- starts: " + result.auto_starts_note + "\n";
+  if (!result.residual_note.empty()) out += "- warning: " + result.residual_note + "\n";
   if (!result.integration.empty()) out += "- integration: " + result.integration + "\n";
   out += "- " + (result.optimum_check.empty() ? std::string("optimum not checked")
                                              : result.optimum_check) +
@@ -710,6 +712,8 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
   j["termination"] = result.termination;
   j["stop_note"] = result.stop_note;
   j["model_note"] = result.model_note;
+  j["auto_starts_note"] = result.auto_starts_note;
+  j["residual_note"] = result.residual_note;
   j["integration"] = result.integration;
   Json phases = Json::array();
   for (const FitPhase& f : result.phases) {

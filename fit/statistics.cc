@@ -60,6 +60,32 @@ bool AllFinite(const std::vector<double>& x) {
 
 }  // namespace
 
+double DifferenceNoiseSd(const std::vector<double>& y) {
+  const size_t n = y.size();
+  if (n < 3) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> d(n - 2);
+  double sum_squares = 0.0;
+  for (size_t k = 1; k + 1 < n; ++k) {
+    d[k - 1] = (y[k - 1] - 2.0 * y[k] + y[k + 1]) / std::sqrt(6.0);
+    sum_squares += d[k - 1] * d[k - 1];
+  }
+  if (!std::isfinite(sum_squares)) return std::numeric_limits<double>::quiet_NaN();
+  const auto median = [](std::vector<double> v) {
+    const size_t mid = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + mid, v.end());
+    double m = v[mid];
+    if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + mid));
+    return m;
+  };
+  const double centre = median(d);
+  std::vector<double> deviation(d.size());
+  for (size_t k = 0; k < d.size(); ++k) deviation[k] = std::abs(d[k] - centre);
+  const double mad = median(deviation);
+  // 1.4826 = 1/Φ⁻¹(3/4): MAD of a normal sample to its SD.
+  if (mad > 0.0) return 1.4826 * mad;
+  return std::sqrt(sum_squares / static_cast<double>(d.size()));
+}
+
 double Rms(const std::vector<double>& y, const std::vector<double>& yhat) {
   CheckPair("Rms", y, yhat);
   return std::sqrt(SumSquaredDifference(yhat, y) /

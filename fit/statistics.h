@@ -19,6 +19,22 @@ namespace axis {
 // Throws std::invalid_argument if y and yhat differ in length or are empty.
 double Rms(const std::vector<double>& y, const std::vector<double>& yhat);
 
+// The standard deviation of the white measurement noise on a sampled
+// signal y (equally spaced samples, the channel's unit), from its second
+// differences d_k = (y_{k−1} − 2y_k + y_{k+1})/√6, k = 1 … n−2, whose SD
+// is the noise's σ for white noise (weights 1, −2, 1) while a signal
+// smooth at the sampling rate adds only its curvature (y''·h²/√6): the
+// pseudo-residuals of Gasser, Sroka & Jennen-Steinmetz, "Residual
+// variance and residual pattern in nonlinear regression", Biometrika 73
+// (1986). Estimated robustly as 1.4826·MAD(d) (the median absolute
+// deviation about the median; steps and spikes touch two or three d_k and
+// do not move it); where more than half of the d_k are equal (a quantised
+// or piecewise linear signal: MAD 0) the RMS of d instead. Noise that is
+// not white (filtered before sampling) is underestimated. 0 for a signal
+// linear in k; NaN for fewer than 3 samples or a non-finite one. Never
+// throws (except std::bad_alloc).
+double DifferenceNoiseSd(const std::vector<double>& y);
+
 // NRMSE fit in percent, as MATLAB's `compare`:
 //   100·(1 − ‖y − ŷ‖₂ / ‖y − mean(y)‖₂).
 // 100 for a perfect fit, 0 for ŷ = mean(y), negative if worse than the mean.

@@ -424,6 +424,15 @@ void DefineResult(py::module_& m) {
       .def_property_readonly("uncertainty_note",
                              [](const JobRun& r) { return r.result.uncertainty_note; })
       .def_property_readonly("termination", [](const JobRun& r) { return r.result.termination; })
+      .def_property_readonly("model_note", [](const JobRun& r) { return r.result.model_note; },
+                             "where the fitting model's approximation may bias the estimate "
+                             "(e.g. the quasi-steady current loop's shift), '' if nowhere")
+      .def_property_readonly(
+          "auto_starts_note", [](const JobRun& r) { return r.result.auto_starts_note; },
+          "set when the job's start ended above s^2 = 4 and solver.auto_starts were added")
+      .def_property_readonly(
+          "residual_note", [](const JobRun& r) { return r.result.residual_note; },
+          "a warning when the fit ends above s^2 = 4 (residual RMS over twice sigma), else ''")
       .def_property_readonly(
           "discovery",
           [](const JobRun& r) -> py::object {

@@ -1,5 +1,6 @@
 #include "sim/yaml_util.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace axis {
 namespace {
@@ -143,10 +145,45 @@ bool YamlMap::Has(const std::string& key) const {
   return static_cast<bool>(node_[key]);
 }
 
+namespace {
+
+// Levenshtein distance between a and b (insertions, deletions and
+// substitutions of one byte each).
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
 YAML::Node YamlMap::Required(const std::string& key) {
   used_.insert(key);
   YAML::Node value = node_[key];
   if (!value) {
+    // A key of the map that is not a known one and is within two edits of
+    // the missing key (a third of its length at most) is named, at its line:
+    // a misspelt required key otherwise reads as a missing one.
+    if (node_.IsMap()) {
+      for (const auto& entry : node_) {
+        const std::string other = entry.first.Scalar();
+        if (used_.count(other) != 0) continue;
+        const size_t d = EditDistance(other, key);
+        if (d > 0 && d <= 2 && 3 * d <= key.size()) {
+          ThrowConfigError(file_, entry.first, KeyPath(key), "a value (required key)",
+                           "nothing; unknown key '" + other + "' here: misspelt?");
+        }
+      }
+    }
     ThrowConfigError(file_, node_, KeyPath(key), "a value (required key)",
                      "nothing");
   }

@@ -1,7 +1,8 @@
 // fit-params on synthetic ground truth (testdata/, truth = MODEL.md §2):
 // recovery from factor-2 starts on noise-free data, coverage of the
 // uncertainty on noisy data, multi-start from random points, and the
-// autodiff Jacobian of the cost against central differences.
+// autodiff Jacobian of the cost against central differences, and the
+// random starts a fit adds when its own start ends far above the noise.
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -9,11 +10,13 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include "fit/experiment_cost.h"
 #include "sim/random.h"
 #include "fit/fit.h"
 #include "fit/job.h"
+#include "sim/experiment.h"
 #include "tests/cost_checks.h"
 #include "tests/test_files.h"
 
@@ -175,6 +178,144 @@ TEST(FitTest, CostJacobianMatchesCentralDifferences) {
     }
     col_scale = std::max(col_scale, std::sqrt(den));
   }
+}
+
+// The paper's five unknowns free, each started at the paper's value (the X
+// axis's truth, MODEL.md §2) within the paper job's bounds: a job's `free:`
+// block for records of an axis with other values.
+const char* const kPaperFreeFromTruth =
+    "free:\n"
+    "  V_L: {initial: 2.7, lower: 0.5, upper: 20}\n"
+    "  B_a: {initial: 200, lower: 10, upper: 2000}\n"
+    "  b_g: {initial: 1500, lower: 100, upper: 20000}\n"
+    "  k_g: {initial: 5.0e6, lower: 5.0e5, upper: 5.0e7}\n"
+    "  T_p: {initial: 0.04, lower: 0.005, upper: 1.0}\n";
+
+// On data the job's values do not describe, the continuation from the job's
+// start can end in a wrong minimum; fit-params then adds random starts
+// (solver.auto_starts) and says so. The record
+// (testdata/generate/starts/x_step_6V_other_axis.yaml, simulated here: the
+// full current loop at 10 µs, noise seed fixed) is one +6 V step of an X
+// axis with other values, fitted from the paper's values with the
+// quasi-steady loop at 100 µs. Without added starts the fit ends at s²
+// ≈ 96 (T_p 0.017 s for 0.07) and the report warns; with the default 8,
+// every one a finalist, it ends at the noise: s² within 5 SD of 1 (SD
+// √(2/(m − n)) = 0.026 for m = 3002 residuals; the loop's model error
+// adds < 0.001, tests/axis_model_test.cc) and every estimate within 4
+// standard errors of the truth (a miss has probability 6e-5 per parameter
+// at the right minimum).
+TEST(FitTest, AStartFarAboveTheNoiseAddsRandomStarts) {
+  ExperimentConfig generator =
+      LoadExperiment(kRoot + "/testdata/generate/starts/x_step_6V_other_axis.yaml");
+  const std::string csv = testing_files::TestTempDir() + "step_6V.csv";
+  WriteTraceCsv(csv, SimulateExperiment(generator, SimulateAxisOptions{}),
+                generator.options.channels);
+  const auto job_text = [&](int auto_starts) {
+    std::ostringstream y;
+    y << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
+      << "configuration: {current_loop: quasi_steady}\n"
+      << "simulation: {step: 1.0e-4}\n"
+      << kPaperFreeFromTruth
+      << "experiments:\n"
+      << "  - name: step_6V\n"
+      << "    data: " << csv << "\n"
+      << "    channels: {u: u, a: a, tach: tach, i: i}\n"
+      << "    input: {column: u}\n"
+      << "    fit: {a: 0.02, tach: 0.005}\n"
+      << "solver: {probe_rounds: 0, auto_starts: " << auto_starts << "}\n"
+      << "uncertainty: {method: gauss_newton}\n";
+    const FitJob job = ParseFitJob(YAML::Load(y.str()), "auto_starts.yaml",
+                                   testing_files::TestTempDir());
+    return FitParameters(job, nullptr);
+  };
+  const FitResult alone = job_text(0);
+  EXPECT_GT(alone.residual_variance, kAutoStartsAbove);
+  EXPECT_NE(alone.residual_note, "");
+  EXPECT_EQ(alone.auto_starts_note, "");
+
+  const FitResult r = job_text(8);
+  RecordProperty("s2_alone", std::to_string(alone.residual_variance));
+  RecordProperty("s2_with_starts", std::to_string(r.residual_variance));
+  EXPECT_NE(r.auto_starts_note, "");
+  EXPECT_EQ(r.residual_note, "");
+  EXPECT_NEAR(r.residual_variance, 1.0, 5.0 * std::sqrt(2.0 / (r.num_residuals - 5)));
+  const std::map<std::string, double> truth = {
+      {"V_L", 1.8}, {"B_a", 320}, {"b_g", 2600}, {"k_g", 2.8e6}, {"T_p", 0.07}};
+  for (const auto& [name, value] : truth) {
+    const ParameterEstimate& e = Estimate(r, name);
+    EXPECT_NEAR(e.value, value, 4.0 * e.std_error) << name;
+  }
+}
+
+// The quasi-steady current loop's cost on records it was not measured on:
+// the Z axis with other values (testdata/generate/current_loop/, simulated
+// here through the full loop at 10 µs, noise seeds fixed), fitted with the
+// quasi-steady loop at 100 µs from the X axis's values. The check
+// (fit/current_loop_check.h) finds a shift of more than one standard error;
+// with full_loop_refit_above: .inf the fit stays quasi-steady and says so
+// in its note, with the default 1 it is refitted with the full loop. The
+// check's shifts are the first-order difference of the two fits; they
+// agree within a tenth of a standard error plus 25 % (second-order terms:
+// on the paper job 0.562 predicted against 0.60 measured, 0.521 against
+// 0.57). The full loop's estimate holds the truth within 4 standard errors
+// (a miss has probability 6e-5 per parameter), where the quasi-steady
+// one's largest error is printed.
+TEST(FitTest, QuasiSteadyShiftPastOneStandardErrorRefitsTheFullLoop) {
+  std::ostringstream experiments;
+  for (const std::string name : {"z_sine", "z_step_m5"}) {
+    ExperimentConfig g =
+        LoadExperiment(kRoot + "/testdata/generate/current_loop/" + name + ".yaml");
+    const std::string csv = testing_files::TestTempDir() + name + ".csv";
+    WriteTraceCsv(csv, SimulateExperiment(g, SimulateAxisOptions{}), g.options.channels);
+    experiments << "  - name: " << name << "\n    data: " << csv
+                << "\n    channels: {u: u, a: a, tach: tach, i: i}\n    input: {column: u}\n"
+                << "    fit: {a: 0.02, tach: 0.005}\n";
+  }
+  const auto run = [&](const std::string& refit_above) {
+    std::ostringstream y;
+    y << "model: " << kRoot << "/configs/axes/z_axis.yaml\n"
+      << "configuration: {current_loop: quasi_steady}\n"
+      << "simulation: {step: 1.0e-4, full_loop_refit_above: " << refit_above << "}\n"
+      << kPaperFreeFromTruth
+      << "experiments:\n" << experiments.str()
+      << "solver: {probe_rounds: 0}\n"
+      << "uncertainty: {method: gauss_newton}\n";
+    FitJob job = ParseFitJob(YAML::Load(y.str()), "current_loop.yaml",
+                             testing_files::TestTempDir());
+    job.solver.progress = false;
+    std::ostringstream out;
+    return RunJob(job, false, out);
+  };
+  const std::map<std::string, double> truth = {
+      {"V_L", 2.2}, {"B_a", 180}, {"b_g", 3000}, {"k_g", 1.5e6}, {"T_p", 0.12}};
+  const JobRun quasi = run(".inf");
+  ASSERT_TRUE(quasi.loop_check.ran);
+  EXPECT_FALSE(quasi.loop_check.refitted);
+  EXPECT_GT(quasi.loop_check.largest, 1.0);
+  EXPECT_NE(quasi.result.model_note.find("quasi-steady current loop shifts the estimate"),
+            std::string::npos)
+      << quasi.result.model_note;
+  EXPECT_EQ(quasi.job.model.structure.current_loop, CurrentLoop::kQuasiSteady);
+
+  const JobRun full = run("1");
+  EXPECT_TRUE(full.loop_check.refitted);
+  EXPECT_EQ(full.job.model.structure.current_loop, CurrentLoop::kFull);
+  EXPECT_NE(full.result.model_note.find("refitted"), std::string::npos) << full.result.model_note;
+  double quasi_worst = 0.0;
+  for (size_t k = 0; k < quasi.loop_check.names.size(); ++k) {
+    const std::string& name = quasi.loop_check.names[k];
+    const ParameterEstimate& q = Estimate(quasi.result, name);
+    const ParameterEstimate& f = Estimate(full.result, name);
+    const double predicted = quasi.loop_check.shift_in_se[k];
+    const double measured = (q.value - f.value) / q.std_error;
+    EXPECT_NEAR(measured, predicted, 0.1 + 0.25 * std::abs(predicted)) << name;
+    EXPECT_NEAR(f.value, truth.at(name), 4.0 * f.std_error) << name;
+    quasi_worst = std::max(quasi_worst, std::abs(q.value - truth.at(name)) / q.std_error);
+    RecordProperty(name + "_shift_predicted", std::to_string(predicted));
+    RecordProperty(name + "_shift_measured", std::to_string(measured));
+  }
+  std::cout << "quasi-steady estimate's largest error " << quasi_worst
+            << " standard errors; the check's largest shift " << quasi.loop_check.largest << "\n";
 }
 
 }  // namespace

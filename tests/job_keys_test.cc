@@ -1,6 +1,7 @@
 // Job keys added for the EMPS benchmark (issue 5): the initial state from
 // the first samples (the benchmark's protocol), the published reference
 // beside the fit, and the errors for keys that would otherwise be ignored.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -262,6 +263,44 @@ TEST(JobKeysTest, InfiniteNumbersAreRefusedNamingTheKey) {
     EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
     EXPECT_NE(msg.find("key '" + c.key + "': expected " + c.expected), std::string::npos) << msg;
   }
+}
+
+// A misspelt required key is named at its own line (it read as a missing
+// key at the map's line: `experimnts:` gave "job.yaml:1: key 'experiments':
+// expected a value (required key), got nothing").
+TEST(JobKeysTest, AMisspeltRequiredKeyIsNamedAtItsLine) {
+  std::string text = Job("");
+  const size_t at = text.find("experiments:");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 12, "experimnts:");
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+  const std::string path = Write("misspelt.yaml", text);
+  const std::string msg = LoadError(path);
+  EXPECT_NE(msg.find(path + ":" + std::to_string(line) + ":"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("unknown key 'experimnts' here: misspelt?"), std::string::npos) << msg;
+  const std::string column =
+      LoadError(Write("misspelt_column.yaml", JobWith("{u: u, x: x}", "{colum: u}", "", "")));
+  EXPECT_NE(column.find("key 'experiments[0].input.column'"), std::string::npos) << column;
+  EXPECT_NE(column.find("unknown key 'colum'"), std::string::npos) << column;
+}
+
+// A record whose time column is in ms (1 per sample) is refused naming its
+// file and row: fitted as seconds it was a 100 s record at 1 Hz (a probe
+// of 1.5 s at 1 kHz ran a 1500 s horizon for minutes).
+TEST(JobKeysTest, TimeNotInSecondsIsRefused) {
+  std::string csv = "t,u,x\n";
+  for (int k = 0; k < 100; ++k) {
+    csv += std::to_string(k) + ",1," + std::to_string(0.2 + 0.0005 * k) + "\n";
+  }
+  const std::string data = Write("ramp_ms.csv", csv);
+  std::string text = Job("");
+  const size_t at = text.find(RampCsv());
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, RampCsv().size(), data);
+  const std::string msg = LoadError(Write("time_ms.yaml", text));
+  EXPECT_NE(msg.find(data + ":"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected time in seconds"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("got a period of 1 "), std::string::npos) << msg;
 }
 
 // discover.alpha is a level: in (0, 1), as the fleet's `alpha`; 5 used to

@@ -1,0 +1,62 @@
+// What fitting the quasi-steady current loop (sim/axis_params.h
+// CurrentLoop::kQuasiSteady) instead of the paper's full loop (MODEL.md
+// eq. 3) costs the estimate on the job's own records: the shift of every
+// free parameter, in its standard errors. Its model error was measured on
+// the X axis's steps (tests/axis_model_test.cc: at most 0.022 σ RMS); on
+// other axes and inputs it can be many standard errors (a wrist axis at
+// 2 kHz, a PRBS on the Y axis with a quieter tachometer: shifts up to 13
+// standard errors), so each fit with the option checks it.
+#ifndef FIT_CURRENT_LOOP_CHECK_H_
+#define FIT_CURRENT_LOOP_CHECK_H_
+
+#include <string>
+#include <vector>
+
+#include "fit/fit_result.h"
+#include "fit/job.h"
+
+namespace axis {
+
+// A shift of more than this many standard errors is reported
+// (CurrentLoopCheck::note): at half a standard error a 95 % interval still
+// holds the truth 92 % of the time, at one 83 % (the normal law).
+constexpr double kLoopShiftNote = 0.5;
+
+// The full loop's RK4 step: the paper's (MODEL.md §5), stable to 19.5 µs
+// on the X axis (tests/axis_model_test.cc).
+constexpr double kFullLoopStep = 1e-5;
+
+struct CurrentLoopCheck {
+  bool ran = false;                // the job fits the quasi-steady loop
+  std::vector<std::string> names;  // the free parameters, job order
+  // Estimate of the quasi-steady model on the full model's noise-free
+  // trace at the estimate, minus the estimate (parameter units), and that
+  // over the parameter's std_error (NaN where it has none).
+  std::vector<double> shift;
+  std::vector<double> shift_in_se;
+  double largest = 0.0;            // max |shift_in_se| (0 if none finite)
+  std::string note;                // set when largest > kLoopShiftNote
+  // Set by fit-params (fit/fit.h RunJob) when largest passed the job's
+  // simulation.full_loop_refit_above and the job was refitted with the
+  // full loop at kFullLoopStep.
+  bool refitted = false;
+};
+
+// For a job whose model has an analog_velocity_loop fitted with
+// `current_loop: quasi_steady` (else ran = false, nothing computed):
+// simulates every fitted experiment with the full loop at 10 µs (RK4's
+// stable step for it is 19.5 µs) at the estimate `result`, refits the job's
+// quasi-steady model to those noise-free traces from the estimate (one
+// warm Levenberg–Marquardt run, fit/fit.h AsWarmRefit) and reports how far
+// each free parameter moved: to first order the bias the approximation
+// puts into the estimate (the Gauss–Newton step (JᵀJ)⁻¹Jᵀe of the model
+// error e). `result` must be a fit of `job` with an estimate (its
+// parameters and, for estimated states, initial_states). If the full
+// simulation or the refit fails, ran is true, the shifts NaN and the note
+// says so. Never throws std::invalid_argument for a job LoadFitJob
+// accepted.
+CurrentLoopCheck CheckCurrentLoop(const FitJob& job, const FitResult& result);
+
+}  // namespace axis
+
+#endif  // FIT_CURRENT_LOOP_CHECK_H_
