@@ -5,13 +5,42 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "fit/discovery.h"
 #include "fit/fit.h"
 #include "fit/report.h"
 #include "sim/channels.h"
+#include "sim/preflight.h"
 
 namespace axis {
+
+FitJob WithFullLoop(const FitJob& job, double* step) {
+  FitJob full = job;
+  full.model.structure.current_loop = CurrentLoop::kFull;
+  const Rk4StabilityLimit limit = Rk4StabilityLimitOf(full.model.structure, full.model.params);
+  const double largest = std::min(kFullLoopStep, kFullLoopStabilityMargin * limit.max_step);
+  if (!(largest >= kMinFullLoopStep)) {
+    std::ostringstream why;
+    why << "the full current loop is stable here only below an RK4 step of "
+        << FormatNumber(limit.max_step, 3) << " s (eigenvalue "
+        << FormatNumber(limit.eigenvalue.real(), 3) << " 1/s); expected at least "
+        << FormatNumber(kMinFullLoopStep / kFullLoopStabilityMargin, 3) << " s";
+    throw std::runtime_error(why.str());
+  }
+  double smallest = largest;
+  for (std::vector<FitExperiment>* list : {&full.experiments, &full.validate}) {
+    for (FitExperiment& e : *list) {
+      const double period = e.options.output_period;
+      const double steps = std::ceil(period / largest * (1.0 - 1e-12));
+      e.options.step = period / std::max(1.0, steps);
+      smallest = std::min(smallest, e.options.step);
+    }
+  }
+  if (step != nullptr) *step = smallest;
+  return full;
+}
 
 CurrentLoopCheck CheckCurrentLoop(const FitJob& job, const FitResult& result) {
   CurrentLoopCheck check;
@@ -29,26 +58,37 @@ CurrentLoopCheck CheckCurrentLoop(const FitJob& job, const FitResult& result) {
   // The quasi-steady job at the estimate, its fitted records replaced by the
   // full loop's noise-free traces there.
   FitJob refit = AtEstimate(job, result);
-  AxisStructure full = refit.model.structure;
-  full.current_loop = CurrentLoop::kFull;
   try {
-    for (FitExperiment& e : refit.experiments) {
-      FitExperiment fine = e;
-      fine.options.step = std::min(fine.options.step, kFullLoopStep);
-      const ExperimentFit trace = EvaluateExperiment(full, refit.model.params, fine);
+    const FitJob full = WithFullLoop(refit, &check.full_step);
+    for (size_t i = 0; i < refit.experiments.size(); ++i) {
+      FitExperiment& e = refit.experiments[i];
+      const ExperimentFit trace =
+          EvaluateExperiment(full.model.structure, full.model.params, full.experiments[i]);
       for (size_t c = 0; c < e.measured_channels.size(); ++c) {
         const std::string name = ChannelName(e.measured_channels[c]);
         for (const ChannelFit& f : trace.channels) {
-          if (f.channel == name && f.simulated.size() == e.measured[c].size()) {
-            e.measured[c] = f.simulated;
+          if (f.channel != name) continue;
+          if (f.simulated.size() != e.measured[c].size()) {
+            throw std::runtime_error("the full loop's " + name + " trace of " + e.name +
+                                     " has another length than the record");
           }
+          for (double v : f.simulated) {
+            if (!std::isfinite(v)) {
+              throw std::runtime_error("the full loop's " + name + " trace of " + e.name +
+                                       " leaves the finite numbers");
+            }
+          }
+          e.measured[c] = f.simulated;
         }
       }
     }
     AsWarmRefit(&refit);
     refit.solver.progress = false;
     const FitResult moved = FitParameters(refit, nullptr);
-    bool finite = false;
+    if (!std::isfinite(moved.final_cost)) {
+      throw std::runtime_error("the quasi-steady refit to the full loop's traces failed (" +
+                               moved.termination + ")");
+    }
     for (size_t k = 0; k < n_free; ++k) {
       double before = nan, after = nan, se = nan;
       for (const ParameterEstimate& p : result.parameters) {
@@ -63,12 +103,15 @@ CurrentLoopCheck CheckCurrentLoop(const FitJob& job, const FitResult& result) {
       check.shift[k] = after - before;
       check.shift_in_se[k] = se > 0.0 ? check.shift[k] / se : nan;
       if (std::isfinite(check.shift_in_se[k])) {
-        finite = true;
+        check.measured = true;
         check.largest = std::max(check.largest, std::abs(check.shift_in_se[k]));
       }
     }
-    if (!finite && !std::isfinite(moved.final_cost)) throw std::runtime_error("the refit failed");
   } catch (const std::exception& e) {
+    check.shift.assign(n_free, nan);
+    check.shift_in_se.assign(n_free, nan);
+    check.largest = 0.0;
+    check.measured = false;
     check.note = std::string("the quasi-steady current loop could not be checked against the "
                              "full loop at the estimate: ") + e.what();
     return check;
@@ -86,7 +129,8 @@ CurrentLoopCheck CheckCurrentLoop(const FitJob& job, const FitResult& result) {
     }
     note << "; the quasi-steady fit of the full loop's trace at the estimate, minus the "
             "estimate): fit the full loop (configuration: {current_loop: full}, simulation: "
-            "{step: 1.0e-5}) for estimates and intervals free of it";
+            "{step: "
+         << FormatNumber(check.full_step, 3) << "}) for estimates and intervals free of it";
     check.note = note.str();
   }
   return check;

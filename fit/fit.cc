@@ -130,6 +130,18 @@ std::string QuasiSteadyDelayNote(const FitJob& job, const FitResult& result) {
   return out.str();
 }
 
+// FitResult::residual_note for a fit that ends at s² = `s2` (empty at or
+// below kAutoStartsAbove, or for NaN).
+std::string ResidualNote(double s2) {
+  if (!(s2 > kAutoStartsAbove)) return "";
+  std::ostringstream note;
+  note << "s^2 = " << FormatNumber(s2, 4) << ": the residual RMS is "
+       << FormatNumber(std::sqrt(s2), 3)
+       << " times the declared sigma; a local minimum the starts did not leave (solver.starts), "
+          "an effect the model lacks (fit-params --discover), or sigma set below the noise";
+  return note.str();
+}
+
 // Prints iteration, cost, relative decrease and step norm: one line per
 // iteration, or on a terminal (ProgressStream) the detail of its status
 // line. `plain_lines` false: nothing but that detail (the refits of the
@@ -1138,7 +1150,7 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
       2.0 * best_cost / dof_here > kAutoStartsAbove) {
     const double s2 = 2.0 * best_cost / dof_here;
     if (progress != nullptr) {
-      *progress << "s^2 = " << s2 << " after the job's start (above " << kAutoStartsAbove
+      *progress << "s^2 = " << FormatNumber(s2, 4) << " after the job's start (above " << kAutoStartsAbove
                 << "): fitting again with " << job.solver.auto_starts
                 << " random starts (solver.auto_starts)\n";
     }
@@ -1609,14 +1621,7 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   }
   }
   result.model_note = QuasiSteadyDelayNote(job, result);
-  if (result.residual_variance > kAutoStartsAbove) {
-    std::ostringstream note;
-    note << "s^2 = " << FormatNumber(result.residual_variance, 4)
-         << ": the residual RMS is " << FormatNumber(std::sqrt(result.residual_variance), 3)
-         << " times the declared sigma; a local minimum the starts did not leave (solver.starts), "
-            "an effect the model lacks (fit-params --discover), or sigma set below the noise";
-    result.residual_note = note.str();
-  }
+  result.residual_note = ResidualNote(result.residual_variance);
   result.simulations = p.counter.simulations;
   result.jacobian_evaluations = p.counter.jacobians;
   return result;
@@ -1735,51 +1740,81 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
   // With the quasi-steady current loop: how far the approximation moves the
   // estimate on these records (fit/current_loop_check.h); a note if by more
   // than half a standard error, and past simulation.full_loop_refit_above
-  // standard errors a refit of the paper's full loop at 10 µs from there
-  // (the job's optimum check and uncertainty method; its initial values
-  // reported as the job's).
+  // standard errors (without discovery: its steps, tables and diagnostics
+  // are the quasi-steady model's) a refit of the paper's full loop from
+  // there (WithFullLoop; the job's optimum check and uncertainty method;
+  // its initial values reported as the job's). A refit that fails keeps the
+  // quasi-steady fit, with the note.
   if (job.model.structure.amplifier == Amplifier::kAnalogVelocityLoop &&
       job.model.structure.current_loop == CurrentLoop::kQuasiSteady &&
       result.abandoned_horizon == 0.0) {
     stage("checking the quasi-steady current loop against the full loop");
+    const auto check_start = std::chrono::steady_clock::now();
     run.loop_check = CheckCurrentLoop(job, result);
-    if (run.loop_check.largest > job.full_loop_refit_above) {
+    const double check_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
+    std::string refit_failed;
+    if (!run.discovered && run.loop_check.largest > job.full_loop_refit_above) {
       stage("refitting with the full current loop");
       out << "\n" << run.loop_check.note << "\nRefitting with the full current loop at "
-          << kFullLoopStep << " s from the quasi-steady estimate (simulation."
+          << run.loop_check.full_step << " s from the quasi-steady estimate (simulation."
           << "full_loop_refit_above: " << job.full_loop_refit_above << ")\n";
-      FitJob full = AtEstimate(job, result);
-      full.model.structure.current_loop = CurrentLoop::kFull;
-      for (std::vector<FitExperiment>* list : {&full.experiments, &full.validate}) {
-        for (FitExperiment& e : *list) e.options.step = std::min(e.options.step, kFullLoopStep);
-      }
-      full.solver.starts = 0;
-      full.solver.auto_starts = 0;
-      full.solver.first_horizon = 0.0;
-      FitResult refit = FitParameters(full, &out);
-      for (ParameterEstimate& e : refit.parameters) {
-        for (const ParameterEstimate& before : result.parameters) {
-          if (before.name == e.name) e.initial = before.initial;
+      try {
+        FitJob full = WithFullLoop(AtEstimate(job, result));
+        full.solver.starts = 0;
+        full.solver.auto_starts = 0;
+        full.solver.first_horizon = 0.0;
+        FitResult refit = FitParameters(full, &out);
+        if (!std::isfinite(refit.final_cost) || !refit.converged) {
+          throw std::runtime_error(refit.termination.empty() ? "no estimate" : refit.termination);
         }
+        for (ParameterEstimate& e : refit.parameters) {
+          for (const ParameterEstimate& before : result.parameters) {
+            if (before.name == e.name) e.initial = before.initial;
+          }
+        }
+        // The time and evaluations of the quasi-steady fit and the check
+        // before this fit's own phases.
+        double quasi_seconds = 0.0;
+        int quasi_jacobians = 0;
+        for (const FitPhase& f : result.phases) {
+          quasi_seconds += f.seconds;
+          quasi_jacobians += f.jacobians;
+        }
+        refit.phases.insert(refit.phases.begin(),
+                            {FitPhase{"quasi-steady fit", quasi_seconds, result.simulations,
+                                      quasi_jacobians},
+                             FitPhase{"current loop check", check_seconds, 0, 0}});
+        refit.simulations += result.simulations;
+        refit.jacobian_evaluations += result.jacobian_evaluations;
+        run.loop_check.refitted = true;
+        std::ostringstream note;
+        note << "fitted first with the quasi-steady current loop, which shifted the estimate by "
+                "up to "
+             << FormatNumber(run.loop_check.largest, 3)
+             << " standard errors against the full loop on these records; the values, "
+                "intervals and traces are the full loop's, refitted at "
+             << run.loop_check.full_step
+             << " s from there (simulation.full_loop_refit_above: " << job.full_loop_refit_above
+             << "; the cost's initial value is the full loop's at the quasi-steady estimate)";
+        refit.model_note += (refit.model_note.empty() ? "" : "; ") + note.str();
+        if (!result.auto_starts_note.empty()) {
+          refit.auto_starts_note = "in the quasi-steady fit: " + result.auto_starts_note;
+        }
+        job = std::move(full);
+        result = std::move(refit);
+      } catch (const std::exception& e) {
+        refit_failed = std::string("; the full-loop refit failed (") + e.what() +
+                       "): the values are the quasi-steady fit's";
       }
-      refit.initial_cost = result.initial_cost;
-      run.loop_check.refitted = true;
-      std::ostringstream note;
-      note << "fitted first with the quasi-steady current loop, which shifted the estimate by up "
-              "to "
-           << FormatNumber(run.loop_check.largest, 3)
-           << " standard errors against the full loop on these records; the values, intervals "
-              "and traces are the full loop's, refitted at "
-           << kFullLoopStep << " s from there (simulation.full_loop_refit_above: "
-           << job.full_loop_refit_above << ")";
-      refit.model_note += (refit.model_note.empty() ? "" : "; ") + note.str();
-      refit.auto_starts_note = result.auto_starts_note;
-      job = std::move(full);
-      result = std::move(refit);
-    } else if (!run.loop_check.note.empty()) {
-      result.model_note += (result.model_note.empty() ? "" : "; ") + run.loop_check.note;
+    }
+    if (!run.loop_check.refitted && !run.loop_check.note.empty()) {
+      result.model_note += (result.model_note.empty() ? "" : "; ") + run.loop_check.note +
+                           refit_failed;
     }
   }
+  // The fit's s² settled (the force map's, the full loop's): the warning.
+  result.residual_note = ResidualNote(result.residual_variance);
   if (!run.discovered) {
     // The residual diagnostics of the fitted model, for report.html (with
     // discovery they are those of the declared model, above).
@@ -1838,7 +1873,7 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
     line << "current loop: the quasi-steady fit of the full loop's trace at the estimate moves "
             "no parameter by more than "
          << FormatNumber(run.loop_check.largest, 3) << " standard errors";
-    if (run.loop_check.note.empty() && !run.loop_check.refitted) out << line.str() << "\n";
+    if (run.loop_check.measured && run.loop_check.note.empty()) out << line.str() << "\n";
   }
   if (job.published.present) {
     stage("simulating the published model");

@@ -763,6 +763,10 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
   return job;
 }
 
+// The quick form's σ at least this fraction of the signal's standard
+// deviation (MakeQuickJob).
+constexpr double kQuickSigmaFloor = 1e-4;
+
 FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
                     const std::string& input_column,
                     const std::vector<std::string>& fit_channels,
@@ -792,16 +796,22 @@ FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
     // σ: the noise on the channel, from its second differences; where they
     // are all 0 (a noise-free or linear record), the signal's spread (1 if
     // it is constant), so that the channels are weighted alike.
+    // A noise-free record (synthetic) has second differences at rounding
+    // or curvature level: σ is floored at kQuickSigmaFloor of the signal's
+    // spread (80 dB), so that the channels' weights stay comparable.
     const std::vector<double>& y = data.Column(name);
+    double mean = 0.0, var = 0.0;
+    for (double v : y) mean += v / y.size();
+    for (double v : y) var += (v - mean) * (v - mean) / y.size();
+    const double spread = std::sqrt(var);
     double sigma = DifferenceNoiseSd(y);
     std::string how = "estimated from the record's second differences";
-    if (!(sigma > 0.0)) {
-      double mean = 0.0, var = 0.0;
-      for (double v : y) mean += v / y.size();
-      for (double v : y) var += (v - mean) * (v - mean) / y.size();
-      sigma = var > 0.0 ? std::sqrt(var) : 1.0;
-      how = var > 0.0 ? "the signal's standard deviation (no noise found in its second differences)"
-                      : "1 (the channel is constant)";
+    if (!(sigma > 0.0) && !(spread > 0.0)) {
+      sigma = 1.0;
+      how = "1 (the channel is constant)";
+    } else if (!(sigma >= kQuickSigmaFloor * spread)) {
+      sigma = kQuickSigmaFloor * spread;
+      how = "1e-4 of the signal's standard deviation (the record is nearly noise-free)";
     }
     experiment["fit"][name] = sigma;
     sigma_notes.push_back("fitted channel " + name + ": sigma " + Num(sigma) + ", " + how +

@@ -227,9 +227,9 @@ FitJob ParseFitJob(const YAML::Node& root, const std::string& path,
 // if named *.mat; time column "t", every other column whose name is a
 // channel is measured), open loop
 // with input column `input_column`, fitting `fit_channels` each with σ the
-// noise estimated from its record (fit/statistics.h DifferenceNoiseSd;
-// where that finds none, the signal's standard deviation, or 1 for a
-// constant channel), so that s² ≈ 1 at a fit down to the noise and the
+// noise estimated from its record (fit/statistics.h DifferenceNoiseSd),
+// at least 1e-4 of the signal's standard deviation (a noise-free record),
+// 1 for a constant channel, so that s² ≈ 1 at a fit down to the noise and the
 // score tests of --discover mean what they say; each σ and how it was found
 // is a note of the experiment (FitExperiment::input_notes, printed and
 // reported). Frees `free_names` with initial values from the model and

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "fit/current_loop_check.h"
 #include "fit/experiment_cost.h"
 #include "sim/random.h"
 #include "fit/fit.h"
@@ -194,16 +195,15 @@ const char* const kPaperFreeFromTruth =
 // On data the job's values do not describe, the continuation from the job's
 // start can end in a wrong minimum; fit-params then adds random starts
 // (solver.auto_starts) and says so. The record
-// (testdata/generate/starts/x_step_6V_other_axis.yaml, simulated here: the
-// full current loop at 10 µs, noise seed fixed) is one +6 V step of an X
-// axis with other values, fitted from the paper's values with the
-// quasi-steady loop at 100 µs. Without added starts the fit ends at s²
-// ≈ 96 (T_p 0.017 s for 0.07) and the report warns; with the default 8,
-// every one a finalist, it ends at the noise: s² within 5 SD of 1 (SD
-// √(2/(m − n)) = 0.026 for m = 3002 residuals; the loop's model error
-// adds < 0.001, tests/axis_model_test.cc) and every estimate within 4
-// standard errors of the truth (a miss has probability 6e-5 per parameter
-// at the right minimum).
+// (testdata/generate/starts/x_step_6V_other_axis.yaml, simulated here with
+// the model the job fits, the quasi-steady current loop at 100 µs, noise
+// seed fixed) is one +6 V step of an X axis with other values, fitted from
+// the paper's values. Without added starts the fit ends at s² ≈ 96 (T_p
+// 0.017 s for 0.07) and the report warns; with the default 8, every one a
+// finalist, it ends at the noise: s² within 5 SD of 1 (SD √(2/(m − n)) =
+// 0.026 for m = 3002 residuals) and every estimate within 4 standard
+// errors of the truth (the model is the generating one: a miss has
+// probability 6e-5 per parameter at the right minimum).
 TEST(FitTest, AStartFarAboveTheNoiseAddsRandomStarts) {
   ExperimentConfig generator =
       LoadExperiment(kRoot + "/testdata/generate/starts/x_step_6V_other_axis.yaml");
@@ -316,6 +316,36 @@ TEST(FitTest, QuasiSteadyShiftPastOneStandardErrorRefitsTheFullLoop) {
   }
   std::cout << "quasi-steady estimate's largest error " << quasi_worst
             << " standard errors; the check's largest shift " << quasi.loop_check.largest << "\n";
+}
+
+// The full loop's step (fit/current_loop_check.h WithFullLoop): 10 µs on
+// the paper job's 1 kHz records; on a 3 kHz record the largest step at most
+// 10 µs that divides its period (1/3000 s in 34 steps); refused, naming the
+// limit, where the full loop is stable only below a microsecond (L = 0.1 mH:
+// its eigenvalue −3.3·10⁶ 1/s, the limit 0.83 µs), where the check used to
+// report a shift of 107 standard errors from an unstable integration.
+TEST(FitTest, FullLoopStepDividesTheSamplePeriodAndStaysStable) {
+  const std::string path = testing_files::WriteTemp(
+      "paper.yaml", testing_files::JobTextWithAbsolutePaths("x_axis_paper.yaml"));
+  FitJob job = LoadFitJob(path);
+  double step = 0.0;
+  const FitJob full = WithFullLoop(job, &step);
+  EXPECT_EQ(full.model.structure.current_loop, CurrentLoop::kFull);
+  EXPECT_NEAR(step, 1e-5, 1e-12);
+  for (const FitExperiment& e : full.validate) EXPECT_NEAR(e.options.step, 1e-5, 1e-12);
+  job.experiments[0].options.output_period = 1.0 / 3000.0;
+  const FitJob fast = WithFullLoop(job, &step);
+  EXPECT_NEAR(fast.experiments[0].options.step, 1.0 / 3000.0 / 34.0, 1e-15);
+  EXPECT_NEAR(step, 1.0 / 3000.0 / 34.0, 1e-15);
+  job.model.params.L = 1e-4;
+  try {
+    WithFullLoop(job);
+    ADD_FAILURE() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("stable here only below an RK4 step of 8.3"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
