@@ -66,10 +66,15 @@ std::string IntegrationNote(const FitJob& job) {
 // FitResult::stop_note (fit/fit_result.h): why a stop on Ceres' parameter
 // tolerance on a model that quantises its position feedback may depend on
 // the path; empty otherwise.
-std::string QuantisedFeedbackStopNote(const AxisConfig& model,
+std::string QuantisedFeedbackStopNote(const FitJob& job,
                                       const ceres::Solver::Summary& summary) {
+  const AxisConfig& model = job.model;
   const ControllerConfig& c = model.controller;
-  if (!model.has_controller || summary.termination_type != ceres::CONVERGENCE ||
+  // Only a fitted record in closed loop feeds the quantised position back
+  // (an open-loop record driven by its u column has no controller in it).
+  bool closed_loop = false;
+  for (const FitExperiment& e : job.experiments) closed_loop = closed_loop || e.drive.closed_loop;
+  if (!model.has_controller || !closed_loop || summary.termination_type != ceres::CONVERGENCE ||
       summary.message.rfind("Parameter tolerance", 0) != 0) {
     return "";
   }
@@ -449,6 +454,12 @@ Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, double* theta, int n,
                                   int threads) {
   Eigen::MatrixXd out =
       Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::quiet_NaN());
+  // A Jacobian with non-finite entries (a hypersensitive full-loop record
+  // whose sensitivities overflow only in some entries) crashed Eigen's SVD
+  // inside ceres::Covariance (SIGSEGV in JacobiSVD::compute, a probe's Y
+  // axis chirp at 500 Hz): no covariance then.
+  Eigen::MatrixXd jtj;
+  if (!GaussNewtonMatrix(problem, n, &jtj) || !jtj.allFinite()) return out;
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::DENSE_SVD;
   co.num_threads = threads;
@@ -1482,7 +1493,7 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   result.final_cost = best_cost;
   result.converged = best_summary.termination_type == ceres::CONVERGENCE;
   result.termination = best_summary.message;
-  result.stop_note = QuantisedFeedbackStopNote(job.model, best_summary);
+  result.stop_note = QuantisedFeedbackStopNote(job, best_summary);
   result.integration = IntegrationNote(job);
   result.iterations = static_cast<int>(best_summary.iterations.size()) - 1;
 

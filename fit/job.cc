@@ -344,13 +344,13 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
   e.t_offset = time[first];
   const double period = (time[first + count - 1] - time[first]) / (count - 1);
   // A servo axis's dynamics (the 5 ms controller, the gear resonance, the
-  // preamp's T_p) are milliseconds: a record sampled slower than 10 Hz sees
+  // preamp's T_p) are milliseconds: a record sampled slower than 50 Hz sees
   // none of them, and is most likely one whose time column is not in
   // seconds (a 1 kHz record in ms reads as 1 s per sample, and its fit as
   // a horizon of minutes).
   if (period > kMaxSamplePeriod) {
     throw std::invalid_argument(
-        data.RowLocation(first + 1) + ": expected time in seconds sampled at 10 Hz or faster " +
+        data.RowLocation(first + 1) + ": expected time in seconds sampled at 50 Hz or faster " +
         "(a sample period of at most " + Num(kMaxSamplePeriod) + " s), got a period of " +
         Num(period) + " (is the time column in ms? convert it to s)");
   }

@@ -55,9 +55,10 @@ struct FitExperiment {
 };
 
 // The longest sample period (s) of a record LoadFitJob accepts: slower than
-// 10 Hz a record sees none of a servo axis's dynamics (milliseconds), and
-// it is most likely one whose time column is not in seconds.
-constexpr double kMaxSamplePeriod = 0.1;
+// 50 Hz a record sees none of a servo axis's dynamics (the 5 ms controller,
+// the gear resonance, T_p: milliseconds), and it is most likely one whose
+// time column is in ms (1–20 kHz records then read as periods of 1–0.05).
+constexpr double kMaxSamplePeriod = 0.02;
 
 // A free parameter: a VisitParams name, its initial value and bounds.
 // Positive parameters (lower > 0) are optimised as log(value); the others as
