@@ -304,11 +304,6 @@ std::string CheckpointMismatch(const HorizonCheckpoint& checkpoint,
   return "";
 }
 
-// Free parameters (the first n_free of θ) that lie in the numerical null
-// space of the weighted Jacobian at the current θ: the columns are scaled to
-// unit norm (so units do not matter), and a parameter is in the null space if
-// it has a component above 0.1 in an eigenvector of JᵀJ whose eigenvalue is
-// below 1e-10 of the largest (or if its column is zero).
 // JᵀJ of the weighted residuals over the first n entries of θ at the
 // current θ (the Gauss–Newton approximation of the cost's Hessian), or false
 // if the Jacobian cannot be evaluated there.
@@ -449,9 +444,11 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
 
 // Covariance (JᵀJ)⁻¹ of the single parameter block `theta` (size n) of
 // `problem` by ceres::Covariance (DENSE_SVD); the pseudo-inverse with the
-// null space dropped if JᵀJ is rank deficient; NaN where neither works.
+// null space dropped if JᵀJ is rank deficient; NaN where neither works or
+// JᵀJ is not finite. *jtj_out (if not null) receives JᵀJ (n×n; empty if
+// the Jacobian could not be evaluated), for NullSpaceMembersOf.
 Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, double* theta, int n,
-                                  int threads) {
+                                  int threads, Eigen::MatrixXd* jtj_out) {
   Eigen::MatrixXd out =
       Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::quiet_NaN());
   // A Jacobian with non-finite entries (a hypersensitive full-loop record
@@ -459,7 +456,9 @@ Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, double* theta, int n,
   // inside ceres::Covariance (SIGSEGV in JacobiSVD::compute, a probe's Y
   // axis chirp at 500 Hz): no covariance then.
   Eigen::MatrixXd jtj;
-  if (!GaussNewtonMatrix(problem, n, &jtj) || !jtj.allFinite()) return out;
+  const bool evaluated = GaussNewtonMatrix(problem, n, &jtj);
+  if (jtj_out != nullptr) *jtj_out = evaluated ? jtj : Eigen::MatrixXd();
+  if (!evaluated || !jtj.allFinite()) return out;
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::DENSE_SVD;
   co.num_threads = threads;
@@ -483,12 +482,14 @@ Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, double* theta, int n,
   return out;
 }
 
-std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free) {
+// Free parameters (the first n_free of θ) that lie in the numerical null
+// space of the weighted Jacobian whose JᵀJ over them is `jtj` (n_free ×
+// n_free): the columns are scaled to unit norm (so units do not matter),
+// and a parameter is in the null space if it has a component above 0.1 in
+// an eigenvector of JᵀJ whose eigenvalue is below 1e-10 of the largest (or
+// if its column is zero).
+std::vector<bool> NullSpaceMembersOf(const Eigen::MatrixXd& jtj, int n_free) {
   std::vector<bool> out(n_free, false);
-  Eigen::MatrixXd jtj;
-  if (!GaussNewtonMatrix(problem, n_free, &jtj)) {
-    return std::vector<bool>(n_free, true);
-  }
   Eigen::VectorXd scale(n_free);
   for (int k = 0; k < n_free; ++k) {
     scale[k] = jtj(k, k) > 0.0 ? 1.0 / std::sqrt(jtj(k, k)) : 0.0;
@@ -504,6 +505,16 @@ std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free) {
     }
   }
   return out;
+}
+
+// NullSpaceMembersOf the Jacobian of `problem` at the current θ; every
+// parameter if it cannot be evaluated there.
+std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free) {
+  Eigen::MatrixXd jtj;
+  if (!GaussNewtonMatrix(problem, n_free, &jtj)) {
+    return std::vector<bool>(n_free, true);
+  }
+  return NullSpaceMembersOf(jtj, n_free);
 }
 
 // One progress line for a continuation stage that failed, with the free
@@ -1323,6 +1334,11 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   Eigen::MatrixXd cov_theta;
   RatioScan scan;
   ProfileScan profile;
+  // JᵀJ of the last covariance and the point it was evaluated at: the null
+  // space below reuses it if the estimate has not moved since (one
+  // Jacobian of the whole record less).
+  Eigen::MatrixXd jtj_at;
+  std::vector<double> jtj_point;
   int ratio_restarts = 0;
   constexpr int kLocalPasses = 3;
   int local_passes = 0;
@@ -1331,9 +1347,11 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
     result.residual_dof = dof;
     std::optional<PhaseTimer> timer(std::in_place, "covariance", p.counter, &result);
     cov_theta = std::isfinite(best_cost)
-                    ? CovarianceOfTheta(&full_problem, theta, theta_size, job.solver.threads)
+                    ? CovarianceOfTheta(&full_problem, theta, theta_size, job.solver.threads,
+                                        &jtj_at)
                     : Eigen::MatrixXd::Constant(theta_size, theta_size,
                                                 std::numeric_limits<double>::quiet_NaN());
+    jtj_point = p.theta;
     timer.reset();
     if (!std::isfinite(best_cost)) break;
     // Local restarts: Levenberg–Marquardt from θ* ± local_starts standard
@@ -1514,7 +1532,10 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   std::vector<bool> determined(n_free, true);
   if (std::isfinite(best_cost)) {
     PhaseTimer timer("covariance", p.counter, &result);
-    const std::vector<bool> null = NullSpaceMembers(&full_problem, n_free);
+    const std::vector<bool> null =
+        jtj_point == p.theta && jtj_at.rows() == theta_size
+            ? NullSpaceMembersOf(jtj_at.topLeftCorner(n_free, n_free), n_free)
+            : NullSpaceMembers(&full_problem, n_free);
     for (int i = 0; i < n_free; ++i) determined[i] = !null[i];
   }
   // Both members of a nearly collinear pair are undetermined: the pairs are
