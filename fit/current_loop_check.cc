@@ -21,7 +21,7 @@ FitJob WithFullLoop(const FitJob& job, double* step) {
   full.model.structure.current_loop = CurrentLoop::kFull;
   const Rk4StabilityLimit limit = Rk4StabilityLimitOf(full.model.structure, full.model.params);
   const double largest = std::min(kFullLoopStep, kFullLoopStabilityMargin * limit.max_step);
-  if (!(largest >= kMinFullLoopStep)) {
+  if (!(limit.max_step > 0.0) || !(largest >= kMinFullLoopStep)) {
     std::ostringstream why;
     why << "the full current loop is stable here only below an RK4 step of "
         << FormatNumber(limit.max_step, 3) << " s (eigenvalue "
@@ -32,9 +32,10 @@ FitJob WithFullLoop(const FitJob& job, double* step) {
   double smallest = largest;
   for (std::vector<FitExperiment>* list : {&full.experiments, &full.validate}) {
     for (FitExperiment& e : *list) {
-      const double period = e.options.output_period;
-      const double steps = std::ceil(period / largest * (1.0 - 1e-12));
-      e.options.step = period / std::max(1.0, steps);
+      // The job's step divides the sample period and, in closed loop, the
+      // controller's period T_s: a whole fraction of it divides both.
+      const double steps = std::ceil(e.options.step / largest * (1.0 - 1e-12));
+      e.options.step /= std::max(1.0, steps);
       smallest = std::min(smallest, e.options.step);
     }
   }

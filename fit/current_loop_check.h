@@ -54,9 +54,10 @@ struct CurrentLoopCheck {
 
 // A copy of `job` with the paper's full current loop (CurrentLoop::kFull)
 // at its model's parameters (for a fit's estimate: AtEstimate first), every
-// experiment (fitted and validated) integrated at the largest step that
-// divides its sample period and is at most kFullLoopStep and
-// kFullLoopStabilityMargin of the full loop's RK4 stability limit there (sim/preflight.h Rk4StabilityLimitOf;
+// experiment (fitted and validated) integrated at the largest whole
+// fraction of its own step (which divides its sample period and, in closed
+// loop, T_s) that is at most kFullLoopStep and kFullLoopStabilityMargin of
+// the full loop's RK4 stability limit there (sim/preflight.h Rk4StabilityLimitOf;
 // 19.5 µs on the X axis, so 10 µs at 1 kHz). *step, if not null, receives
 // the smallest step used. Throws std::runtime_error naming the limit if
 // that step would be below kMinFullLoopStep or the limit is not finite.

@@ -1840,9 +1840,11 @@ JobRun RunJob(FitJob job, bool discover, std::ostream& out) {
                        "): the values are the quasi-steady fit's";
       }
     }
-    if (!run.loop_check.refitted && !run.loop_check.note.empty()) {
-      result.model_note += (result.model_note.empty() ? "" : "; ") + run.loop_check.note +
-                           refit_failed;
+    if (!run.loop_check.refitted && (!run.loop_check.note.empty() || !refit_failed.empty())) {
+      const std::string note = run.loop_check.note.empty()
+                                   ? refit_failed.substr(2)  // without its leading "; "
+                                   : run.loop_check.note + refit_failed;
+      result.model_note += (result.model_note.empty() ? "" : "; ") + note;
     }
   }
   // The fit's s² settled (the force map's, the full loop's): the warning.

@@ -319,8 +319,9 @@ TEST(FitTest, QuasiSteadyShiftPastOneStandardErrorRefitsTheFullLoop) {
 }
 
 // The full loop's step (fit/current_loop_check.h WithFullLoop): 10 µs on
-// the paper job's 1 kHz records; on a 3 kHz record the largest step at most
-// 10 µs that divides its period (1/3000 s in 34 steps); refused, naming the
+// the paper job's 1 kHz records (its step 100 µs in 10); on a 3 kHz record
+// fitted at 1/9000 s the largest whole fraction of that step at most 10 µs
+// (12 of them: 1/108000 s, 36 per sample); refused, naming the
 // limit, where the full loop is stable only below a microsecond (L = 0.1 mH:
 // its eigenvalue −3.3·10⁶ 1/s, the limit 0.83 µs), where the check used to
 // report a shift of 107 standard errors from an unstable integration.
@@ -334,9 +335,10 @@ TEST(FitTest, FullLoopStepDividesTheSamplePeriodAndStaysStable) {
   EXPECT_NEAR(step, 1e-5, 1e-12);
   for (const FitExperiment& e : full.validate) EXPECT_NEAR(e.options.step, 1e-5, 1e-12);
   job.experiments[0].options.output_period = 1.0 / 3000.0;
+  job.experiments[0].options.step = 1.0 / 9000.0;
   const FitJob fast = WithFullLoop(job, &step);
-  EXPECT_NEAR(fast.experiments[0].options.step, 1.0 / 3000.0 / 34.0, 1e-15);
-  EXPECT_NEAR(step, 1.0 / 3000.0 / 34.0, 1e-15);
+  EXPECT_NEAR(fast.experiments[0].options.step, 1.0 / 108000.0, 1e-15);
+  EXPECT_NEAR(step, 1.0 / 108000.0, 1e-15);
   job.model.params.L = 1e-4;
   try {
     WithFullLoop(job);
