@@ -182,6 +182,20 @@ class ProgressPrinter : public ceres::IterationCallback {
   bool plain_lines_;
 };
 
+// Adds `phase`'s time and evaluations to the phase of that name in
+// result->phases (appended, in first-run order, if it has none yet).
+void AddPhase(const FitPhase& phase, FitResult* result) {
+  auto it = std::find_if(result->phases.begin(), result->phases.end(),
+                         [&](const FitPhase& f) { return f.name == phase.name; });
+  if (it == result->phases.end()) {
+    result->phases.push_back(phase);
+    return;
+  }
+  it->seconds += phase.seconds;
+  it->simulations += phase.simulations;
+  it->jacobians += phase.jacobians;
+}
+
 // Adds the wall time and evaluations between construction and destruction
 // to the phase `name` of *result (FitResult::phases).
 class PhaseTimer {
@@ -191,15 +205,11 @@ class PhaseTimer {
         start_(std::chrono::steady_clock::now()),
         simulations_(counter.simulations), jacobians_(counter.jacobians) {}
   ~PhaseTimer() {
-    auto it = std::find_if(result_->phases.begin(), result_->phases.end(),
-                           [&](const FitPhase& f) { return f.name == name_; });
-    if (it == result_->phases.end()) {
-      result_->phases.push_back(FitPhase{name_});
-      it = result_->phases.end() - 1;
-    }
-    it->seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    it->simulations += counter_.simulations - simulations_;
-    it->jacobians += counter_.jacobians - jacobians_;
+    AddPhase(FitPhase{name_,
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
+                          .count(),
+                      counter_.simulations - simulations_, counter_.jacobians - jacobians_},
+             result_);
   }
   PhaseTimer(const PhaseTimer&) = delete;
   PhaseTimer& operator=(const PhaseTimer&) = delete;
@@ -1165,12 +1175,12 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   // starts reached s² = 1.0 in a third of the time). Fit again with
   // solver.auto_starts random starts (the job's start among them, so the
   // result is never worse); its starts phase includes this one's.
-  const double dof_here = std::max(1, num_residuals - theta_size);
+  const int dof = std::max(1, num_residuals - theta_size);
+  const double s2 = 2.0 * best_cost / dof;  // the job's start's
   if (job.solver.auto_starts > 0 && job.solver.starts == 0 && !job.discover.enabled &&
       pending == nullptr && resume == nullptr && stop_after == 0.0 &&
       !(abandon_above < std::numeric_limits<double>::infinity()) && std::isfinite(best_cost) &&
-      2.0 * best_cost / dof_here > kAutoStartsAbove) {
-    const double s2 = 2.0 * best_cost / dof_here;
+      s2 > kAutoStartsAbove) {
     if (progress != nullptr) {
       *progress << "s^2 = " << FormatNumber(s2, 4) << " after the job's start (above " << kAutoStartsAbove
                 << "): fitting again with " << job.solver.auto_starts
@@ -1187,16 +1197,7 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
     // nine one random start reached s² = 1.0).
     again.solver.finalists = std::max(job.solver.finalists, again.solver.starts + 1);
     FitResult wider = FitAndKeepLevel(again, progress);
-    for (const FitPhase& f : result.phases) {
-      auto it = std::find_if(wider.phases.begin(), wider.phases.end(),
-                             [&](const FitPhase& g) { return g.name == f.name; });
-      if (it == wider.phases.end()) it = wider.phases.insert(wider.phases.begin(), f);
-      else {
-        it->seconds += f.seconds;
-        it->simulations += f.simulations;
-        it->jacobians += f.jacobians;
-      }
-    }
+    for (const FitPhase& f : result.phases) AddPhase(f, &wider);
     wider.simulations += p.counter.simulations;
     wider.jacobian_evaluations += p.counter.jacobians;
     std::ostringstream note;
@@ -1317,7 +1318,6 @@ FitResult FitAndKeepLevel(const FitJob& job, std::ostream* progress) {
   // Covariance of θ (Gauss–Newton, DENSE_SVD) and, for the likelihood-ratio
   // method, the scan of the cost along the profile directions; a scan that
   // meets a lower cost restarts the solver there and checks the optimum again.
-  const int dof = std::max(1, num_residuals - theta_size);
   const double t975 = StudentTQuantile975(dof);
   const bool ratio_method =
       job.uncertainty.method == UncertaintySettings::Method::kLikelihoodRatio &&
