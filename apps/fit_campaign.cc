@@ -1,7 +1,7 @@
 // fit-campaign CAMPAIGN.yaml [--out DIR] [--jobs N] [--first N] [--last N]
 //   mpirun -np N fit-campaign ...   (or srun -n N under Slurm; alone: one process)
 //
-// Runs a Monte Carlo campaign (fit/campaign.h): the campaign's fitting job
+// Runs a Monte Carlo campaign (run/campaign.h): the campaign's fitting job
 // on freshly simulated data for every seed, the discovery loop after each
 // fit, and one table of false discoveries, power, coverage and verdicts;
 // the seeds spread over MPI ranks or over the threads of one process
@@ -18,8 +18,8 @@
 
 #include "apps/integer_option.h"
 #include "apps/mpi_command_line.h"
-#include "fit/campaign.h"
 #include "fleet/campaign_run.h"
+#include "run/campaign.h"
 
 int main(int argc, char** argv) {
   google::InitGoogleLogging(argv[0]);

@@ -2,7 +2,7 @@
 // fit-params --model M.yaml --data D.csv --input u --fit a,tach
 //            --free V_L,B_a,b_g,k_g,T_p [--out DIR]
 //
-// Estimates the free parameters of a model from recorded traces (fit/fit.h).
+// Estimates the free parameters of a model from recorded traces (estimation/fit.h).
 // Exit codes: 0 success, 2 bad input (command line, job, data), 1 other,
 // 130/143 interrupted by SIGINT/SIGTERM (nothing written; sim/interrupt.h).
 #include <unistd.h>
@@ -15,8 +15,8 @@
 #include <CLI/CLI.hpp>
 #include <glog/logging.h>
 
-#include "fit/fit.h"
-#include "fit/progress.h"
+#include "common/progress.h"
+#include "run/fit_params.h"
 #include "sim/interrupt.h"
 
 int main(int argc, char** argv) {
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   // On a terminal the progress is one updating line; in a pipe or a file,
-  // plain lines (fit/progress.h).
+  // plain lines (common/progress.h).
   options.progress_columns = axis::TerminalColumns(STDOUT_FILENO);
   try {
     axis::RunFitParams(options, std::cout, std::cerr);

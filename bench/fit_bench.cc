@@ -6,9 +6,12 @@
 
 #include <string>
 
-#include "fit/discovery.h"
-#include "fit/fit.h"
-#include "fit/job.h"
+#include "discovery/discovery.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/discovery_settings.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
 
 namespace {
 

@@ -13,8 +13,8 @@
 
 #include "sim/axis_model.h"
 #include "sim/config.h"
-#include "sim/simulate.h"
 #include "sim/rk4.h"
+#include "sim/simulate.h"
 
 namespace {
 

@@ -9,7 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit/report.h"
+#include "common/output_staging.h"
+#include "run/campaign.h"
 
 namespace axis {
 

@@ -1,4 +1,4 @@
-// fit-campaign (issue 10's Monte Carlo campaigns, fit/campaign.h) on the
+// fit-campaign (issue 10's Monte Carlo campaigns, run/campaign.h) on the
 // fleet's engine (issue 12): the seeds of a campaign spread over MPI ranks
 // by the work queue of fleet/mpi_queue.h, one seed per rank at a time, or
 // over the threads of one process when run without mpirun.
@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "fit/campaign.h"
 #include "fleet/mpi_queue.h"
+#include "run/campaign.h"
 
 namespace axis {
 

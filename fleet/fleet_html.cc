@@ -3,8 +3,8 @@
 #include <cmath>
 #include <vector>
 
-#include "fit/html_report.h"
-#include "fit/report.h"
+#include "common/format.h"
+#include "report/html_report.h"
 
 namespace axis {
 namespace {

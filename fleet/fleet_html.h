@@ -1,5 +1,5 @@
 // fleet.html (issues 12 and 14): the fleet table as one self-contained page
-// (fit/html_report.h's style sheet and sorting script inline; nothing
+// (report/html_report.h's style sheet and sorting script inline; nothing
 // loaded): the changes since the baseline on top, one row per axis and log,
 // sortable by a click on any header, each axis linking to its own
 // report.html (<axis>/<log>/report.html beside fleet.html), the failed jobs

@@ -7,7 +7,8 @@
 #include <optional>
 #include <stdexcept>
 
-#include "fit/report.h"
+#include "common/format.h"
+#include "common/output_staging.h"
 
 namespace axis {
 namespace {

@@ -11,11 +11,14 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "fit/diagnostics.h"
-#include "fit/fit.h"
-#include "fit/json_fields.h"
-#include "fit/report.h"
+#include "common/format.h"
+#include "common/json_fields.h"
+#include "discovery/diagnostics.h"
+#include "estimation/fit_result.h"
 #include "fleet/fleet_html.h"
+#include "job/fit_job.h"
+#include "run/job_run.h"
+#include "run/write_job_run.h"
 #include "sim/channels.h"
 #include "sim/config.h"
 #include "sim/csv.h"

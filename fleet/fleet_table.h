@@ -17,7 +17,7 @@
 
 namespace axis {
 
-// A free parameter of a job's final fit (fit/fit_result.h ParameterEstimate).
+// A free parameter of a job's final fit (estimation/fit_result.h ParameterEstimate).
 struct FleetParameter {
   std::string name, unit;   // MODEL.md name and SI unit
   double value = 0.0;
@@ -26,7 +26,7 @@ struct FleetParameter {
   bool determined = true;   // false: the data cannot determine it
 };
 
-// The goodness of fit of one channel (fit/fit_result.h ChannelFit): the
+// The goodness of fit of one channel (estimation/fit_result.h ChannelFit): the
 // fitted channels of the fitted experiments, and the measured channels
 // other than u of the validation experiments.
 struct FleetChannelFit {
@@ -50,7 +50,7 @@ struct FleetRow {
   std::vector<std::string> effects;
   bool discovery = false;
   std::vector<std::string> discovered;
-  // The residual verdict of the final model (fit/diagnostics.h
+  // The residual verdict of the final model (discovery/diagnostics.h
   // JudgeResiduals at the job's discover.alpha): "explained" or
   // "incomplete" ("" if not judged), s² in σ units, and what remains.
   std::string verdict;

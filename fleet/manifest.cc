@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
 #include "sim/yaml_util.h"
 
 namespace axis {

@@ -15,7 +15,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "fit/job.h"
+#include "job/fit_job.h"
 
 namespace axis {
 

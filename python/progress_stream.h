@@ -1,5 +1,5 @@
 // A std::ostream whose lines go to a Python callable: how the fit's
-// progress lines (fit/fit.h RunJob prints them to a std::ostream) reach
+// progress lines (run/job_run.h RunJob prints them to a std::ostream) reach
 // servo_axis_id.fit(..., progress=callback) while the fit runs with the GIL
 // released.
 #ifndef PYTHON_PROGRESS_STREAM_H_
@@ -12,6 +12,7 @@
 #include <string>
 
 #include <pybind11/pybind11.h>
+#include "common/progress.h"
 
 namespace axis::python {
 

@@ -21,11 +21,17 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "fit/fit.h"
-#include "fit/job.h"
-#include "fit/report.h"
+#include "common/progress.h"
+#include "discovery/discovery.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
 #include "python/progress_stream.h"
 #include "python/yaml_from_python.h"
+#include "report/published.h"
+#include "report/report.h"
+#include "run/job_run.h"
+#include "run/write_job_run.h"
 #include "sim/channels.h"
 #include "sim/config.h"
 #include "sim/experiment.h"
@@ -245,7 +251,7 @@ const ChannelFit& ChannelNamed(const ExperimentFit& e, const std::string& name) 
 }
 
 void DefineJob(py::module_& m) {
-  py::class_<FreeParameter>(m, "FreeParameter", "A free parameter of a job (fit/job.h).")
+  py::class_<FreeParameter>(m, "FreeParameter", "A free parameter of a job (job/fit_job.h).")
       .def_readonly("name", &FreeParameter::name)
       .def_readonly("unit", &FreeParameter::unit)
       .def_readonly("initial", &FreeParameter::initial)

@@ -10,7 +10,7 @@
 // (natural end conditions; de Boor, "A Practical Guide to Splines", 2001,
 // ch. IV), and held at the end value outside [t_0, t_{K−1}] (no
 // extrapolation past the range the data visited). The fit's roughness
-// penalty acts on the second differences of the values (fit/force_map.h;
+// penalty acts on the second differences of the values (discovery/force_map.h;
 // Eilers & Marx 1996, "Flexible smoothing with B-splines and penalties").
 #ifndef SIM_FORCE_MAP_H_
 #define SIM_FORCE_MAP_H_

@@ -1,4 +1,4 @@
-// The job key `benchmark:` (fit/benchmark.h, issue 16) on
+// The job key `benchmark:` (run/benchmark.h, issue 16) on
 // configs/jobs/emps_benchmark.yaml: its strict loader, the criteria's jobs,
 // the table against the runs it reports, and the benchmark's rule that the
 // test run is never fitted and never chooses an effect.
@@ -15,9 +15,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "fit/benchmark.h"
-#include "fit/fit.h"
-#include "fit/job.h"
+#include "job/benchmark_settings.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "run/benchmark.h"
+#include "run/fit_params.h"
+#include "run/job_run.h"
 #include "tests/test_files.h"
 
 namespace axis {
@@ -123,7 +126,7 @@ TEST(BenchmarkJobTest, BadKeysNameTheKeyAndWhatWasExpected) {
        "    reference: {column: qg_m}\n    fit: {x: 5.0e-6, u: 0.1}\n    initial_state: estimate\n",
        "key 'benchmark.criteria.open_loop': expected every experiment with 'initial_state: "
        "estimate' (its state is fitted, it cannot only be simulated), got a list without 'emps'"},
-      // Names are unique over both lists (fit/job.cc), so the score cannot
+      // Names are unique over both lists (job/load_fit_job.cc), so the score cannot
       // find a fitted run by a shared name.
       {"  - name: emps_pulses_open_loop\n", "  - name: emps_open_loop\n",
        "key 'validate[1].name': expected a name no other experiment of the job has, got "

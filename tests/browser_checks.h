@@ -22,7 +22,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "fit/report.h"
+#include "common/gnuplot.h"
 #include "tests/test_files.h"
 
 namespace axis {

@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "run/campaign.h"
 #include "tests/test_files.h"
 
 namespace axis {

@@ -1,4 +1,4 @@
-// The Monte Carlo campaign (fit/campaign.h, fit-campaign): the strict
+// The Monte Carlo campaign (run/campaign.h, fit-campaign): the strict
 // loader, the Clopper–Pearson rates against closed forms, and a small
 // campaign end to end (a 0.4 s sine record, B_a alone free, no discovery):
 // every seed draws its own noise, the tallies match the per-seed outcomes,
@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "fit/campaign.h"
+#include "run/campaign.h"
 #include "sim/config.h"
 #include "tests/campaign_files.h"
 #include "tests/test_files.h"
@@ -95,7 +95,7 @@ TEST(CampaignTest, StrictLoader) {
   std::ofstream(path) << "job: job.yaml\ngenerate: {other: sine.yaml}\n" << ok;
   e = ErrorLoading(path);
   EXPECT_NE(e.find("experiment 'sine'"), std::string::npos) << e;
-  // A job with benchmark criteria (fit/benchmark.h): fit-params runs them,
+  // A job with benchmark criteria (run/benchmark.h): fit-params runs them,
   // a campaign would fit all its experiments at once; refused by name.
   std::ofstream(path) << "job: job.yaml\ngenerate: {sine: sine.yaml}\n" << ok;
   std::ofstream(testing_files::TestTempDir() + "job.yaml", std::ios::app)

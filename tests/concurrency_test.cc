@@ -1,6 +1,6 @@
-// ForEachConcurrently (fit/concurrency.h): every item once, on the threads
+// ForEachConcurrently (common/concurrency.h): every item once, on the threads
 // asked for, and the lowest item's exception after all items have run.
-#include "fit/concurrency.h"
+#include "common/concurrency.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,4 +1,4 @@
-// The Jet Jacobian of a fit cost (fit/experiment_cost.h) against central
+// The Jet Jacobian of a fit cost (estimation/experiment_cost.h) against central
 // differences, shared by the suites that check derivatives.
 #ifndef TESTS_COST_CHECKS_H_
 #define TESTS_COST_CHECKS_H_
@@ -10,8 +10,8 @@
 
 #include <ceres/ceres.h>
 
-#include "fit/experiment_cost.h"
-#include "fit/job.h"
+#include "estimation/experiment_cost.h"
+#include "job/fit_job.h"
 
 namespace axis {
 namespace testing_files {
@@ -62,7 +62,7 @@ inline std::vector<ColumnCheck> CheckJacobian(const ceres::CostFunction& cost,
 }
 
 // CheckJacobian for the cost of the job's first experiment at its initial
-// values (θ in the optimised coordinates of fit/experiment_cost.h).
+// values (θ in the optimised coordinates of estimation/experiment_cost.h).
 inline std::vector<ColumnCheck> CheckJobJacobian(const FitJob& job, double step) {
   const ParameterMap map(job.model.params, job.free);
   EvaluationCounter counter;

@@ -1,4 +1,4 @@
-// The residual diagnostics (fit/diagnostics.h) against residuals planted in
+// The residual diagnostics (discovery/diagnostics.h) against residuals planted in
 // noise-free data: a step in the arm velocity shows in the bins of v with
 // the planted bin means, and a residual that follows the input 7 samples
 // late shows as a cross-correlation peak at lag 7.
@@ -9,9 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "fit/diagnostics.h"
-#include "fit/job.h"
-#include "fit/statistics.h"
+#include "common/statistics.h"
+#include "discovery/diagnostics.h"
+#include "estimation/fit_result.h"
+#include "job/load_fit_job.h"
 #include "sim/config.h"
 #include "sim/csv.h"
 #include "sim/experiment.h"

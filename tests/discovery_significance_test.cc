@@ -1,4 +1,4 @@
-// EffectWald (fit/discovery.h), the significance test of an effect in the
+// EffectWald (discovery/discovery.h), the significance test of an effect in the
 // final model against its off value, against hand-computed Wald statistics.
 #include <cmath>
 #include <stdexcept>
@@ -7,8 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "fit/discovery.h"
-#include "fit/statistics.h"
+#include "common/statistics.h"
+#include "discovery/discovery.h"
+#include "estimation/fit_result.h"
 
 namespace axis {
 namespace {

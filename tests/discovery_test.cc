@@ -14,11 +14,17 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include "fit/campaign.h"
-#include "fit/discovery.h"
-#include "fit/fit.h"
-#include "fit/job.h"
-#include "fit/statistics.h"
+#include "common/statistics.h"
+#include "discovery/diagnostics.h"
+#include "discovery/discovery.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/discovery_settings.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "run/campaign.h"
+#include "run/job_run.h"
+#include "run/write_job_run.h"
 #include "sim/csv.h"
 #include "sim/experiment.h"
 #include "tests/test_files.h"

@@ -10,10 +10,13 @@
 
 #include <gtest/gtest.h>
 
-#include "fit/discovery.h"
-#include "fit/fit.h"
-#include "fit/job.h"
-#include "fit/statistics.h"
+#include "common/statistics.h"
+#include "discovery/discovery.h"
+#include "estimation/evaluate_experiment.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
 #include "sim/csv.h"
 #include "sim/experiment.h"
 #include "tests/test_files.h"
@@ -108,7 +111,7 @@ TEST(EmpsJobTest, EndPointDoesNotDependOnTheStart) {
     f_c.initial = 15;
     f_c.lower = 0.1;
     f_c.upper = 200;
-    f_c.log = true;  // as the loader sets it for a positive lower bound (fit/job.cc)
+    f_c.log = true;  // as the loader sets it for a positive lower bound (job/load_fit_job.cc)
     job.free.push_back(f_c);
     return FitParameters(job);
   };

@@ -1,4 +1,4 @@
-// The next experiment (issue 15 part 2, fit/experiment_design.h): a record
+// The next experiment (issue 15 part 2, design/experiment_design.h): a record
 // taken in motion (testdata/generate/design/: it starts at 0.3 m/s and
 // never reverses), on which Coulomb friction and a constant load force are
 // the same force; the loop stops on the pair, the design proposes a record,
@@ -16,10 +16,14 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
-#include "fit/experiment_design.h"
-#include "fit/fit.h"
-#include "fit/html_report.h"
-#include "fit/job.h"
+#include "design/experiment_design.h"
+#include "discovery/discovery.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "report/html_report.h"
+#include "run/job_run.h"
 #include "sim/config.h"
 #include "sim/experiment.h"
 #include "tests/test_files.h"

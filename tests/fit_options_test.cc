@@ -24,9 +24,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "fit/fit.h"
-#include "fit/job.h"
-#include "fit/screen.h"
+#include "estimation/at_estimate.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "estimation/shared_level.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "run/job_run.h"
 
 #include "tests/test_files.h"
 
@@ -347,7 +351,7 @@ TEST(FitOptionsTest, FinalistsAreTheLowestAfterTheShorterHorizons) {
   }
 }
 
-// solver.abandon_above_bic (the discovery loop's early stop, fit/fit.h): a
+// solver.abandon_above_bic (the discovery loop's early stop, estimation/fit.h): a
 // level just above the BIC the fit reaches leaves the fit as it was; a level
 // below the bound of the first horizon stops every start there, with that
 // bound below the whole fit's BIC (a stage's cost sums a prefix of the
@@ -411,7 +415,7 @@ class PublishOnText : public std::stringbuf {
   bool published_ = false;
 };
 
-// solver.pending_level (the force map's forms, fit/screen.h SharedLevel):
+// solver.pending_level (the force map's forms, estimation/shared_level.h SharedLevel):
 // a fit whose level another fit publishes while it runs ends exactly as the
 // same fit with solver.abandon_above_bic at that level (same threads:
 // bit-for-bit) — stopped at the first horizon, at a later one (the first

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/fit_result.h"
+#include "estimation/fit_result.h"
 
 namespace axis {
 namespace fixture {

@@ -12,12 +12,15 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
-#include "fit/current_loop_check.h"
-#include "fit/experiment_cost.h"
-#include "sim/random.h"
-#include "fit/fit.h"
-#include "fit/job.h"
+#include "estimation/current_loop_check.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "job/solver_settings.h"
+#include "run/job_run.h"
 #include "sim/experiment.h"
+#include "sim/random.h"
 #include "tests/cost_checks.h"
 #include "tests/test_files.h"
 
@@ -251,7 +254,7 @@ TEST(FitTest, AStartFarAboveTheNoiseAddsRandomStarts) {
 // the Z axis with other values (testdata/generate/current_loop/, simulated
 // here through the full loop at 10 µs, noise seeds fixed), fitted with the
 // quasi-steady loop at 100 µs from the X axis's values. The check
-// (fit/current_loop_check.h) finds a shift of more than one standard error;
+// (estimation/current_loop_check.h) finds a shift of more than one standard error;
 // with full_loop_refit_above: .inf the fit stays quasi-steady and says so
 // in its note, with the default 1 it is refitted with the full loop. The
 // check's shifts are the first-order difference of the two fits; they
@@ -318,7 +321,7 @@ TEST(FitTest, QuasiSteadyShiftPastOneStandardErrorRefitsTheFullLoop) {
             << " standard errors; the check's largest shift " << quasi.loop_check.largest << "\n";
 }
 
-// The full loop's step (fit/current_loop_check.h WithFullLoop): 10 µs on
+// The full loop's step (estimation/current_loop_check.h WithFullLoop): 10 µs on
 // the paper job's 1 kHz records (its step 100 µs in 10); on a 3 kHz record
 // fitted at 1/9000 s the largest whole fraction of that step at most 10 µs
 // (12 of them: 1/108000 s, 36 per sample); refused, naming the

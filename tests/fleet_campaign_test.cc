@@ -15,6 +15,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "run/campaign.h"
 #include "tests/campaign_files.h"
 #include "tests/fleet_checks.h"
 #include "tests/test_files.h"

@@ -18,7 +18,6 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "fit/report.h"
 #include "tests/browser_checks.h"
 #include "tests/test_files.h"
 

@@ -1,4 +1,4 @@
-// The force-map step of the discovery loop (issue 15, fit/force_map.h) on
+// The force-map step of the discovery loop (issue 15, discovery/force_map.h) on
 // data with a force the library of MODEL.md §7 does not have — a friction
 // patch over part of the travel, a friction bump at one speed
 // (testdata/generate/discover/, generator-only effects) — and on data whose
@@ -14,10 +14,13 @@
 
 #include <gtest/gtest.h>
 
-#include "fit/fit.h"
-#include "fit/force_map.h"
-#include "fit/job.h"
-#include "fit/screen.h"
+#include "discovery/discovery.h"
+#include "discovery/force_map.h"
+#include "discovery/screen.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "run/job_run.h"
+#include "run/write_job_run.h"
 #include "sim/axis_model.h"
 #include "sim/config.h"
 #include "sim/experiment.h"
@@ -100,7 +103,7 @@ double SumOfSquares(const ForceMapReport& r, double ChannelChange::*rms) {
   return s;
 }
 
-// *stopped: how many forms stopped under the level (fit/screen.h).
+// *stopped: how many forms stopped under the level (discovery/screen.h).
 void ExpectLearned(const std::string& name, const std::string& kind, int* stopped) {
   const JobRun run = RunCase(name);
   const ForceMapReport& map = run.force_map;
@@ -123,7 +126,7 @@ void ExpectLearned(const std::string& name, const std::string& kind, int* stoppe
   std::cout << name << ": missing force RMS " << f.truth_rms << " N, learned load force error RMS "
             << f.error_rms << " N\n" << FormatForceMap(map);
   EXPECT_LT(f.error_rms, 0.35 * f.truth_rms);
-  // The forms (fit/screen.h): the winner ran to the end; a form stopped
+  // The forms (discovery/screen.h): the winner ran to the end; a form stopped
   // under the level names the leader (the first form, by score) and ended
   // with a BIC bound above kStopFactor times the leader's BIC. The stop
   // compares with the leader's fit BIC (2·cost + n·ln(m), its roughness

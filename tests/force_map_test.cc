@@ -1,7 +1,7 @@
 // The force map of MODEL.md §7 (issue 15): the natural cubic spline
 // (sim/force_map.h) against the conditions that define it, its term in the
 // model differentiated by Jets against finite differences, the config
-// format, and the fit's roughness penalty (fit/force_map.h).
+// format, and the fit's roughness penalty (discovery/force_map.h).
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -12,7 +12,9 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
-#include "fit/force_map.h"
+#include "estimation/experiment_cost.h"
+#include "estimation/roughness_cost.h"
+#include "job/fit_job.h"
 #include "sim/axis_model.h"
 #include "sim/config.h"
 #include "sim/force_map.h"

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "run/job_run.h"
 #include "tests/browser_checks.h"
 #include "tests/test_files.h"
 

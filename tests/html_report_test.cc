@@ -1,9 +1,11 @@
-// report.html (fit/html_report.h) and the progress line (fit/progress.h):
+// report.html (report/html_report.h) and the progress line (common/progress.h):
 // the page from a hand-built result (escaping, plots, ids, thinning, a
 // missing gnuplot), and short fits of the paper and EMPS jobs written by
 // fit-params and checked in headless Chromium (tests/browser_checks.h).
 // The whole jobs are in tests/html_report_jobs_test.cc (slow).
-#include "fit/html_report.h"
+#include "common/progress.h"
+#include "estimation/fit_result.h"
+#include "report/html_report.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +20,6 @@
 #include <thread>
 #include <vector>
 
-#include "fit/progress.h"
 #include "tests/browser_checks.h"
 #include "tests/fit_result_fixture.h"
 #include "tests/test_files.h"

@@ -27,15 +27,15 @@ package_dir=$(dirname "$config")
 for f in servo_axis_idConfigVersion.cmake servo_axis_idTargets.cmake system_libraries.cmake; do
   [[ -f $package_dir/$f ]] || fail "no $f beside $config"
 done
-for lib in servo_axis_id_sim servo_axis_id_fit; do
+for lib in servo_axis_id_sim servo_axis_id_common servo_axis_id_job servo_axis_id_estimation servo_axis_id_discovery servo_axis_id_design servo_axis_id_report servo_axis_id_run servo_axis_id_fleet; do
   [[ -n $(find "$prefix" -name "lib$lib.*" -print -quit) ]] || fail "library $lib not installed"
 done
 if grep -rlF -e "$source" -e "$build" "$package_dir"; then
   fail "the installed CMake package refers to the source or build tree (files above)"
 fi
 
-# Headers: the sim/ and fit/ layout, each project include found in the prefix.
-for h in sim/simulate.h sim/mat_file.h fit/fit.h fit/job.h; do
+# Headers: the layer folders, each project include found in the prefix.
+for h in sim/simulate.h sim/mat_file.h estimation/fit.h job/fit_job.h; do
   [[ -f $prefix/include/$h ]] || fail "header $h not installed"
 done
 while IFS= read -r line; do

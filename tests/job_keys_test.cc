@@ -12,9 +12,11 @@
 
 #include <gtest/gtest.h>
 
-#include "fit/fit.h"
-#include "fit/job.h"
-#include "fit/published.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "report/published.h"
 
 #include "tests/test_files.h"
 
@@ -209,7 +211,7 @@ TEST(JobKeysTest, DeclaredInitialState) {
   EXPECT_NE(msg.find("from_samples"), std::string::npos) << msg;
 }
 
-// The optimum check's "lower" follows function_tolerance (fit/fit.cc
+// The optimum check's "lower" follows function_tolerance (estimation/fit.cc
 // LowerThan): above 1 % it is refused, naming the key.
 TEST(JobKeysTest, FunctionToleranceAboveOnePercentIsAnError) {
   const std::string msg = LoadError(

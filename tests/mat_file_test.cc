@@ -23,8 +23,10 @@
 
 #include <gtest/gtest.h>
 
-#include "fit/fit.h"
-#include "fit/job.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
 #include "sim/csv.h"
 #include "sim/data_table.h"
 #include "tests/test_files.h"

@@ -1,6 +1,8 @@
 // The report writers: a hand-built FitResult written to a temporary
 // directory and read back.
-#include "fit/report.h"
+#include "common/output_staging.h"
+#include "estimation/fit_result.h"
+#include "report/report.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -19,7 +21,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit/fit_result.h"
 #include "sim/csv.h"
 #include "tests/fit_result_fixture.h"
 #include "tests/test_files.h"

@@ -1,5 +1,5 @@
 // Residual statistics against closed forms and hand-computed values.
-#include "fit/statistics.h"
+#include "common/statistics.h"
 #include "sim/random.h"
 
 #include <gtest/gtest.h>

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "fit/experiment_cost.h"
-#include "fit/job.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
 #include "sim/experiment.h"
 #include "sim/switched_rk4.h"
 #include "tests/cost_checks.h"

@@ -1,4 +1,4 @@
-// Uncertainty beyond Gauss–Newton (fit/uncertainty.h): likelihood-ratio
+// Uncertainty beyond Gauss–Newton (estimation/uncertainty.h): likelihood-ratio
 // intervals against closed forms on a quadratic and on a kinked cost, the
 // scan reporting a lower point, the residual bootstrap against the
 // Gauss–Newton errors on the paper job, and the job key's strict loader.
@@ -12,10 +12,13 @@
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
-#include "fit/fit.h"
-#include "fit/job.h"
-#include "fit/statistics.h"
-#include "fit/uncertainty.h"
+#include "common/statistics.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "estimation/uncertainty.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "job/solver_settings.h"
 
 namespace axis {
 namespace {

@@ -10,7 +10,7 @@
 #include <exception>
 #include <vector>
 
-#include "fit/statistics.h"
+#include "common/statistics.h"
 #include "sim/config.h"
 #include "sim/experiment.h"
 #include "sim/simulate.h"

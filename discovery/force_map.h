@@ -1,0 +1,175 @@
+// The force-map step of the discovery loop (issue 15, MODEL.md §7
+// `force_map`): when the library of effects leaves the verdict `incomplete`
+// and the residual still has binned structure against the position x or the
+// velocity v (discovery/diagnostics.h), learn the missing load force as a smooth
+// nonparametric function — f(x), f(x)·sgn_ε(v) or f(v), a natural cubic
+// spline through values at knots spread over the range the fitted
+// experiments visit (sim/force_map.h) — its values fitted with the rest of
+// the model by the same Ceres fit under a second-difference roughness
+// penalty ½λ‖D·f‖² (a P-spline: Eilers & Marx 1996, "Flexible smoothing with
+// B-splines and penalties", Statistical Science 11(2)), λ chosen by BIC with
+// the effective number of parameters (Hastie & Tibshirani 1990,
+// "Generalized Additive Models", §3.5: edf = tr((JᵀJ + λP)⁻¹JᵀJ)) over a
+// grid. The map's 95 % band is the Bayesian one of a penalised fit,
+// s²·(JᵀJ + λP)⁻¹ (Wahba 1983, "Bayesian confidence intervals for the
+// cross-validated smoothing spline", JRSS B 45(1); Nychka 1988 on its
+// average coverage).
+#ifndef DISCOVERY_FORCE_MAP_H_
+#define DISCOVERY_FORCE_MAP_H_
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <ceres/ceres.h>
+#include <nlohmann/json.hpp>
+
+#include "discovery/diagnostics.h"
+#include "discovery/discovery.h"
+#include "estimation/fit_result.h"
+#include "job/discovery_settings.h"
+#include "job/fit_job.h"
+#include "sim/force_map.h"
+
+namespace axis {
+
+// The learned force on a grid of its variable, with its 95 % band.
+struct ForceMapCurve {
+  std::vector<double> z;            // variable (m or m/s)
+  std::vector<double> force;        // f(z), N
+  std::vector<double> low, high;    // f ∓ 1.96·sd (pointwise, Bayesian)
+};
+
+// One λ of the grid the penalty was chosen from (linearised at the first
+// refit; the chosen one refitted).
+struct SmoothingChoice {
+  double lambda = 0.0;  // 1/N²
+  double edf = 0.0;     // effective number of parameters of the whole fit
+  double chi2 = 0.0;    // Σr² of the data (σ units) predicted at this λ
+  double bic = 0.0;     // chi2 + edf·ln(m)
+};
+
+// One form's first refit (at the first λ), the forms competing by BIC.
+struct ForceMapForm {
+  std::string name;   // "force_map.x" etc.
+  // Data Σr² + edf·ln(m); for a refit stopped under the level (`stopped`)
+  // the lower bound of its Σr² + n·ln(m) where it stopped; +inf if the
+  // refit failed.
+  double bic = 0.0;
+  double edf = 0.0;   // 0 for a stopped or failed refit
+  // The refit's wall time (s), beside the other forms, and for a form that
+  // ran to its end before the leading one any wait for its level.
+  double seconds = 0.0;
+  // Why the refit stopped early (StoppedText, discovery/screen.h): a lower
+  // bound of its BIC passed kStopFactor times the leading form's fit BIC
+  // (2·cost + n·ln(m), its roughness penalty included); "" if it ran to
+  // the end.
+  std::string stopped;
+};
+
+// A library effect refitted away with the map in the model (the backward
+// pass: an effect the loop added as a stand-in for what the map now
+// carries).
+struct ForceMapRemoval {
+  std::string effect;
+  double bic_with = 0.0, bic_without = 0.0;  // BIC (edf) with and without it
+  bool removed = false;
+};
+
+// What the force-map step did (JobRun::force_map, estimation/fit.h).
+struct ForceMapReport {
+  bool tried = false;   // a map was refitted
+  bool kept = false;    // ...and kept (its BIC below the library model's)
+  std::string reason;   // why the step ran, or why it did not
+  // The binned structure that triggered the step, one line each
+  // ("e/a: x (chi2 p 1e-12)").
+  std::vector<std::string> structure;
+  std::vector<Score> scores;  // the score tests of the three forms
+  std::vector<ForceMapForm> forms;  // the significant forms' refits
+  std::vector<ForceMapRemoval> removals;
+  std::string kind;           // "x", "x_friction" or "v" (ForceMapKind)
+  ForceMap map;               // the refitted map's structure
+  std::vector<double> values, std_errors;  // N, per knot
+  std::vector<SmoothingChoice> grid;
+  double lambda = 0.0;  // the chosen λ, 1/N²
+  double edf = 0.0;     // effective parameters at the refit
+  double s2 = 0.0;      // data Σr²/(m − edf)
+  // BIC of the library model (Σr² + n·ln(m)) and of the model with the map
+  // (Σr² + edf·ln(m)), both from the residuals at the experiments' declared
+  // initial states (StackedJacobian, discovery/discovery.h).
+  double bic_before = 0.0, bic_after = 0.0;
+  std::vector<ChannelChange> channels;
+  // The verdict with the map in the model (JudgeResiduals of its
+  // diagnostics); the library's own stays DiscoveryReport::verdict.
+  std::vector<ChannelDiagnostics> diagnostics;
+  ResidualVerdict verdict;
+  // Where the band excludes zero: "x in [0.021, 0.118] m" style runs.
+  std::vector<std::string> significant;
+  ForceMapCurve curve;
+  double seconds = 0.0;  // wall time of the step
+};
+
+// Runs the force-map step after the discovery loop: `loop` is the loop's
+// report (its verdict and final diagnostics), `job`/`result` its final
+// model and fit (replaced by the model with the map if it is kept). Runs
+// only when the verdict is `incomplete` and a bin test against x or v failed
+// at the verdict's threshold. Then: the score tests of f(x), f(x)·sgn_ε(v)
+// and f(v) (about settings.force_map_knots knots over the values the fitted
+// experiments visit, half at their quantiles, half uniform);
+// every form significant at alpha/(number of forms) refitted at a small λ
+// (all at once, the first by score publishing its BIC as the level the
+// others stop above: estimation/shared_level.h SharedLevel), the lowest BIC (edf) wins;
+// for it, the λ of the lowest linearised BIC over
+// 10⁻⁶..10² times the mean information per knot, refitted there; kept if
+// its BIC is below the library model's. With the map kept, a backward pass
+// refits without each effect the loop selected (the last first; Coulomb
+// while Stribeck is in stays) and drops it if BIC does not rise beyond
+// the solver's accuracy (a tie: the map carries it). Progress lines go
+// to `progress`. Throws std::runtime_error if a simulation at a fitted
+// point fails.
+ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryReport& loop,
+                           FitJob* job, FitResult* result, std::ostream* progress);
+
+// Moves the effects the step's backward pass removed from loop->selected
+// to loop->removed, so that `selected` names the final model's effects.
+// Never throws.
+void ApplyRemovals(const ForceMapReport& report, DiscoveryReport* loop);
+
+// The step as text for the terminal and params.md: why, the score tests,
+// the λ grid, the before/after table, the verdict and where the force is
+// significant.
+std::string FormatForceMap(const ForceMapReport& report);
+
+// report.json's "force_map" block: {"tried", "kept", "reason", "structure",
+// "scores": [{"effect", "chi2", "dof", "p_value"}], "forms": [{"effect",
+// "bic", "edf", "stopped"}], "removals": [{"effect", "bic_with", "bic_without",
+// "removed"}], "kind", "variable",
+// "friction", "knots", "values", "std_errors", "lambda", "edf", "s2",
+// "bic_before", "bic_after", "grid": [{"lambda", "edf", "chi2", "bic"}],
+// "channels": [...], "verdict", "remains", "significant", "seconds"}.
+nlohmann::json ForceMapToJson(const ForceMapReport& report);
+
+// Writes the curve of `report` as CSV: header "<x or v>,force,low,high",
+// one row per point. Throws std::runtime_error naming `path` if it cannot
+// be written.
+void WriteForceMapCsv(const std::string& path, const ForceMapReport& report);
+
+// The gnuplot commands that plot the curve from `csv_path` (written by
+// WriteForceMapCsv) into `output`: the force against its variable with the
+// 95 % band and the zero line, units on the axes. `svg`: gnuplot's svg
+// terminal (RenderGnuplotSvg, report/report.h), else a 1000×600 PNG. Paths
+// must not contain a quote or a line break.
+std::string ForceMapPlotScript(const ForceMapReport& report, const std::string& csv_path,
+                               const std::string& output, bool svg);
+
+// Writes force_map.csv (z, force, low, high) and force_map.png (the force
+// with its 95 % band against the variable, gnuplot) into `dir` if a map was
+// refitted (report.curve not empty); gnuplot problems are appended to `warnings`. Throws
+// std::runtime_error if a file cannot be written.
+void WriteForceMap(const std::string& dir, const ForceMapReport& report,
+                   std::vector<std::string>* warnings);
+
+}  // namespace axis
+
+#endif  // DISCOVERY_FORCE_MAP_H_

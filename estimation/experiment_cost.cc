@@ -1,0 +1,81 @@
+#include "estimation/experiment_cost.h"
+
+#include "job/fit_job.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace axis {
+namespace {
+
+// A Ceres dynamic autodiff cost with derivative chunks of `Stride`: one pass
+// of the simulator per Jacobian when θ has at most Stride entries.
+template <int Stride>
+ceres::CostFunction* MakeDynamic(ExperimentCost* functor, int theta_size) {
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<ExperimentCost, Stride>(
+      functor);
+  cost->AddParameterBlock(theta_size);
+  cost->SetNumResiduals(functor->num_residuals());
+  return cost;
+}
+
+}  // namespace
+
+ParameterMap::ParameterMap(const AxisParams<double>& base,
+                           std::vector<FreeParameter> free)
+    : base_(base), free_(std::move(free)) {
+  std::vector<std::string> names;
+  VisitParams([&](const char* name, const char*, const double&) {
+    names.push_back(name);
+  }, base_);
+  for (size_t j = 0; j < free_.size(); ++j) {
+    const auto it = std::find(names.begin(), names.end(), free_[j].name);
+    if (it == names.end()) {
+      throw std::invalid_argument("expected a model parameter name, got '" +
+                                  free_[j].name + "'");
+    }
+    order_.emplace_back(static_cast<int>(it - names.begin()), static_cast<int>(j));
+  }
+  std::sort(order_.begin(), order_.end());
+}
+
+ExperimentCost::ExperimentCost(const AxisStructure& structure,
+                               const ParameterMap& map,
+                               const FitExperiment& experiment,
+                               int theta_size, int state_index,
+                               EvaluationCounter* counter)
+    : structure_(structure),
+      map_(map),
+      experiment_(experiment),
+      grid_(MakeGrid(experiment.options, experiment.drive)),
+      state_index_(state_index),
+      theta_size_(theta_size),
+      counter_(counter) {
+  drive_ = &experiment.drive;
+  if (!StageInputsCover(experiment.drive.stage_inputs.get(), grid_)) {
+    own_drive_ = experiment.drive;
+    own_drive_->stage_inputs = MakeStageInputs(*own_drive_, grid_);
+    drive_ = &*own_drive_;
+  }
+  for (const FittedChannel& f : experiment_.fitted) {
+    num_residuals_ += static_cast<int>(experiment_.Measured(f.channel).size());
+  }
+}
+
+ceres::CostFunction* ExperimentCost::Create(const AxisStructure& structure,
+                                            const ParameterMap& map,
+                                            const FitExperiment& experiment,
+                                            int theta_size, int state_index,
+                                            EvaluationCounter* counter) {
+  auto* functor =
+      new ExperimentCost(structure, map, experiment, theta_size, state_index,
+                         counter);
+  // Strides instantiated: each is a full Jet instantiation of the simulator.
+  if (theta_size <= 4) return MakeDynamic<4>(functor, theta_size);
+  if (theta_size <= 5) return MakeDynamic<5>(functor, theta_size);
+  if (theta_size <= 6) return MakeDynamic<6>(functor, theta_size);
+  if (theta_size <= 8) return MakeDynamic<8>(functor, theta_size);
+  return MakeDynamic<12>(functor, theta_size);
+}
+
+}  // namespace axis

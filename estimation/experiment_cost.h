@@ -1,0 +1,207 @@
+// The cost of one recorded experiment for Ceres: simulate the experiment
+// with the current parameters (sim/simulate.h, differentiated with
+// ceres::Jet) and return (simulated − measured)/σ for every sample of every
+// fitted channel.
+#ifndef ESTIMATION_EXPERIMENT_COST_H_
+#define ESTIMATION_EXPERIMENT_COST_H_
+
+#include <atomic>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <ceres/ceres.h>
+
+#include "job/fit_job.h"
+#include "sim/simulate.h"
+
+namespace axis {
+
+// The map between the optimiser's vector θ and the model parameters:
+// θ_k = log(p_k) for positive parameters (FreeParameter::log), p_k/scale_k
+// otherwise. After the free parameters, θ holds (y0, y1) for every experiment
+// whose initial state is estimated.
+class ParameterMap {
+ public:
+  // Throws std::invalid_argument if a free parameter is not a model name.
+  ParameterMap(const AxisParams<double>& base, std::vector<FreeParameter> free);
+
+  int num_free() const { return static_cast<int>(free_.size()); }
+  const std::vector<FreeParameter>& free() const { return free_; }
+  const AxisParams<double>& base() const { return base_; }
+
+  double ToInternal(int k, double value) const {
+    return free_[k].log ? std::log(value) : value / free_[k].scale;
+  }
+  double FromInternal(int k, double theta) const {
+    return free_[k].log ? std::exp(theta) : theta * free_[k].scale;
+  }
+  // d(value)/d(θ_k) at θ_k: the Jacobian of the map, for the covariance.
+  double Derivative(int k, double theta) const {
+    return free_[k].log ? std::exp(theta) : free_[k].scale;
+  }
+
+  // The model parameters at θ (first num_free() entries). Never throws.
+  template <typename T>
+  AxisParams<T> Apply(const T* theta) const {
+    using std::exp;
+    AxisParams<T> p = base_.cast<T>();
+    int index = 0;
+    size_t next = 0;
+    VisitParams([&](const char*, const char*, T& field) {
+      for (size_t k = next; k < order_.size() && order_[k].first == index; ++k) {
+        const int j = order_[k].second;
+        field = free_[j].log ? T(exp(theta[j])) : T(theta[j] * free_[j].scale);
+        next = k + 1;
+      }
+      ++index;
+    }, p);
+    return p;
+  }
+
+ private:
+  AxisParams<double> base_;
+  std::vector<FreeParameter> free_;
+  // (VisitParams index, free index), sorted by VisitParams index.
+  std::vector<std::pair<int, int>> order_;
+};
+
+// Evaluation counts, shared by the costs of a fit (thread-safe), and the
+// switch of their residual-only evaluations' sensitivity guard.
+struct EvaluationCounter {
+  std::atomic<int> simulations{0};  // residual-only evaluations
+  std::atomic<int> jacobians{0};    // evaluations with derivatives
+  // True (the default, and always while Ceres solves): residual-only
+  // evaluations simulate a one-direction Jet and fail where the Jacobian
+  // would blow up (ExperimentCost::operator()). False: plain double
+  // simulations (1.5× faster, bench/), for cost probes whose points the
+  // solver never starts from unless re-checked with the guard on.
+  std::atomic<bool> guard{true};
+};
+
+// Cost functor of one experiment (one per experiment; the experiments of a
+// job share the parameter block θ).
+class ExperimentCost {
+ public:
+  // Creates the Ceres cost of `experiment` over a parameter block of
+  // `theta_size` entries; `state_index` is the position of the experiment's
+  // (y0, y1) in θ, or -1 to start from experiment.initial_state. The model,
+  // map, experiment and counter must outlive the cost. Where the
+  // experiment's drive carries no stage inputs covering the grid
+  // (StageInputsCover), the cost copies the drive at creation with its
+  // input sampled at the grid's stage times (MakeStageInputs), and later
+  // changes to the experiment's drive are not seen. The number of residuals
+  // is Σ over fitted channels of the sample count.
+  static ceres::CostFunction* Create(const AxisStructure& structure,
+                                     const ParameterMap& map,
+                                     const FitExperiment& experiment,
+                                     int theta_size, int state_index,
+                                     EvaluationCounter* counter);
+
+  ExperimentCost(const AxisStructure& structure, const ParameterMap& map,
+                 const FitExperiment& experiment, int theta_size,
+                 int state_index, EvaluationCounter* counter);
+  // drive_ may point into the object itself.
+  ExperimentCost(const ExperimentCost&) = delete;
+  ExperimentCost& operator=(const ExperimentCost&) = delete;
+
+  // Residuals (ŷ − y)/σ, channel by channel in experiment.fitted order.
+  // Returns false, so that Ceres rejects the trial step, if the simulation
+  // or a residual is not finite, or if a residual's sensitivity to θ exceeds
+  // kMaxSensitivity. Residual-only evaluations (T = double) simulate with a
+  // one-direction Jet (all θ moved together) so that a candidate point whose
+  // Jacobian would blow up is rejected before Ceres accepts it: Ceres
+  // evaluates the Jacobian only after accepting a step, and fails outright if
+  // that evaluation fails. With counter->guard off they simulate in double
+  // and check only finiteness. Never throws.
+  template <typename T>
+  bool operator()(T const* const* parameters, T* residuals) const {
+    if constexpr (std::is_same<T, double>::value) {
+      ++counter_->simulations;
+      if (!counter_->guard) return Residuals(parameters[0], residuals);
+      const std::vector<double> all_ones(theta_size_, 1.0);
+      return Directional(parameters[0], all_ones.data(), residuals, nullptr);
+    } else {
+      ++counter_->jacobians;
+      return Residuals(parameters[0], residuals);
+    }
+  }
+
+  // Bound on |∂r/∂θ| (r weighted by 1/σ, θ in log units for positive
+  // parameters): beyond it a relative parameter change of 1e-6 would move a
+  // residual by more than 10⁴ σ, i.e. the trajectory is hypersensitive
+  // (chattering at a limit, sensitivities growing exponentially) and its
+  // linearisation means nothing.
+  static constexpr double kMaxSensitivity = 1e10;
+
+  int num_residuals() const { return num_residuals_; }
+
+  // Residuals at θ and, if `derivative` is non-null, their derivative along
+  // `direction` (one Jet<1> simulation): the score test's candidate columns.
+  // Returns false as operator() does. Never throws.
+  bool Directional(const double* theta, const double* direction,
+                   double* residuals, double* derivative) const {
+    using Direction = ceres::Jet<double, 1>;
+    std::vector<Direction> t(theta_size_);
+    for (int k = 0; k < theta_size_; ++k) {
+      t[k] = Direction(theta[k]);
+      t[k].v[0] = direction[k];
+    }
+    std::vector<Direction> r(num_residuals_);
+    if (!Residuals(t.data(), r.data())) return false;
+    for (int k = 0; k < num_residuals_; ++k) {
+      residuals[k] = r[k].a;
+      if (derivative != nullptr) derivative[k] = r[k].v[0];
+    }
+    return true;
+  }
+
+ private:
+  template <typename T>
+  bool Residuals(const T* theta, T* residuals) const {
+    const AxisParams<T> p = map_.Apply(theta);
+    AxisState<T> y0 = experiment_.initial_state.cast<T>();
+    if (state_index_ >= 0) {
+      y0[0] = theta[state_index_];
+      y0[1] = theta[state_index_ + 1];
+      y0[2] = y0[0] / p.r_g;
+      y0[3] = y0[1] / p.r_g;
+    }
+    const Trace<T> trace = Simulate(structure_, p, y0, *drive_, experiment_.options, grid_);
+    if (!trace.finite) return false;
+    size_t r = 0;
+    for (const FittedChannel& f : experiment_.fitted) {
+      const std::vector<T>& simulated = trace[f.channel];
+      const std::vector<double>& measured = experiment_.Measured(f.channel);
+      const double inv_sigma = 1.0 / f.sigma;
+      for (size_t k = 0; k < measured.size(); ++k) {
+        residuals[r] = (simulated[k] - measured[k]) * inv_sigma;
+        if (!AllFinite(residuals[r]) ||
+            MaxAbsDerivative(residuals[r]) > kMaxSensitivity) {
+          return false;
+        }
+        ++r;
+      }
+    }
+    return true;
+  }
+
+  const AxisStructure& structure_;
+  const ParameterMap& map_;
+  const FitExperiment& experiment_;
+  SimulationGrid grid_;
+  // The drive simulated: experiment_.drive if its stage inputs cover the
+  // grid (FitParameters shares one table per experiment with its horizon
+  // stages), else own_drive_, a copy with its input sampled here.
+  std::optional<Drive> own_drive_;
+  const Drive* drive_ = nullptr;
+  int state_index_;
+  int theta_size_;
+  int num_residuals_ = 0;
+  EvaluationCounter* counter_;
+};
+
+}  // namespace axis
+
+#endif  // ESTIMATION_EXPERIMENT_COST_H_

@@ -1,0 +1,50 @@
+#include "estimation/stacked_jacobian.h"
+
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include <ceres/ceres.h>
+
+#include "estimation/experiment_cost.h"
+#include "job/fit_job.h"
+
+namespace axis {
+
+void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac) {
+  const ParameterMap map(job.model.params, job.free);
+  const int n = map.num_free();
+  std::vector<double> theta(n);
+  for (int k = 0; k < n; ++k) theta[k] = map.ToInternal(k, job.free[k].initial);
+  EvaluationCounter counter;
+  std::vector<Eigen::VectorXd> rs;
+  std::vector<Eigen::MatrixXd> js;
+  int m = 0;
+  for (const FitExperiment& e : job.experiments) {
+    std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
+        job.model.structure, map, e, n, -1, &counter));
+    const int me = cost->num_residuals();
+    Eigen::VectorXd re(me);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> je(me, n);
+    const double* params[] = {theta.data()};
+    double* jacobians[] = {je.data()};
+    if (!cost->Evaluate(params, re.data(), jacobians)) {
+      throw std::runtime_error("experiment '" + e.name +
+                               "': the simulation at the fitted parameters "
+                               "failed; no score test possible");
+    }
+    rs.push_back(re);
+    js.push_back(je);
+    m += me;
+  }
+  r->resize(m);
+  jac->resize(m, n);
+  int row = 0;
+  for (size_t j = 0; j < rs.size(); ++j) {
+    r->segment(row, rs[j].size()) = rs[j];
+    jac->middleRows(row, rs[j].size()) = js[j];
+    row += static_cast<int>(rs[j].size());
+  }
+}
+
+}  // namespace axis

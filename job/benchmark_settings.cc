@@ -1,0 +1,192 @@
+#include "job/benchmark_settings.h"
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+
+#include "common/format.h"
+#include "common/output_staging.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+#include "sim/channels.h"
+#include "sim/config.h"
+#include "sim/yaml_util.h"
+
+namespace axis {
+namespace {
+
+const FitExperiment* FindExperiment(const std::vector<FitExperiment>& list,
+                                    const std::string& name) {
+  for (const FitExperiment& e : list) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+void ParseBenchmark(const YAML::Node& node, const std::string& path,
+                    const std::vector<FitExperiment>& experiments,
+                    const std::vector<FitExperiment>& validate, BenchmarkSettings* out) {
+  YamlMap map(node, path, "benchmark.");
+  out->present = true;
+  out->title = map.String("title");
+  const YAML::Node columns = map.Required("columns");
+  if (!columns.IsSequence() || columns.size() == 0) {
+    ThrowConfigError(path, columns, map.KeyPath("columns"),
+                     "a non-empty list of {experiment, channel, measure, scale, unit}",
+                     Describe(columns));
+  }
+  for (size_t k = 0; k < columns.size(); ++k) {
+    const std::string prefix = map.KeyPath("columns[" + std::to_string(k) + "]");
+    YamlMap entry(columns[k], path, prefix + ".");
+    BenchmarkColumn c;
+    c.experiment = entry.String("experiment");
+    const FitExperiment* fitted = FindExperiment(experiments, c.experiment);
+    const FitExperiment* validated = FindExperiment(validate, c.experiment);
+    if (fitted == nullptr && validated == nullptr) {
+      ThrowConfigError(path, entry.Optional("experiment"), entry.KeyPath("experiment"),
+                       "the name of an experiment of this job", "'" + c.experiment + "'");
+    }
+    if (k == 0 && (validated == nullptr || fitted != nullptr)) {
+      ThrowConfigError(path, entry.Optional("experiment"), entry.KeyPath("experiment"),
+                       "the score (the first column) on a 'validate:' experiment, which "
+                       "no criterion fits",
+                       "'" + c.experiment + "', a fitted experiment");
+    }
+    const FitExperiment& e = fitted != nullptr ? *fitted : *validated;
+    c.channel = entry.String("channel");
+    const auto channel = ParseChannel(c.channel);
+    bool measured = false;
+    for (Channel m : e.measured_channels) measured = measured || (channel && m == *channel);
+    if (!measured) {
+      std::vector<std::string> names;
+      for (Channel m : e.measured_channels) names.push_back(ChannelName(m));
+      ThrowConfigError(path, entry.Optional("channel"), entry.KeyPath("channel"),
+                       "a channel that experiment '" + c.experiment + "' measures (" +
+                           Join(names, ", ") + ")",
+                       "'" + c.channel + "'");
+    }
+    c.measure = entry.Choice("measure", {"rms", "relative_error_percent"}, "rms");
+    c.scale = entry.Number("scale", 1.0, YamlMap::Range::kFinitePositive);
+    if (c.scale != 1.0 && !entry.Has("unit")) {
+      ThrowConfigError(path, entry.Optional("scale"), entry.KeyPath("unit"),
+                       "the unit of the scaled figure (e.g. 'mm' with scale 1000) whenever "
+                       "scale is not 1",
+                       "none");
+    }
+    c.unit = entry.String("unit", c.measure == "rms" ? ChannelUnit(*channel) : "%");
+    entry.Finish();
+    out->columns.push_back(c);
+  }
+  const YAML::Node criteria = map.Required("criteria");
+  if (!criteria.IsMap() || criteria.size() == 0) {
+    ThrowConfigError(path, criteria, map.KeyPath("criteria"),
+                     "a non-empty mapping of criterion name -> list of fitted experiments",
+                     Describe(criteria));
+  }
+  YamlMap criteria_map(criteria, path, map.KeyPath("criteria."));
+  for (const auto& item : criteria) {
+    BenchmarkCriterion c;
+    c.name = item.first.Scalar();
+    const std::string key = criteria_map.KeyPath(c.name);
+    if (!IsOutputName(c.name) || c.name == "." || c.name == ".." || c.name == "benchmark.md" ||
+        c.name == "benchmark.json" || c.name == kOutputList) {
+      ThrowConfigError(path, item.first, key,
+                       "a criterion name of letters, digits, '_', '-', '.' (it names the "
+                       "output folder; not benchmark.md, benchmark.json or " +
+                           std::string(kOutputList) + ")",
+                       "'" + c.name + "'");
+    }
+    const YAML::Node list = criteria_map.Required(c.name);
+    if (!list.IsSequence() || list.size() == 0) {
+      ThrowConfigError(path, list, key, "a non-empty list of names of 'experiments:' entries",
+                       Describe(list));
+    }
+    std::set<std::string> seen;
+    for (const YAML::Node& name_node : list) {
+      const std::string name = name_node.IsScalar() ? name_node.Scalar() : Describe(name_node);
+      if (!name_node.IsScalar() || FindExperiment(experiments, name) == nullptr) {
+        ThrowConfigError(path, name_node, key,
+                         "names of 'experiments:' entries (the fitted ones; 'validate:' "
+                         "entries are never fitted)",
+                         "'" + name + "'");
+      }
+      if (!seen.insert(name).second) {
+        ThrowConfigError(path, name_node, key, "each experiment once", "'" + name + "' again");
+      }
+      c.experiments.push_back(name);
+    }
+    for (const FitExperiment& e : experiments) {
+      if (e.estimate_initial_state && seen.count(e.name) == 0) {
+        ThrowConfigError(path, list, key,
+                         "every experiment with 'initial_state: estimate' (its state is "
+                         "fitted, it cannot only be simulated)",
+                         "a list without '" + e.name + "'");
+      }
+    }
+    out->criteria.push_back(c);
+  }
+  if (const YAML::Node quoted = map.Optional("quoted")) {
+    if (!quoted.IsSequence()) {
+      ThrowConfigError(path, quoted, map.KeyPath("quoted"),
+                       "a list of {model, value, source, experiment?}", Describe(quoted));
+    }
+    for (size_t k = 0; k < quoted.size(); ++k) {
+      YamlMap entry(quoted[k], path, map.KeyPath("quoted[" + std::to_string(k) + "]."));
+      QuotedScore q;
+      q.model = entry.String("model");
+      q.value = entry.Number("value", YamlMap::Range::kNonNegative);
+      q.source = entry.String("source");
+      if (entry.Has("experiment")) {
+        q.experiment = entry.String("experiment");
+        const bool named =
+            std::any_of(out->columns.begin(), out->columns.end(),
+                        [&](const BenchmarkColumn& c) { return c.experiment == q.experiment; });
+        if (!named) {
+          ThrowConfigError(path, quoted[k]["experiment"], entry.KeyPath("experiment"),
+                           "the experiment of one of 'benchmark.columns'",
+                           "'" + q.experiment + "'");
+        }
+      }
+      entry.Finish();
+      out->quoted.push_back(q);
+    }
+  }
+  map.Finish();
+}
+
+FitJob CriterionJob(const FitJob& job, const BenchmarkCriterion& criterion) {
+  FitJob out = job;
+  out.experiments.clear();
+  std::vector<FitExperiment> simulated;
+  for (const std::string& name : criterion.experiments) {
+    const FitExperiment* e = FindExperiment(job.experiments, name);
+    if (e == nullptr) {
+      throw std::invalid_argument("benchmark criterion '" + criterion.name +
+                                  "': expected names of the job's fitted experiments, got '" +
+                                  name + "'");
+    }
+    out.experiments.push_back(*e);
+  }
+  for (const FitExperiment& e : job.experiments) {
+    if (FindExperiment(out.experiments, e.name) != nullptr) continue;
+    if (e.estimate_initial_state) {
+      throw std::invalid_argument("benchmark criterion '" + criterion.name +
+                                  "': expected every experiment with 'initial_state: estimate' "
+                                  "(its state is fitted), got a list without '" + e.name + "'");
+    }
+    FitExperiment only_simulated = e;
+    only_simulated.role = "validate";
+    only_simulated.fitted.clear();
+    simulated.push_back(only_simulated);
+  }
+  out.validate.insert(out.validate.begin(), simulated.begin(), simulated.end());
+  out.out_dir = job.out_dir + "/" + criterion.name;
+  out.benchmark = BenchmarkSettings();  // a plain job: RunJob refuses `benchmark:`
+  out.title = job.title + " [criterion " + criterion.name + ": fitted on " +
+              Join(criterion.experiments, ", ") + "]";
+  return out;
+}
+
+}  // namespace axis

@@ -1,0 +1,23 @@
+#include "job/fit_job.h"
+
+#include <stdexcept>
+
+#include "sim/channels.h"
+
+namespace axis {
+
+const std::vector<double>& FitExperiment::Measured(Channel c) const {
+  for (size_t k = 0; k < measured_channels.size(); ++k) {
+    if (measured_channels[k] == c) return measured[k];
+  }
+  throw std::invalid_argument("experiment '" + name + "': expected channel '" +
+                              ChannelName(c) + "' to be measured, got none");
+}
+
+int EstimatedStateCount(const FitJob& job) {
+  int n = 0;
+  for (const FitExperiment& e : job.experiments) n += e.estimate_initial_state ? 2 : 0;
+  return n;
+}
+
+}  // namespace axis

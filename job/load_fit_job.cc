@@ -1,0 +1,851 @@
+#include "job/load_fit_job.h"
+
+#include "common/statistics.h"
+#include "job/benchmark_settings.h"
+#include "job/design_settings.h"
+#include "job/fit_job.h"
+#include "job/published_reference.h"
+#include "job/solver_settings.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+
+#include "sim/csv.h"
+#include "sim/data_table.h"
+#include "sim/preflight.h"
+
+namespace axis {
+namespace {
+
+using Range = YamlMap::Range;
+
+std::string Num(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+Channel ChannelOrThrow(const std::string& name, const YamlMap& map,
+                       const YAML::Node& node, const std::string& key) {
+  const auto c = ParseChannel(name);
+  if (!c || *c == Channel::kT) {
+    ThrowConfigError(map.file(), node, key,
+                     "a channel name of MODEL.md section 6 (" +
+                         ChannelNameList() + ", not t)",
+                     "'" + name + "'");
+  }
+  return *c;
+}
+
+// Rows of `table` with time in [start, end], as (first row, row count).
+std::pair<size_t, size_t> WindowRows(const std::vector<double>& time,
+                                     double start, double end) {
+  size_t first = 0;
+  while (first < time.size() && time[first] < start) ++first;
+  size_t last = first;
+  while (last < time.size() && time[last] <= end) ++last;
+  return {first, last - first};
+}
+
+// A table signal from `column` of the data, restricted to the window and
+// shifted so that the window starts at t = 0.
+// Its times are those of the simulation, k·period: the recorded clock's
+// jitter (EMPS: 3e-8 s) must not move a held sample to the next grid point.
+InputSignal ColumnSignal(const DataTable& data, const std::string& column,
+                         double scale, double offset, bool hold, size_t first,
+                         size_t count, double period) {
+  InputSignal s;
+  s.kind = InputSignal::Kind::kTable;
+  s.hold = hold;  // (cubic: MakeCubic on the result)
+  const std::vector<double>& values = data.Column(column);
+  for (size_t k = first; k < first + count; ++k) {
+    s.times.push_back(static_cast<double>(k - first) * period);
+    s.values.push_back(scale * values[k] + offset);
+  }
+  return s;
+}
+
+// The share of consecutive samples of values[first, first + count) that are
+// exactly equal, and the number of changes between them.
+struct Levels {
+  double equal_share = 0.0;
+  size_t changes = 0;
+};
+
+Levels CountLevels(const std::vector<double>& values, size_t first, size_t count) {
+  Levels out;
+  if (count < 2) return out;
+  size_t equal = 0;
+  for (size_t k = first + 1; k < first + count; ++k) {
+    (values[k] == values[k - 1] ? equal : out.changes) += 1;
+  }
+  out.equal_share = static_cast<double>(equal) / static_cast<double>(count - 1);
+  return out;
+}
+
+// A drive signal of an experiment: either a profile (`type:` key, see
+// ParseInputSignal) or a column of the experiment's data file. Without an
+// `interpolation` key a column that is piecewise constant (at least half of
+// its consecutive samples equal, and at least one change) is held, as a DAC
+// or a sampled controller holds it, and *note says so; otherwise linear.
+// A sampled smooth signal changes at every sample; reading a held one
+// linearly puts a ramp one sample early at every switch, which the
+// discovery loop then explains with friction or sensor delays (issue 10).
+InputSignal ParseDriveSignal(YamlMap& map, const DataTable& data,
+                             double period, size_t first,
+                             size_t count, const std::string& base_dir,
+                             double duration, std::string* note) {
+  if (map.Has("type")) return ParseInputSignal(map, base_dir, duration);
+  const std::string column = map.String("column");
+  RequireColumn(map, map.Optional("column"), map.KeyPath("column"), data, column);
+  const double scale = map.Number("scale", 1.0);
+  const double offset = map.Number("offset", 0.0);
+  bool hold = false;
+  bool cubic = false;
+  if (map.Has("interpolation")) {
+    const std::string mode = map.Choice("interpolation", {"linear", "hold", "cubic"}, "linear");
+    hold = mode == "hold";
+    cubic = mode == "cubic";
+  } else {
+    const Levels levels = CountLevels(data.Column(column), first, count);
+    hold = levels.changes > 0 && levels.equal_share >= 0.5;
+    if (hold) {
+      std::ostringstream why;
+      why << map.KeyPath("column") << " '" << column
+          << "' read as held (piecewise constant: " << std::setprecision(3)
+          << 100.0 * levels.equal_share << " % of consecutive samples equal, "
+          << levels.changes << " changes); set " << map.KeyPath("interpolation")
+          << ": linear to interpolate instead";
+      *note = why.str();
+    }
+  }
+  InputSignal s = ColumnSignal(data, column, scale, offset, hold, first, count, period);
+  if (cubic) MakeCubicOrThrow(map, &s);
+  map.Finish();
+  return s;
+}
+
+// A measured channel's column: `channel: column` or `channel: {column,
+// scale, offset}` (values = scale·column + offset).
+struct ChannelSpec {
+  std::string column;
+  double scale = 1.0, offset = 0.0;
+};
+
+ChannelSpec ParseChannelSpec(YamlMap& channels, const std::string& name,
+                             const DataTable& data) {
+  ChannelSpec spec;
+  const YAML::Node value = channels.Optional(name);
+  if (value.IsScalar()) {
+    spec.column = value.Scalar();
+  } else {
+    YamlMap m(value, channels.file(), channels.KeyPath(name) + ".");
+    spec.column = m.String("column");
+    spec.scale = m.Number("scale", 1.0);
+    spec.offset = m.Number("offset", 0.0);
+    m.Finish();
+  }
+  RequireColumn(channels, value, channels.KeyPath(name), data, spec.column);
+  return spec;
+}
+
+// The `published:` key (report/published.h).
+void ParsePublished(const YAML::Node& node, const std::string& path,
+                    const AxisConfig& model,
+                    const std::vector<FitExperiment>& experiments,
+                    const std::vector<FitExperiment>& validate,
+                    PublishedReference* out) {
+  YamlMap map(node, path, "published.");
+  out->present = true;
+  out->source = map.String("source");
+  out->model = model;
+  ParseModelOverrides(map, &out->model);
+  if (const YAML::Node set = node["set"]) {
+    for (const auto& entry : set) out->parameters.push_back(entry.first.Scalar());
+  }
+  if (const YAML::Node effects = node["effects"]) {
+    for (const auto& effect : effects) {
+      if (!effect.second.IsMap()) continue;
+      for (const auto& param : effect.second) {
+        out->parameters.push_back(param.first.Scalar());
+      }
+    }
+  }
+  if (const YAML::Node quoted = map.Optional("relative_error_percent")) {
+    YamlMap experiments_map(quoted, path, "published.relative_error_percent.");
+    for (const auto& entry : quoted) {
+      const std::string name = entry.first.Scalar();
+      bool known = false;
+      for (const auto* list : {&experiments, &validate}) {
+        for (const FitExperiment& e : *list) known = known || e.name == name;
+      }
+      if (!known) {
+        ThrowConfigError(path, entry.first, experiments_map.KeyPath(name),
+                         "the name of an experiment of this job", "'" + name + "'");
+      }
+      YamlMap channels(experiments_map.Optional(name), path,
+                       experiments_map.KeyPath(name) + ".");
+      for (const auto& ch : entry.second) {
+        const std::string channel = ch.first.Scalar();
+        ChannelOrThrow(channel, channels, ch.first, channels.KeyPath(channel));
+        out->quoted.push_back(
+            {name, channel, channels.Number(channel, Range::kNonNegative)});
+      }
+      channels.Finish();
+    }
+    experiments_map.Finish();
+  }
+  map.Finish();
+}
+
+}  // namespace
+
+bool IsOutputName(const std::string& name) {
+  if (name.empty()) return false;
+  for (char ch : name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.') {
+      return false;
+    }
+  }
+  return true;
+}
+
+namespace {
+
+FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
+                              const AxisConfig& model, double step,
+                              const std::string& base_dir) {
+  FitExperiment e;
+  e.role = role;
+  e.name = map.String("name");
+  if (!IsOutputName(e.name)) {
+    ThrowConfigError(map.file(), map.Optional("name"), map.KeyPath("name"),
+                     "a name of letters, digits, '_', '-', '.' (it names "
+                     "output files)",
+                     "'" + e.name + "'");
+  }
+  e.data_path = ResolvePath(base_dir, map.String("data"));
+  const std::string time_column = map.String("time", "t");
+  const DataTable data = ReadDataTable(e.data_path, time_column);
+  if (!data.HasColumn(time_column)) {
+    ThrowConfigError(map.file(), map.node(), map.KeyPath("time"),
+                     "a time " + data.ColumnWord() + " of " + e.data_path,
+                     data.DescribeName(time_column));
+  }
+  CheckStrictlyIncreasing(data, time_column);
+  const std::vector<double>& time = data.Column(time_column);
+
+  double start = time.front(), end = time.back();
+  if (const YAML::Node w = map.Optional("window")) {
+    if (!w.IsSequence() || w.size() != 2) {
+      ThrowConfigError(map.file(), w, map.KeyPath("window"),
+                       "[start, end] in seconds", Describe(w));
+    }
+    start = map.NumberFrom(w[0], map.KeyPath("window"), Range::kAny);
+    end = map.NumberFrom(w[1], map.KeyPath("window"), Range::kAny);
+    if (!(end > start)) {
+      ThrowConfigError(map.file(), w, map.KeyPath("window"),
+                       "start < end", Num(start) + " and " + Num(end));
+    }
+  }
+  auto [first, count] = WindowRows(time, start, end);
+  // initial_state: rest (default), estimate (y0, y1 fitted), or
+  // {from_samples: N, degree: D}: position and velocity from the
+  // least-squares polynomial of degree D (1 or 2, default 2) through the
+  // first N samples of the measured x channel, extrapolated to the next
+  // sample, where the experiment then starts (the EMPS benchmark's protocol:
+  // "the first 20 samples may be used to initialise the state"). Degree 2
+  // because a line's slope is the velocity at the window's middle, sample
+  // (N−1)/2: an axis accelerating at a starts ((N+1)/2)·h·a slower than it
+  // is (EMPS: 0.95 m/s², 10.5 ms, 10 mm/s, held for the ≈0.5 s time
+  // constant M/B_a ≈5 mm of open-loop drift).
+  std::string init = "rest";
+  long init_samples = 0;
+  int init_degree = 2;
+  const YAML::Node init_node = map.Optional("initial_state");
+  bool declared_state = false;
+  if (init_node && init_node.IsMap()) {
+    for (const auto& entry : init_node) {
+      const std::string key = entry.first.as<std::string>();
+      declared_state = declared_state || (key.size() == 2 && key[0] == 'y');
+    }
+  }
+  if (declared_state) {
+    // A declared state y0..y6 (MODEL.md §1), as in an experiment file: the
+    // record starts from it (a record taken in motion, its state known).
+    YamlMap spec(init_node, map.file(), map.KeyPath("initial_state."));
+    for (int k = 0; k < kNumStates; ++k) {
+      e.initial_state[k] = spec.Number("y" + std::to_string(k), 0.0);
+    }
+    spec.Finish();
+    e.initial_state = ConsistentInitialState(model, e.initial_state);
+    init = "declared";
+  } else if (init_node && init_node.IsMap()) {
+    YamlMap spec(init_node, map.file(), map.KeyPath("initial_state."));
+    init_samples = spec.Integer("from_samples", 0, 2, 1000000);
+    if (!spec.Has("from_samples")) {
+      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
+                       "a number of samples (more than the polynomial's degree, 2 by "
+                       "default), or the states y0..y6",
+                       "none");
+    }
+    init_degree = static_cast<int>(spec.Integer("degree", 2, 1, 2));
+    if (init_samples <= init_degree) {
+      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
+                       "more samples than the degree " + std::to_string(init_degree) +
+                           " (a polynomial through them)",
+                       std::to_string(init_samples));
+    }
+    spec.Finish();
+    init = "from_samples";
+    YAML::Node channels_node = map.Required("channels");
+    YamlMap channels(channels_node, map.file(), map.KeyPath("channels."));
+    if (!channels.Has("x")) {
+      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state"),
+                       "a measured position channel 'x' under 'channels'",
+                       "none");
+    }
+    if (count < static_cast<size_t>(init_samples) + 3) {
+      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
+                       "at most the window's " + std::to_string(count) +
+                           " samples minus 3",
+                       std::to_string(init_samples));
+    }
+    const ChannelSpec x = ParseChannelSpec(channels, "x", data);
+    const std::vector<double>& raw = data.Column(x.column);
+    // Least squares x(t) = c0 + c1·t (+ c2·t²), t from the next sample:
+    // c0 is the position and c1 the velocity there (Eigen's QR).
+    const double t0 = time[first + init_samples];
+    Eigen::MatrixXd basis(init_samples, init_degree + 1);
+    Eigen::VectorXd xs(init_samples);
+    for (long k = 0; k < init_samples; ++k) {
+      const double tk = time[first + k] - t0;
+      for (int d = 0; d <= init_degree; ++d) basis(k, d) = std::pow(tk, d);
+      xs(k) = x.scale * raw[first + k] + x.offset;
+    }
+    const Eigen::VectorXd c = basis.colPivHouseholderQr().solve(xs);
+    const double intercept = c(0);
+    const double slope = c(1);
+    e.initial_state[0] = intercept;
+    e.initial_state[1] = slope;
+    // The motor with the load, in either coupling (in rigid coupling
+    // ConsistentInitialState's y2, y3; a motor encoder reads y2).
+    e.initial_state[2] = intercept / model.params.r_g;
+    e.initial_state[3] = slope / model.params.r_g;
+    first += init_samples;
+    count -= init_samples;
+  }
+  if (count < 3) {
+    ThrowConfigError(map.file(), map.node(), map.KeyPath("window"),
+                     "at least 3 samples of " + e.data_path + " in the window",
+                     std::to_string(count));
+  }
+  e.t_offset = time[first];
+  const double period = (time[first + count - 1] - time[first]) / (count - 1);
+  // A servo axis's dynamics (the 5 ms controller, the gear resonance, the
+  // preamp's T_p) are milliseconds: a record sampled slower than 50 Hz sees
+  // none of them, and is most likely one whose time column is not in
+  // seconds (a 1 kHz record in ms reads as 1 s per sample, and its fit as
+  // a horizon of minutes).
+  if (period > kMaxSamplePeriod) {
+    throw std::invalid_argument(
+        data.RowLocation(first + 1) + ": expected time in seconds sampled at 50 Hz or faster " +
+        "(a sample period of at most " + Num(kMaxSamplePeriod) + " s), got a period of " +
+        Num(period) + " (is the time column in ms? convert it to s)");
+  }
+  for (size_t k = first + 1; k < first + count; ++k) {
+    const double dt = time[k] - time[k - 1];
+    if (std::abs(dt - period) > 1e-3 * period) {
+      throw std::invalid_argument(
+          data.RowLocation(k) + ": expected uniform sampling (period " + Num(period) +
+          " s within 0.1 %), got a step of " + Num(dt) + " s");
+    }
+  }
+  for (size_t k = first; k < first + count; ++k) e.t.push_back(time[k] - e.t_offset);
+  // The simulation samples on the data grid: the period rounded to whole
+  // integration steps (the EMPS clock jitters by 3e-8 s).
+  e.options.step = step;
+  e.options.output_period = std::max(1L, std::lround(period / step)) * step;
+  if (std::abs(e.options.output_period - period) > 1e-3 * period) {
+    ThrowConfigError(map.file(), map.node(), "simulation.step",
+                     "a step that divides the data period " + Num(period) + " s",
+                     Num(step) + " s");
+  }
+  e.options.duration = e.options.output_period * (count - 1);
+  for (size_t k = 0; k < e.t.size(); ++k) e.t[k] = k * e.options.output_period;
+
+  // Measured channels: channel: column, or channel: {column, scale, offset}.
+  YamlMap channels(map.Required("channels"), map.file(), map.KeyPath("channels."));
+  for (const auto& entry : channels.node()) {
+    const std::string name = entry.first.Scalar();
+    const Channel c = ChannelOrThrow(name, channels, entry.first,
+                                     channels.KeyPath(name));
+    const ChannelSpec spec = ParseChannelSpec(channels, name, data);
+    const std::vector<double>& raw = data.Column(spec.column);
+    std::vector<double> values;
+    for (size_t k = first; k < first + count; ++k) {
+      values.push_back(spec.scale * raw[k] + spec.offset);
+    }
+    e.measured_channels.push_back(c);
+    e.measured.push_back(std::move(values));
+  }
+  channels.Finish();
+
+  if (role == "fit") {
+    YamlMap fit(map.Required("fit"), map.file(), map.KeyPath("fit."));
+    for (const auto& entry : fit.node()) {
+      const std::string name = entry.first.Scalar();
+      const Channel c = ChannelOrThrow(name, fit, entry.first, fit.KeyPath(name));
+      if (std::find(e.measured_channels.begin(), e.measured_channels.end(), c) ==
+          e.measured_channels.end()) {
+        ThrowConfigError(map.file(), entry.first, fit.KeyPath(name),
+                         "a channel listed under 'channels' (measured)",
+                         "'" + name + "'");
+      }
+      e.fitted.push_back({c, fit.Number(name, Range::kFinitePositive)});
+    }
+    fit.Finish();
+    if (e.fitted.empty()) {
+      ThrowConfigError(map.file(), map.Optional("fit"), map.KeyPath("fit"),
+                       "at least one channel: sigma", "none");
+    }
+  }
+
+  if (init != "from_samples" && init != "declared") {
+    init = map.Choice("initial_state", {"rest", "estimate"}, "rest");
+  }
+  e.estimate_initial_state = init == "estimate";
+  if (e.estimate_initial_state && role != "fit") {
+    ThrowConfigError(map.file(), map.Optional("initial_state"), map.KeyPath("initial_state"),
+                     "rest or {from_samples: N} in a validation experiment (only "
+                     "fitted experiments estimate their state)",
+                     "estimate");
+  }
+
+  // What drives the axis: an input (open loop) or a reference (closed loop).
+  const bool has_input = map.Has("input");
+  const bool has_reference = map.Has("reference");
+  if (has_input == has_reference) {
+    ThrowConfigError(map.file(), map.node(), map.KeyPath("input"),
+                     "exactly one of 'input' (open loop) or 'reference' "
+                     "(closed loop)",
+                     has_input ? "both" : "neither");
+  }
+  if (has_input) {
+    YamlMap input(map.Required("input"), map.file(), map.KeyPath("input."));
+    std::string note;
+    e.drive.input = ParseDriveSignal(input, data, e.options.output_period, first, count,
+                                     base_dir, e.options.duration, &note);
+    if (!note.empty()) e.input_notes.push_back(note);
+  } else {
+    e.drive.closed_loop = true;
+    e.drive.controller = model.controller;
+    if (const YAML::Node node = map.Optional("controller")) {
+      YamlMap c(node, map.file(), map.KeyPath("controller."));
+      e.drive.controller = ParseController(c, model.controller);
+    } else if (!model.has_controller) {
+      ThrowConfigError(map.file(), map.node(), map.KeyPath("controller"),
+                       "a controller here or in the model config", "none");
+    }
+    YamlMap ref(map.Required("reference"), map.file(), map.KeyPath("reference."));
+    if (ref.Has("type")) {
+      e.drive.reference = ParseReference(ref, base_dir, 0.0);
+    } else {
+      e.drive.reference.kind = Reference::Kind::kTable;
+      std::string note;
+      e.drive.reference.table = ParseDriveSignal(
+          ref, data, e.options.output_period, first, count, base_dir, e.options.duration, &note);
+      if (!note.empty()) e.input_notes.push_back(note);
+    }
+    if (const YAML::Node node = map.Optional("injection")) {
+      YamlMap inj(node, map.file(), map.KeyPath("injection."));
+      std::string note;
+      e.drive.injection = ParseDriveSignal(inj, data, e.options.output_period, first, count,
+                                           base_dir, e.options.duration, &note);
+      if (!note.empty()) e.input_notes.push_back(note);
+      e.drive.has_injection = true;
+    }
+  }
+  if (has_input && map.Has("controller")) {
+    ThrowConfigError(map.file(), map.Optional("controller"), map.KeyPath("controller"),
+                     "a controller only with 'reference' (closed loop)",
+                     "a controller in an open-loop experiment ('input')");
+  }
+  map.Finish();
+  // Record every measured channel and the input.
+  e.options.channels = e.measured_channels;
+  if (std::find(e.options.channels.begin(), e.options.channels.end(),
+                Channel::kU) == e.options.channels.end()) {
+    e.options.channels.push_back(Channel::kU);
+  }
+  try {
+    MakeGrid(e.options, e.drive);
+  } catch (const std::invalid_argument& err) {
+    throw std::invalid_argument(map.file() + ": experiment '" + e.name +
+                                "': " + err.what());
+  }
+  return e;
+}
+
+std::vector<FitExperiment> ParseExperimentList(YamlMap& root,
+                                               const std::string& key,
+                                               const std::string& role,
+                                               const AxisConfig& model,
+                                               double step,
+                                               const std::string& base_dir,
+                                               bool required,
+                                               std::map<std::string, std::string>* names) {
+  std::vector<FitExperiment> out;
+  const YAML::Node list = required ? root.Required(key) : root.Optional(key);
+  if (!list) return out;
+  if (!list.IsSequence() || (required && list.size() == 0)) {
+    ThrowConfigError(root.file(), list, key,
+                     required ? "a non-empty list of experiments" : "a list of experiments",
+                     list.IsSequence() ? "an empty list" : Describe(list));
+  }
+  for (size_t k = 0; k < list.size(); ++k) {
+    YamlMap map(list[k], root.file(), key + "[" + std::to_string(k) + "].");
+    out.push_back(ParseExperiment(map, role, model, step, base_dir));
+    // Names are unique over experiments: and validate: together: they name
+    // the output files, and reports find a run by its name.
+    const auto [first, inserted] = names->emplace(out.back().name, map.KeyPath("name"));
+    if (!inserted) {
+      ThrowConfigError(root.file(), list[k]["name"], map.KeyPath("name"),
+                       "a name no other experiment of the job has", "'" + out.back().name +
+                       "', the name of " + first->second);
+    }
+  }
+  return out;
+}
+
+void CheckFreeParameter(const FreeParameter& f, const std::string& where) {
+  if (!(f.lower < f.upper)) {
+    throw std::invalid_argument(where + ": expected lower < upper, got lower " +
+                                Num(f.lower) + " and upper " + Num(f.upper));
+  }
+  if (!(f.initial >= f.lower && f.initial <= f.upper)) {
+    throw std::invalid_argument(where + ": expected the initial value within [" +
+                                Num(f.lower) + ", " + Num(f.upper) + "], got " +
+                                Num(f.initial));
+  }
+}
+
+}  // namespace
+
+FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
+                   const std::string& dir) {
+  FitJob job;
+  job.path = path;
+  YamlMap root(node, path, "");
+  job.title = root.String("title", path);
+  root.String("description", "");
+  job.model = LoadAxisConfig(ResolvePath(dir, root.String("model")));
+  ParseModelOverrides(root, &job.model);
+  if (const YAML::Node node = root.Optional("controller")) {
+    YamlMap map(node, path, "controller.");
+    job.model.controller = ParseController(map, job.model.controller);
+    job.model.has_controller = true;
+  }
+  double step = 1e-5;
+  if (const YAML::Node node = root.Optional("simulation")) {
+    YamlMap map(node, path, "simulation.");
+    step = map.Number("step", step, Range::kFinitePositive);
+    job.full_loop_refit_above =
+        map.Number("full_loop_refit_above", job.full_loop_refit_above, Range::kPositiveOrInfinite);
+    map.Finish();
+  }
+  {
+    const YAML::Node sim = root.node()["simulation"];
+    const YAML::Node node = sim && sim.IsMap() ? sim["step"] : YAML::Node();
+    CheckRk4Step(job.model.structure, job.model.params, step,
+                 node ? path + ":" + std::to_string(node.Mark().line + 1) : path,
+                 "simulation.step");
+  }
+
+  // Free parameters, before the experiments so that a bad name is reported
+  // without reading data.
+  {
+    YamlMap free(root.Required("free"), path, "free.");
+    for (const auto& entry : free.node()) {
+      const std::string name = entry.first.Scalar();
+      double* field = FindParam(&job.model.params, name);
+      if (field == nullptr) {
+        ThrowConfigError(path, entry.first, "free." + name,
+                         "a parameter name of the model (MODEL.md sections 2 "
+                         "and 7, e.g. V_L, B_a, b_g, k_g, T_p)",
+                         "'" + name + "'");
+      }
+      YamlMap spec(free.Optional(name), path, "free." + name + ".");
+      // The values a free parameter takes lie in its range, as a value of
+      // set: must (M > 0, B_a >= 0, ...), and are finite, V_L's too: the
+      // solver needs finite bounds.
+      const Range range = ParamRange(name) == Range::kPositiveOrInfinite ? Range::kPositive
+                                                                          : ParamRange(name);
+      const auto in_range = [&](const std::string& key, double x) {
+        if (!InRange(x, range)) {
+          ThrowConfigError(path, spec.Optional(key), spec.KeyPath(key),
+                           std::string(RangeText(range)) + " (the range of " + name + ")",
+                           Describe(spec.Optional(key)));
+        }
+        return x;
+      };
+      FreeParameter f;
+      f.name = name;
+      f.unit = ParamUnit(name);
+      f.initial = spec.Has("initial") ? in_range("initial", spec.Number("initial")) : *field;
+      f.lower = in_range("lower", spec.Number("lower"));
+      f.upper = in_range("upper", spec.Number("upper"));
+      f.scale = spec.Number("scale", 1.0, Range::kFinitePositive);
+      f.log = f.lower > 0.0;
+      spec.Finish();
+      const int line = entry.first.Mark().line + 1;
+      CheckFreeParameter(f, path + (line > 0 ? ":" + std::to_string(line) : "") +
+                                ": key 'free." + name + "'");
+      job.free.push_back(f);
+    }
+    free.Finish();
+    if (job.free.empty()) {
+      ThrowConfigError(path, free.node(), "free", "at least one free parameter",
+                       "none");
+    }
+  }
+
+  if (const YAML::Node node = root.Optional("solver")) {
+    YamlMap map(node, path, "solver.");
+    SolverSettings& s = job.solver;
+    s.max_iterations = static_cast<int>(map.Integer("max_iterations", s.max_iterations, 1, 100000));
+    s.function_tolerance = map.Number("function_tolerance", s.function_tolerance, Range::kNonNegative);
+    // The optimum check counts a point as lower only beyond this relative
+    // tolerance (estimation/fit.cc LowerThan): 1 or more would make it pass always.
+    if (!(s.function_tolerance <= 1e-2)) {
+      ThrowConfigError(path, map.Optional("function_tolerance"), "solver.function_tolerance",
+                       "a relative tolerance in [0, 0.01]", Num(s.function_tolerance));
+    }
+    s.parameter_tolerance = map.Number("parameter_tolerance", s.parameter_tolerance, Range::kNonNegative);
+    s.gradient_tolerance = map.Number("gradient_tolerance", s.gradient_tolerance, Range::kNonNegative);
+    s.starts = static_cast<int>(map.Integer("starts", s.starts, 0, 10000));
+    s.auto_starts = static_cast<int>(map.Integer("auto_starts", s.auto_starts, 0, 10000));
+    s.finalists = static_cast<int>(map.Integer("finalists", s.finalists, 1, 10001));
+    s.first_horizon = map.Number("first_horizon", s.first_horizon,
+                                 Range::kNonNegative);
+    s.initial_trust_region_radius = map.Number(
+        "initial_trust_region_radius", s.initial_trust_region_radius,
+        Range::kFinitePositive);
+    s.threads = static_cast<int>(map.Integer("threads", s.threads, 1, 256));
+    s.probe_rounds =
+        static_cast<int>(map.Integer("probe_rounds", s.probe_rounds, 0, 1000));
+    s.local_starts = map.Number("local_starts", s.local_starts, Range::kNonNegative);
+    s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
+    map.Finish();
+  }
+  if (const YAML::Node node = root.Optional("uncertainty")) {
+    YamlMap map(node, path, "uncertainty.");
+    UncertaintySettings& u = job.uncertainty;
+    const std::string method =
+        map.Choice("method", {"gauss_newton", "likelihood_ratio", "profile"}, "profile");
+    u.method = method == "gauss_newton"       ? UncertaintySettings::Method::kGaussNewton
+               : method == "likelihood_ratio" ? UncertaintySettings::Method::kLikelihoodRatio
+                                              : UncertaintySettings::Method::kProfile;
+    u.bootstrap = static_cast<int>(map.Integer("bootstrap", u.bootstrap, 0, 10000));
+    u.block = static_cast<int>(map.Integer("block", u.block, 1, 1000000));
+    u.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
+    map.Finish();
+  }
+  if (const YAML::Node node = root.Optional("discover")) {
+    job.discover.enabled = true;
+    if (!node.IsNull()) {
+      YamlMap map(node, path, "discover.");
+      job.discover.max_effects = static_cast<int>(
+          map.Integer("max_effects", job.discover.max_effects, 1, 20));
+      job.discover.alpha = map.Number("alpha", job.discover.alpha,
+                                      Range::kFinitePositive);
+      if (job.discover.alpha >= 1.0) {  // a level: 1 or more makes every candidate significant
+        ThrowConfigError(path, map.Optional("alpha"), "discover.alpha", "a level in (0, 1)",
+                         Describe(map.Optional("alpha")));
+      }
+      job.discover.tries = static_cast<int>(
+          map.Integer("tries", job.discover.tries, 1, 20));
+      job.discover.misspecified_tries = static_cast<int>(
+          map.Integer("misspecified_tries", job.discover.misspecified_tries, 1, 40));
+      job.discover.force_map =
+          map.Choice("force_map", {"false", "true"}, job.discover.force_map ? "true" : "false") ==
+          "true";
+      job.discover.force_map_knots = static_cast<int>(map.Integer(
+          "force_map_knots", job.discover.force_map_knots, 8, kMaxForceMapKnots));
+      if (const YAML::Node list = map.Optional("candidates")) {
+        if (!list.IsSequence()) {
+          ThrowConfigError(path, list, "discover.candidates",
+                           "a list of effect names", Describe(list));
+        }
+        for (const YAML::Node& c : list) {
+          const std::string name = c.IsScalar() ? c.Scalar() : "";
+          if (!IsEffectName(name, true)) {
+            ThrowConfigError(path, c, "discover.candidates",
+                             "an effect of MODEL.md section 7 (" + EffectNameList() + ")",
+                             Describe(c));
+          }
+          job.discover.candidates.push_back(name);
+        }
+      }
+      map.Finish();
+    }
+  }
+  if (const YAML::Node node = root.Optional("design")) {
+    YamlMap map(node, path, "design.");
+    DesignSettings& d = job.design;
+    d.enabled = true;
+    d.duration = map.Number("duration", d.duration, Range::kFinitePositive);
+    if (!(d.duration >= 0.5 && d.duration <= 60.0)) {
+      ThrowConfigError(path, map.Optional("duration"), "design.duration",
+                       "a record length in [0.5, 60] s", Num(d.duration));
+    }
+    d.max_voltage = map.Number("max_voltage", d.max_voltage, Range::kFinitePositive);
+    if (!(d.max_voltage <= 10.0)) {
+      ThrowConfigError(path, map.Optional("max_voltage"), "design.max_voltage",
+                       "a voltage in (0, 10] V (the drive's range)", Num(d.max_voltage));
+    }
+    const YAML::Node travel = map.Required("travel");
+    if (!travel.IsSequence() || travel.size() != 2) {
+      ThrowConfigError(path, travel, "design.travel", "[low, high] in m", Describe(travel));
+    }
+    d.travel_low = map.NumberFrom(travel[0], "design.travel", Range::kAny);
+    d.travel_high = map.NumberFrom(travel[1], "design.travel", Range::kAny);
+    if (!(std::isfinite(d.travel_low) && std::isfinite(d.travel_high) &&
+          d.travel_low < d.travel_high)) {
+      ThrowConfigError(path, travel, "design.travel", "finite low < high",
+                       Num(d.travel_low) + " and " + Num(d.travel_high));
+    }
+    d.rel_se = map.Number("rel_se", d.rel_se, Range::kNonNegative);
+    map.Finish();
+  }
+  if (const YAML::Node node = root.Optional("output")) {
+    YamlMap map(node, path, "output.");
+    job.out_dir = ResolvePath(dir, map.String("dir"));
+    map.Finish();
+  }
+  std::map<std::string, std::string> names;  // experiment name -> its key
+  job.experiments = ParseExperimentList(root, "experiments", "fit", job.model,
+                                        step, dir, true, &names);
+  job.validate = ParseExperimentList(root, "validate", "validate", job.model,
+                                     step, dir, false, &names);
+  {
+    // Per fitted experiment, a Jacobian evaluation holds the simulated
+    // channels and the residuals as Jets of 1 + |θ| doubles, and Ceres the
+    // dense Jacobian (residuals × |θ|, twice for the QR factorisation).
+    const double theta = static_cast<double>(job.free.size() + EstimatedStateCount(job));
+    double bytes = 0.0;
+    for (const FitExperiment& e : job.experiments) {
+      const double samples = static_cast<double>(e.t.size());
+      bytes += 8.0 * samples *
+               ((e.measured_channels.size() + e.fitted.size()) * (1.0 + theta) +
+                2.0 * e.fitted.size() * theta);
+    }
+    CheckMemory(bytes, path, "the fit",
+                "fit a shorter 'window' of the experiments or resample the data");
+  }
+  if (const YAML::Node node = root.Optional("published")) {
+    ParsePublished(node, path, job.model, job.experiments, job.validate,
+                   &job.published);
+  }
+  if (const YAML::Node node = root.Optional("benchmark")) {
+    ParseBenchmark(node, path, job.experiments, job.validate, &job.benchmark);
+  }
+  root.Finish();
+  return job;
+}
+
+// The quick form's σ at least this fraction of the signal's standard
+// deviation (MakeQuickJob).
+constexpr double kQuickSigmaFloor = 1e-4;
+
+FitJob MakeQuickJob(const std::string& model_path, const std::string& data_path,
+                    const std::string& input_column,
+                    const std::vector<std::string>& fit_channels,
+                    const std::vector<std::string>& free_names) {
+  // Build the equivalent job YAML and load it through the strict loader, so
+  // the quick form has exactly the checks of a job file.
+  YAML::Node job;
+  job["title"] = "fit-params quick form: " + data_path;
+  job["model"] = model_path;
+  const DataTable data = ReadDataTable(data_path, "t");
+  YAML::Node experiment;
+  experiment["name"] = "data";
+  experiment["data"] = data_path;
+  YAML::Node channels(YAML::NodeType::Map);
+  for (const std::string& name : data.names) {
+    const auto c = ParseChannel(name);
+    if (c && *c != Channel::kT) channels[name] = name;
+  }
+  experiment["channels"] = channels;
+  experiment["input"]["column"] = input_column;
+  std::vector<std::string> sigma_notes;
+  for (const std::string& name : fit_channels) {
+    if (!data.HasColumn(name)) {
+      throw std::invalid_argument("--fit: expected " + data.ColumnExpectation() +
+                                  ", got " + data.DescribeName(name));
+    }
+    // σ: the noise on the channel, from its second differences; where they
+    // are all 0 (a noise-free or linear record), the signal's spread (1 if
+    // it is constant), so that the channels are weighted alike.
+    // A noise-free record (synthetic) has second differences at rounding
+    // or curvature level: σ is floored at kQuickSigmaFloor of the signal's
+    // spread (80 dB), so that the channels' weights stay comparable.
+    const std::vector<double>& y = data.Column(name);
+    double mean = 0.0, var = 0.0;
+    for (double v : y) mean += v / y.size();
+    for (double v : y) var += (v - mean) * (v - mean) / y.size();
+    const double spread = std::sqrt(var);
+    double sigma = DifferenceNoiseSd(y);
+    std::string how = "estimated from the record's second differences";
+    if (!(sigma > 0.0) && !(spread > 0.0)) {
+      sigma = 1.0;
+      how = "1 (the channel is constant)";
+    } else if (!(sigma >= kQuickSigmaFloor * spread)) {
+      sigma = kQuickSigmaFloor * spread;
+      how = "1e-4 of the signal's standard deviation (the record is nearly noise-free)";
+    }
+    experiment["fit"][name] = sigma;
+    sigma_notes.push_back("fitted channel " + name + ": sigma " + Num(sigma) + ", " + how +
+                          " (no job to declare it)");
+  }
+  job["experiments"].push_back(experiment);
+  AxisConfig model = LoadAxisConfig(model_path);
+  for (const std::string& name : free_names) {
+    double* field = FindParam(&model.params, name);
+    if (field == nullptr) {
+      throw std::invalid_argument("--free: expected a parameter name of the "
+                                  "model, got '" + name + "'");
+    }
+    const double v = *field;
+    if (!std::isfinite(v)) {
+      throw std::invalid_argument("--free " + name + ": expected a parameter with a finite "
+                                  "value in " + model_path + " (the bounds are value/10 and "
+                                  "value*10), got " + Num(v));
+    }
+    YAML::Node spec;
+    spec["initial"] = v;
+    // A zero's bounds [-1, 1] are clipped to the parameter's range (F_s >= 0: [0, 1]).
+    const double lower = v > 0 ? v / 10 : (v < 0 ? v * 10 : -1.0);
+    spec["lower"] = ParamRange(name) == YamlMap::Range::kNonNegative ? std::max(lower, 0.0) : lower;
+    spec["upper"] = v > 0 ? v * 10 : (v < 0 ? v / 10 : 1.0);
+    job["free"][name] = spec;
+  }
+  FitJob parsed = ParseFitJob(job, "(command line)", ".");
+  for (std::string& note : sigma_notes) {
+    parsed.experiments[0].input_notes.push_back(std::move(note));
+  }
+  return parsed;
+}
+
+FitJob LoadFitJob(const std::string& path) {
+  return ParseFitJob(LoadYamlFile(path), path, DirectoryOf(path));
+}
+
+}  // namespace axis

@@ -1,0 +1,113 @@
+// The job's settings of the solver (job key `solver:`) and of the
+// uncertainty (job key `uncertainty:`): what a user chooses, loaded by
+// job/load_fit_job.h. What steers one fit from inside the tool (the
+// discovery loop's levels, screens and resumes) is estimation/fit_control.h.
+#ifndef JOB_SOLVER_SETTINGS_H_
+#define JOB_SOLVER_SETTINGS_H_
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+
+namespace axis {
+
+class SharedLevel;         // estimation/shared_level.h
+struct HorizonCheckpoint;  // estimation/horizon_checkpoint.h
+
+// The s² (residual variance in units of the declared σ²) above which a fit
+// from the job's start alone adds SolverSettings::auto_starts random
+// starts, and above which the report warns (FitResult::residual_note): the
+// residual RMS more than twice the noise the job declares. With the right
+// minimum of the right model s² is 1 ± √(2/(m − n)) (0.02 for 4000
+// samples) plus the model's own error; the wrong minima met on unseen data
+// ended at s² = 95–575.
+constexpr double kAutoStartsAbove = 4.0;
+
+struct SolverSettings {
+  int max_iterations = 100;
+  double function_tolerance = 1e-8;   // relative cost change to stop
+  double parameter_tolerance = 1e-8;  // relative step to stop
+  double gradient_tolerance = 1e-10;
+  int starts = 0;               // extra random starts (log-uniform in bounds)
+  // Random starts added when `starts` is 0 and the job's own start ends the
+  // continuation with s² = Σr²/(m − n) above kAutoStartsAbove (the residual
+  // RMS more than twice the declared σ): the fit is run again with this
+  // many `starts`, each a finalist (estimation/fit.cc FitParameters;
+  // FitResult::auto_starts_note).
+  // Not with discovery on (its declared model is expected to miss an
+  // effect) nor in the loop's refits; 0 never adds any.
+  int auto_starts = 8;
+  // Starts that fit the whole record: after the shorter horizons of the
+  // continuation (every start), the `finalists` lowest there continue
+  // (estimation/fit.cc FitParameters); ≥ 1.
+  int finalists = 2;
+  double initial_trust_region_radius = 1.0;  // LM damping at the start (1/μ)
+  // Horizon continuation (estimation/fit.h): first window in s, doubled per stage
+  // up to the whole record; 0 fits the whole record at once.
+  double first_horizon = 0.05;
+  int threads = 2;              // Ceres evaluation threads
+  std::uint64_t seed = 1;       // for the random starts
+  // Optimum check (estimation/fit.h, FitParameters): rounds of probing the cost
+  // around the estimate, each followed by a Levenberg–Marquardt run from the
+  // lowest point found; 0 skips the check; at most 1 with discovery on.
+  int probe_rounds = 8;
+  // Local restarts after the probe rounds (estimation/fit.cc): Levenberg–Marquardt
+  // from the estimate ± this many standard deviations along every principal
+  // axis of the covariance (2n runs, n = size of θ), repeated (at most 3
+  // times) while one ends lower; 0 skips them. Need probe_rounds > 0;
+  // skipped when discovery is enabled (estimation/fit.cc).
+  double local_starts = 3.0;
+  bool progress = true;         // print one line per iteration
+  // Set by the discovery loop (discovery/discovery.cc), not a job key: a refit
+  // that can no longer reach a BIC below this is stopped on a shorter
+  // horizon (estimation/fit.h FitParameters, FitResult::abandoned_horizon);
+  // +inf never stops.
+  double abandon_above_bic = std::numeric_limits<double>::infinity();
+  // Set by the discovery loop's screen of its refits, not a job key: if
+  // > 0, every start stops after the shorter horizon of this length (s) as
+  // if it had passed abandon_above_bic there, the result carrying that
+  // horizon and its BIC's lower bound; 0 fits to the end.
+  double stop_after_horizon = 0.0;
+  // Set by the discovery loop, not a job key: the shorter horizons this
+  // job's screen ran (FitResult::checkpoint of the same job with
+  // stop_after_horizon), which the fit takes as done and goes on after
+  // (estimation/fit.h FitParameters); null runs every stage.
+  std::shared_ptr<const HorizonCheckpoint> resume;
+  // Set by the force map's forms (discovery/force_map.cc), not job keys: the
+  // level of competing refits that run side by side (discovery/screen.h
+  // SharedLevel). publish_level: this fit publishes its BIC there when it
+  // ends. pending_level: this fit stops as if abandon_above_bic were that
+  // level (the lower of the two), its shorter horizons' bounds checked once
+  // the level is published (waiting for it at the end if need be); one
+  // start only (solver.starts 0, else FitParameters throws
+  // std::invalid_argument).
+  std::shared_ptr<SharedLevel> publish_level;
+  std::shared_ptr<const SharedLevel> pending_level;
+};
+
+// How the estimate's uncertainty is computed (job key `uncertainty:`;
+// estimation/uncertainty.h). The report names the method. With discovery enabled
+// the fits use Gauss–Newton whatever `method` says.
+struct UncertaintySettings {
+  enum class Method {
+    kGaussNewton,      // ±t·σ from (JᵀJ)⁻¹ at the estimate
+    kLikelihoodRatio,  // where the cost rises by ½t²s² along the profile
+                       // directions (estimation/uncertainty.h)
+    kProfile,          // where the profile cost (the others refitted)
+                       // rises by ½t²s² (estimation/uncertainty.h)
+  };
+  // Default profile likelihood: on the issue 9 campaign (PRBS records,
+  // README) it held the truth more often than the Gauss–Newton and
+  // line-scan intervals (82–87 %, T_p 70 %), T_p most of all.
+  Method method = Method::kProfile;
+  // Residual bootstrap cross-check (estimation/uncertainty.h): refits of the
+  // fitted trace plus the residuals resampled in blocks of `block` samples
+  // (0 = off).
+  int bootstrap = 0;
+  int block = 50;        // samples per bootstrap block (1 = i.i.d. resampling)
+  std::uint64_t seed = 1;
+};
+
+}  // namespace axis
+
+#endif  // JOB_SOLVER_SETTINGS_H_

@@ -1,0 +1,595 @@
+#include "run/campaign.h"
+
+#include "common/concurrency.h"
+#include "common/format.h"
+#include "common/json_fields.h"
+#include "discovery/diagnostics.h"
+#include "discovery/discovery.h"
+#include "discovery/force_map.h"
+#include "estimation/at_estimate.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/discovery_settings.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <unistd.h>
+
+#include <boost/math/distributions/binomial.hpp>
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "sim/config.h"
+#include "sim/csv.h"
+#include "sim/experiment.h"
+#include "sim/yaml_util.h"
+
+namespace axis {
+namespace {
+
+using Range = YamlMap::Range;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A folder of its own under the system's temporary directory, removed with
+// everything in it when the object goes.
+struct ScopedTempDir {
+  explicit ScopedTempDir(const std::string& tag)
+      : path((std::filesystem::temp_directory_path() /
+              ("fit-campaign-" + std::to_string(::getpid()) + "-" + tag))
+                 .string()) {
+    std::filesystem::create_directories(path);
+  }
+  ~ScopedTempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  ScopedTempDir(const ScopedTempDir&) = delete;
+  ScopedTempDir& operator=(const ScopedTempDir&) = delete;
+  const std::string path;
+};
+
+// The names of the job's experiments (fitted and validation) in its YAML.
+std::vector<std::pair<std::string, YAML::Node>> JobExperiments(YAML::Node root) {
+  std::vector<std::pair<std::string, YAML::Node>> out;
+  for (const char* key : {"experiments", "validate"}) {
+    const YAML::Node list = root[key];
+    if (!list || !list.IsSequence()) continue;
+    for (YAML::Node e : list) {
+      if (e.IsMap() && e["name"] && e["name"].IsScalar()) out.emplace_back(e["name"].Scalar(), e);
+    }
+  }
+  return out;
+}
+
+// The job of seed `seed`: each experiment simulated from its generating
+// config with noise seed config.seed + 1000·seed, written to `dir`, and the
+// job loaded with its data paths pointing there.
+FitJob JobForSeed(const CampaignConfig& c, int seed, const std::string& dir) {
+  YAML::Node root = YAML::Clone(LoadYamlFile(c.job_path));
+  std::vector<std::pair<std::string, YAML::Node>> experiments = JobExperiments(root);
+  for (const auto& [name, generator] : c.generate) {
+    const ExperimentConfig x = LoadExperiment(generator);
+    Trace<double> trace = RunExperiment(x);
+    if (!trace.finite) {
+      throw std::runtime_error(generator + ": the simulation left the finite numbers");
+    }
+    AddNoise(x.noise_sigma, x.seed + 1000ULL * static_cast<std::uint64_t>(seed), &trace);
+    const std::string csv = dir + "/" + name + ".csv";
+    WriteTraceCsv(csv, trace, x.options.channels);
+    for (auto& [job_name, node] : experiments) {
+      if (job_name == name) node["data"] = csv;
+    }
+  }
+  return ParseFitJob(root, c.job_path, DirectoryOf(c.job_path));
+}
+
+std::string FormatRate(const Rate& r) {
+  if (r.n == 0) return "—";
+  std::ostringstream out;
+  out << r.k << "/" << r.n << " = " << std::fixed << std::setprecision(1)
+      << 100.0 * r.k / r.n << " % [" << 100.0 * r.low << ", " << 100.0 * r.high << "]";
+  return out.str();
+}
+
+nlohmann::json RateJson(const Rate& r) {
+  return {{"k", r.k}, {"n", r.n}, {"ci95_low", JsonNumber(r.low)},
+          {"ci95_high", JsonNumber(r.high)}};
+}
+
+}  // namespace
+
+SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_threads) {
+  SeedOutcome o;
+  o.seed = seed;
+  o.value.assign(c.truth_values.size(), kNaN);
+  o.ci95_low = o.value;
+  o.ci95_high = o.value;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    const ScopedTempDir dir(std::to_string(seed));
+    FitJob job = JobForSeed(c, seed, dir.path);
+    job.solver.progress = false;
+    job.solver.threads = solver_threads;
+    FitResult result = FitParameters(job);
+    ResidualVerdict verdict;
+    if (c.discover) {
+      DiscoverySettings settings = job.discover;
+      settings.enabled = true;
+      DiscoveryReport report = Discover(settings, &job, &result, nullptr);
+      if (settings.force_map) {
+        const ForceMapReport map = AddForceMap(settings, report, &job, &result, nullptr);
+        if (map.kept) o.force_map = "force_map." + map.kind;
+        ApplyRemovals(map, &report);
+      }
+      o.selected = report.selected;
+      for (const DiscoveryStep& s : report.steps) {
+        if (!s.removal && s.kept && o.first_added.empty()) o.first_added = s.effect;
+        if (!s.retried.empty()) o.retried.push_back(s.effect);
+      }
+      verdict = report.verdict;
+    } else {
+      // At the estimate (the job's model holds the generating config's values).
+      verdict = JudgeResiduals(DiagnoseResiduals(AtEstimate(job, result)), result,
+                               job.discover.alpha);
+    }
+    std::sort(o.selected.begin(), o.selected.end());
+    o.verdict = verdict.verdict;
+    o.s2 = verdict.s2;
+    for (size_t k = 0; k < c.truth_values.size(); ++k) {
+      for (const ParameterEstimate& e : result.parameters) {
+        if (e.name != c.truth_values[k].first || !e.free) continue;
+        o.value[k] = e.value;
+        o.ci95_low[k] = e.ci95_low;
+        o.ci95_high[k] = e.ci95_high;
+      }
+    }
+  } catch (const std::exception& e) {
+    o.error = e.what();
+  }
+  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return o;
+}
+
+std::string FormatSeedLine(const SeedOutcome& o) {
+  std::ostringstream out;
+  out << "seed " << o.seed << ": "
+      << (o.error.empty() ? "selected {" + Join(o.selected, ", ") + "}, verdict " + o.verdict +
+                                (o.force_map.empty() ? "" : ", kept " + o.force_map)
+                          : "failed: " + o.error)
+      << " (" << std::fixed << std::setprecision(0) << o.seconds << " s)";
+  return out.str();
+}
+
+nlohmann::json SeedOutcomeToJson(const SeedOutcome& o) {
+  const auto numbers = [](const std::vector<double>& list) {
+    nlohmann::json out = nlohmann::json::array();
+    for (double v : list) out.push_back(JsonNumber(v));
+    return out;
+  };
+  return {{"seed", o.seed},
+          {"error", o.error},
+          {"selected", o.selected},
+          {"first_added", o.first_added},
+          {"retried", o.retried},
+          {"verdict", o.verdict},
+          {"s2", JsonNumber(o.s2)},
+          {"force_map", o.force_map},
+          {"value", numbers(o.value)},
+          {"ci95_low", numbers(o.ci95_low)},
+          {"ci95_high", numbers(o.ci95_high)},
+          {"seconds", JsonNumber(o.seconds)}};
+}
+
+SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& where) {
+  SeedOutcome o;
+  o.seed = JsonIntField(j, "seed", where);
+  o.error = JsonStringField(j, "error", where);
+  o.selected = JsonStrings(j, "selected", where);
+  o.first_added = JsonStringField(j, "first_added", where);
+  o.retried = JsonStrings(j, "retried", where);
+  o.verdict = JsonStringField(j, "verdict", where);
+  o.s2 = JsonNumberField(j, "s2", where);
+  o.force_map = JsonStringField(j, "force_map", where);
+  o.value = JsonNumbers(j, "value", where);
+  o.ci95_low = JsonNumbers(j, "ci95_low", where);
+  o.ci95_high = JsonNumbers(j, "ci95_high", where);
+  if (o.ci95_low.size() != o.value.size() || o.ci95_high.size() != o.value.size()) {
+    throw std::invalid_argument(where + ": expected value, ci95_low and ci95_high of one "
+                                "length, got " + std::to_string(o.value.size()) + ", " +
+                                std::to_string(o.ci95_low.size()) + ", " +
+                                std::to_string(o.ci95_high.size()));
+  }
+  o.seconds = JsonNumberField(j, "seconds", where);
+  return o;
+}
+
+CampaignConfig LoadCampaign(const std::string& path) {
+  const YAML::Node root = LoadYamlFile(path);
+  const std::string dir = DirectoryOf(path);
+  CampaignConfig c;
+  c.path = path;
+  YamlMap map(root, path, "");
+  c.title = map.String("title", path);
+  c.job_path = ResolvePath(dir, map.String("job"));
+  const YAML::Node generate = map.Required("generate");
+  if (!generate.IsMap() || generate.size() == 0) {
+    ThrowConfigError(path, generate, "generate",
+                     "a mapping of experiment name to generating config", Describe(generate));
+  }
+  for (const auto& entry : generate) {
+    const std::string name = entry.first.Scalar();
+    if (!entry.second.IsScalar()) {
+      ThrowConfigError(path, entry.second, "generate." + name,
+                       "the path of an experiment config", Describe(entry.second));
+    }
+    c.generate.emplace_back(name, ResolvePath(dir, entry.second.Scalar()));
+  }
+  {
+    YamlMap seeds(map.Required("seeds"), path, "seeds.");
+    c.first_seed = static_cast<int>(seeds.Integer("first", 1, 0, kMaxCampaignSeed));
+    c.last_seed = static_cast<int>(seeds.Integer("last", c.first_seed, 0, kMaxCampaignSeed));
+    if (c.last_seed < c.first_seed) {
+      ThrowConfigError(path, seeds.Optional("last"), "seeds.last",
+                       "a seed at or above seeds.first = " + std::to_string(c.first_seed),
+                       std::to_string(c.last_seed));
+    }
+    seeds.Finish();
+  }
+  if (const YAML::Node d = map.Optional("discover")) {
+    if (!d.IsScalar() || (d.Scalar() != "true" && d.Scalar() != "false")) {
+      ThrowConfigError(path, d, "discover", "true or false", Describe(d));
+    }
+    c.discover = d.Scalar() == "true";
+  }
+  std::vector<std::pair<const EffectInfo*, YAML::Node>> outside_nodes;
+  std::vector<YAML::Node> truth_value_keys;  // of c.truth_values, for messages
+  if (const YAML::Node truth = map.Optional("truth")) {
+    YamlMap t(truth, path, "truth.");
+    if (const YAML::Node effects = t.Optional("effects")) {
+      if (!effects.IsSequence()) {
+        ThrowConfigError(path, effects, "truth.effects", "a list of effect names",
+                         Describe(effects));
+      }
+      for (const YAML::Node& e : effects) {
+        const std::string name = e.IsScalar() ? e.Scalar() : "";
+        if (!IsEffectName(name)) {
+          ThrowConfigError(path, e, "truth.effects",
+                           "an effect of MODEL.md section 7 (" + EffectNameList() + ")",
+                           Describe(e));
+        }
+        c.truth_effects.push_back(name);
+      }
+      std::sort(c.truth_effects.begin(), c.truth_effects.end());
+    }
+    if (const YAML::Node values = t.Optional("values")) {
+      if (!values.IsMap()) {
+        ThrowConfigError(path, values, "truth.values",
+                         "a mapping of parameter name to true value", Describe(values));
+      }
+      YamlMap v(values, path, "truth.values.");
+      for (const auto& entry : values) {
+        const std::string name = entry.first.Scalar();
+        c.truth_values.emplace_back(name, v.Number(name, Range::kAny));
+        truth_value_keys.push_back(entry.first);
+      }
+      v.Finish();
+    }
+    if (t.Has("verdict")) c.truth_verdict = t.Choice("verdict", {"explained", "incomplete"});
+    if (const YAML::Node outside = t.Optional("outside_library")) {
+      const std::string names = GeneratorOnlyEffectNameList();
+      if (!outside.IsSequence()) {
+        ThrowConfigError(path, outside, "truth.outside_library",
+                         "a list of generator-only forces (" + names + ")", Describe(outside));
+      }
+      for (const YAML::Node& e : outside) {
+        const std::string name = e.IsScalar() ? e.Scalar() : "";
+        const auto known =
+            std::find_if(GeneratorOnlyEffectTable().begin(), GeneratorOnlyEffectTable().end(),
+                         [&](const EffectInfo& g) { return name == g.name; });
+        if (known == GeneratorOnlyEffectTable().end()) {
+          ThrowConfigError(path, e, "truth.outside_library",
+                           "a generator-only force (" + names + ")", Describe(e));
+        }
+        outside_nodes.emplace_back(&*known, e);
+        c.truth_outside.push_back(name);
+      }
+      std::sort(c.truth_outside.begin(), c.truth_outside.end());
+    }
+    t.Finish();
+  }
+  {
+    YamlMap out(map.Required("output"), path, "output.");
+    c.out_dir = ResolvePath(dir, out.String("dir"));
+    out.Finish();
+  }
+  map.Finish();
+  // The job and the generating configs load now, so that a campaign cannot
+  // fail on input after hours of fitting.
+  YAML::Node job_root = LoadYamlFile(c.job_path);
+  if (const YAML::Node benchmark = job_root["benchmark"]) {
+    ThrowConfigError(c.job_path, benchmark, "benchmark",
+                     "a job without 'benchmark:' (its criteria are run by fit-params, not by "
+                     "a campaign)",
+                     "one");
+  }
+  const auto experiments = JobExperiments(job_root);
+  for (const auto& experiment : experiments) {
+    const std::string& name = experiment.first;
+    const bool has = std::any_of(c.generate.begin(), c.generate.end(),
+                                 [&](const auto& g) { return g.first == name; });
+    if (!has) {
+      ThrowConfigError(path, generate, "generate",
+                       "a generating config for experiment '" + name + "' of " + c.job_path,
+                       "none");
+    }
+  }
+  for (const auto& generating : c.generate) {
+    const std::string& name = generating.first;
+    const bool in_job = std::any_of(experiments.begin(), experiments.end(),
+                                    [&](const auto& e) { return e.first == name; });
+    if (!in_job) {
+      ThrowConfigError(path, generate[name], "generate." + name,
+                       "the name of an experiment of " + c.job_path, "'" + name + "'");
+    }
+  }
+  // A force outside the library that no generating config switches on
+  // would make the campaign measure something else.
+  // Each generating config is read once here (JobForSeed below reads them
+  // again, as every seed does).
+  EffectSwitches switched_on;
+  if (!outside_nodes.empty()) {
+    for (const auto& generating : c.generate) {
+      const EffectSwitches e = LoadExperiment(generating.second).model.structure.effects;
+      for (const EffectInfo& g : GeneratorOnlyEffectTable()) {
+        switched_on.*(g.flag) = switched_on.*(g.flag) || e.*(g.flag);
+      }
+    }
+  }
+  for (const auto& outside : outside_nodes) {
+    const std::string name = outside.first->name;
+    const YAML::Node& node = outside.second;
+    if (!(switched_on.*(outside.first->flag))) {
+      ThrowConfigError(path, node, "truth.outside_library",
+                       "a force that a generating config switches on (effects." + name + ")",
+                       "'" + name + "', in none of them");
+    }
+  }
+  // Every generating config and the job with the first seed's data (its
+  // `data:` paths are replaced, so they need not exist).
+  const ScopedTempDir check("check");
+  const FitJob job = JobForSeed(c, c.first_seed, check.path);
+  // Each true value names a parameter the fits estimate: a free parameter
+  // of the job or, with discovery, one of an effect of truth.effects (the
+  // loop frees it when it adds the effect). Another name, a misspelt one,
+  // would be tallied as a parameter no seed estimates.
+  std::vector<std::string> free_names, effect_names;
+  for (const FreeParameter& f : job.free) free_names.push_back(f.name);
+  if (c.discover) {
+    for (const std::string& e : c.truth_effects) {
+      for (const std::string& p : FreedParameters(e)) effect_names.push_back(p);
+    }
+  }
+  for (size_t k = 0; k < c.truth_values.size(); ++k) {
+    const std::string& name = c.truth_values[k].first;
+    const auto has = [&](const std::vector<std::string>& list) {
+      return std::find(list.begin(), list.end(), name) != list.end();
+    };
+    if (has(free_names) || has(effect_names)) continue;
+    std::string expected = "a free parameter of " + c.job_path + " (" + Join(free_names, ", ") + ")";
+    if (!effect_names.empty()) {
+      expected += " or of an effect of truth.effects (" + Join(effect_names, ", ") + ")";
+    }
+    ThrowConfigError(path, truth_value_keys[k], "truth.values." + name, expected,
+                     "'" + name + "'");
+  }
+  return c;
+}
+
+std::vector<SeedOutcome> RunCampaign(const CampaignConfig& config, int threads,
+                                     std::ostream* progress) {
+  if (threads < 1) {
+    throw std::invalid_argument("RunCampaign: expected at least 1 thread, got " +
+                                std::to_string(threads));
+  }
+  const int n = config.last_seed - config.first_seed + 1;
+  std::vector<SeedOutcome> outcomes(n);
+  // The cores are shared out: seeds in parallel, each fit's Ceres threads
+  // the rest.
+  const int cores = std::max(1u, std::thread::hardware_concurrency());
+  const int solver_threads = std::max(1, cores / std::min(threads, n));
+  std::mutex mutex;
+  int done = 0;
+  ForEachConcurrently(static_cast<size_t>(n), threads, [&](size_t k) {
+    SeedOutcome o =
+        RunCampaignSeed(config, config.first_seed + static_cast<int>(k), solver_threads);
+    std::lock_guard<std::mutex> lock(mutex);
+    ++done;
+    if (progress) {
+      *progress << "[" << done << "/" << n << "] " << FormatSeedLine(o) << std::endl;
+    }
+    outcomes[k] = std::move(o);
+  });
+  return outcomes;
+}
+
+Rate RateOf(int k, int n) {
+  Rate r;
+  r.k = k;
+  r.n = n;
+  if (n == 0) return r;
+  using boost::math::binomial_distribution;
+  // Clopper–Pearson: α/2 = 0.025 in each tail.
+  r.low = k == 0 ? 0.0
+                 : binomial_distribution<>::find_lower_bound_on_p(n, k, 0.025);
+  r.high = k == n ? 1.0
+                  : binomial_distribution<>::find_upper_bound_on_p(n, k, 0.025);
+  return r;
+}
+
+CampaignSummary Summarize(const CampaignConfig& config,
+                          const std::vector<SeedOutcome>& outcomes) {
+  CampaignSummary s;
+  int false_discoveries = 0, right_first = 0, exact = 0, as_expected = 0, ok = 0;
+  std::vector<int> covered(config.truth_values.size(), 0);
+  for (const SeedOutcome& o : outcomes) {
+    ++s.seeds;
+    if (!o.error.empty()) {
+      ++s.failed;
+      continue;
+    }
+    ++ok;
+    false_discoveries += !o.selected.empty();
+    right_first += std::find(config.truth_effects.begin(), config.truth_effects.end(),
+                             o.first_added) != config.truth_effects.end();
+    exact += o.selected == config.truth_effects;
+    as_expected += o.verdict == config.truth_verdict;
+    s.explained += o.verdict == "explained";
+    if (!o.force_map.empty()) ++s.force_maps[o.force_map];
+    s.incomplete += o.verdict == "incomplete";
+    for (size_t k = 0; k < covered.size(); ++k) {
+      const double truth = config.truth_values[k].second;
+      covered[k] += o.ci95_low[k] <= truth && truth <= o.ci95_high[k];
+    }
+  }
+  if (config.discover) {
+    // With a force outside the library in the data what the loop selects
+    // stands in for it: neither a false discovery nor an exact set.
+    if (!config.truth_effects.empty()) {
+      s.right_first = RateOf(right_first, ok);
+    } else if (config.truth_outside.empty()) {
+      s.false_discovery = RateOf(false_discoveries, ok);
+    }
+    if (config.truth_outside.empty()) s.exact_set = RateOf(exact, ok);
+  }
+  int pooled = 0;
+  for (int c : covered) {
+    s.covered.push_back(RateOf(c, ok));
+    pooled += c;
+  }
+  if (covered.size() >= 2) {
+    s.covered_pooled = RateOf(pooled, ok * static_cast<int>(covered.size()));
+  }
+  if (!config.truth_verdict.empty()) s.verdict_as_expected = RateOf(as_expected, ok);
+  return s;
+}
+
+std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& s,
+                           const std::vector<SeedOutcome>& outcomes) {
+  std::ostringstream out;
+  out << "# " << config.title << "\n\n"
+      << "Campaign " << config.path << ": job " << config.job_path << ", seeds "
+      << config.first_seed << "–" << config.last_seed << " (" << s.seeds << ", " << s.failed
+      << " failed), truth {" << Join(config.truth_effects, ", ") << "}"
+      << (config.truth_outside.empty()
+              ? ""
+              : " and, outside the library, {" + Join(config.truth_outside, ", ") + "}")
+      << (config.discover ? "" : ", no discovery") << ".\n\n"
+      << "| measure | rate (95 % Clopper–Pearson interval, %) |\n|---|---|\n";
+  if (s.false_discovery.n) {
+    out << "| false discovery (an effect selected) | " << FormatRate(s.false_discovery) << " |\n";
+  }
+  if (s.right_first.n) {
+    out << "| right effect first | " << FormatRate(s.right_first) << " |\n";
+  }
+  if (s.exact_set.n) out << "| exact final set | " << FormatRate(s.exact_set) << " |\n";
+  for (size_t k = 0; k < s.covered.size(); ++k) {
+    out << "| " << config.truth_values[k].first << " = " << config.truth_values[k].second
+        << " inside its 95 % interval | " << FormatRate(s.covered[k]) << " |\n";
+  }
+  if (s.covered_pooled.n) {
+    out << "| all " << s.covered.size() << " values inside their 95 % intervals (pooled) | "
+        << FormatRate(s.covered_pooled) << " |\n";
+  }
+  if (s.verdict_as_expected.n) {
+    out << "| verdict " << config.truth_verdict << " | " << FormatRate(s.verdict_as_expected)
+        << " |\n";
+  }
+  out << "| verdicts | explained " << s.explained << ", incomplete " << s.incomplete
+      << " |\n";
+  if (!s.force_maps.empty()) {
+    std::vector<std::string> kinds;
+    for (const auto& [kind, n] : s.force_maps) kinds.push_back(kind + " " + std::to_string(n));
+    out << "| force map kept (discovery/force_map.h) | " << Join(kinds, ", ") << " of " << s.seeds
+        << " |\n";
+  }
+  std::vector<double> seconds;
+  for (const SeedOutcome& o : outcomes) seconds.push_back(o.seconds);
+  std::sort(seconds.begin(), seconds.end());
+  if (!seconds.empty()) {
+    out << "| wall time per seed (s) | " << std::fixed << std::setprecision(0)
+        << seconds.front() << "–" << seconds.back() << ", median "
+        << seconds[seconds.size() / 2] << " |\n" << std::defaultfloat;
+  }
+  out << "\nSeeds with a selected effect, a failure or an unexpected verdict:\n\n";
+  int listed = 0;
+  for (const SeedOutcome& o : outcomes) {
+    const bool odd = !o.error.empty() || o.selected != config.truth_effects ||
+                     (!config.truth_verdict.empty() && o.verdict != config.truth_verdict);
+    if (!odd) continue;
+    ++listed;
+    out << "- seed " << o.seed << ": "
+        << (o.error.empty() ? "selected {" + Join(o.selected, ", ") + "}, verdict " + o.verdict
+                            : "failed: " + o.error)
+        << "\n";
+  }
+  if (listed == 0) out << "- none\n";
+  return out.str();
+}
+
+void WriteCampaign(const std::string& dir, const CampaignConfig& config,
+                   const CampaignSummary& s, const std::vector<SeedOutcome>& outcomes) {
+  std::filesystem::create_directories(dir);
+  std::ostringstream csv;
+  csv << std::setprecision(10) << "seed,error,selected,first_added,verdict,s2,seconds";
+  for (const auto& [name, truth] : config.truth_values) {
+    (void)truth;
+    csv << "," << name << "," << name << "_ci95_low," << name << "_ci95_high";
+  }
+  csv << "\n";
+  for (const SeedOutcome& o : outcomes) {
+    std::string error = o.error;
+    std::replace(error.begin(), error.end(), ',', ';');
+    std::replace(error.begin(), error.end(), '\n', ' ');
+    csv << o.seed << "," << error << "," << Join(o.selected, " ") << "," << o.first_added
+        << "," << o.verdict << "," << o.s2 << "," << o.seconds;
+    for (size_t k = 0; k < config.truth_values.size(); ++k) {
+      csv << "," << o.value[k] << "," << o.ci95_low[k] << "," << o.ci95_high[k];
+    }
+    csv << "\n";
+  }
+  nlohmann::json j;
+  j["title"] = config.title;
+  j["campaign"] = config.path;
+  j["job"] = config.job_path;
+  j["seeds"] = {{"first", config.first_seed}, {"last", config.last_seed},
+                {"run", s.seeds}, {"failed", s.failed}};
+  j["truth_effects"] = config.truth_effects;
+  j["truth_outside_library"] = config.truth_outside;
+  if (s.false_discovery.n) j["false_discovery"] = RateJson(s.false_discovery);
+  if (s.right_first.n) j["right_first"] = RateJson(s.right_first);
+  if (s.exact_set.n) j["exact_set"] = RateJson(s.exact_set);
+  j["coverage"] = nlohmann::json::object();
+  for (size_t k = 0; k < s.covered.size(); ++k) {
+    j["coverage"][config.truth_values[k].first] = RateJson(s.covered[k]);
+  }
+  if (s.covered_pooled.n) j["coverage_pooled"] = RateJson(s.covered_pooled);
+  if (s.verdict_as_expected.n) j["verdict_as_expected"] = RateJson(s.verdict_as_expected);
+  j["verdicts"] = {{"explained", s.explained}, {"incomplete", s.incomplete}};
+  j["force_maps"] = s.force_maps;
+  WriteFileAtomic(dir + "/results.csv", csv.str());
+  WriteFileAtomic(dir + "/summary.md", FormatCampaign(config, s, outcomes));
+  WriteFileAtomic(dir + "/summary.json", j.dump(2) + "\n");
+}
+
+}  // namespace axis

@@ -1,0 +1,163 @@
+// Monte Carlo campaigns (issue 10): one fitting job run over many noise
+// seeds of the configs that generate its data, with the discovery loop's
+// outcome tallied against the truth the generating configs hold: false
+// discoveries on null data, power (right effect first, exact final set),
+// interval coverage of true values, the verdict. The `fit-campaign` command.
+#ifndef RUN_CAMPAIGN_H_
+#define RUN_CAMPAIGN_H_
+
+#include <map>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+
+namespace axis {
+
+// The largest seed of a campaign (seeds.first, seeds.last, fit-campaign
+// --first and --last).
+constexpr int kMaxCampaignSeed = 1000000;
+
+// A campaign file (configs/campaigns/*.yaml; paths relative to it):
+//   title: "..."
+//   job: ../jobs/discover/none.yaml     # the fitting job
+//   generate:                           # experiment name → generating config
+//     step_p4V: ../../testdata/generate/discover/none_step_p4V.yaml
+//   seeds: {first: 1, last: 100}
+//   discover: true                      # run the discovery loop (default)
+//   truth:
+//     effects: [coulomb]                # undeclared effects in the data
+//     values: {F_c: 30}                 # true values, for interval coverage
+//     verdict: explained                # expected verdict (optional)
+//     outside_library: [friction_patch] # generator-only forces in the data
+//   output: {dir: ../../build/campaigns/none}
+// Every experiment of the job (fitted and validation) needs a generating
+// config; seed s simulates each noise-free and adds noise with seed
+// config.seed + 1000·s (AddNoise), the input as the config defines it.
+struct CampaignConfig {
+  std::string path;
+  std::string title;
+  std::string job_path;
+  std::vector<std::pair<std::string, std::string>> generate;
+  int first_seed = 1;  // both 0..kMaxCampaignSeed
+  int last_seed = 10;
+  bool discover = true;
+  std::vector<std::string> truth_effects;  // Candidate names, sorted
+  std::vector<std::pair<std::string, double>> truth_values;  // MODEL.md name, SI unit
+  std::string truth_verdict;  // "", "explained" or "incomplete"
+  // Forces outside MODEL.md §7 in the data (GeneratorOnlyEffectTable names,
+  // sorted; each switched on in a generating config). With any, no final
+  // set is exact and an effect selected is a stand-in, not a false
+  // discovery: the measure is the verdict (`incomplete`).
+  std::vector<std::string> truth_outside;
+  std::string out_dir;
+};
+
+// Loads and checks a campaign file: every generating config is loaded and
+// the job is loaded with the first seed's simulated data (errors name their
+// files; the job's own `data:` paths need not exist), each job experiment must have
+// a generating config and each generating config must name a job
+// experiment. Throws std::invalid_argument naming the file, line and key
+// ("expected …, got …"): unknown keys, first > last, an unknown effect name,
+// a verdict other than explained / incomplete, an outside_library force that
+// is not a generator-only one or that no generating config switches on.
+CampaignConfig LoadCampaign(const std::string& path);
+
+// What one seed gave.
+struct SeedOutcome {
+  int seed = 0;
+  std::string error;                   // non-empty: the seed failed (message)
+  std::vector<std::string> selected;   // final selected effects, sorted
+  std::string first_added;             // the first effect the loop kept, or ""
+  // Effects whose refit failed from the score step and was retried from a
+  // tenth of it (DiscoveryStep::retried), in the order of the steps.
+  std::vector<std::string> retried;
+  std::string verdict;                 // "explained" / "incomplete"
+  double s2 = 0.0;                     // residual variance in σ units
+  // With discover.force_map (discovery/force_map.h): the map the step kept
+  // ("force_map.x_friction"), "" if none; `verdict` stays the library's.
+  std::string force_map;
+  // Per truth value (same order): estimate, 95 % interval; NaN if the
+  // parameter is not in the final model.
+  std::vector<double> value, ci95_low, ci95_high;
+  double seconds = 0.0;                // wall time of simulate + fit + loop
+};
+
+// Seed `seed` of the campaign: its records simulated (into a temporary
+// folder, removed after), the job fitted with `solver_threads` Ceres
+// threads and, if config.discover, the discovery loop run. A failure (bad
+// data, a fit that throws) is recorded in SeedOutcome::error, not thrown
+// (except std::bad_alloc).
+SeedOutcome RunCampaignSeed(const CampaignConfig& config, int seed, int solver_threads);
+
+// The progress line of a finished seed, without a newline:
+// "seed 4: selected {coulomb}, verdict explained (31 s)" or
+// "seed 4: failed: <message> (2 s)".
+std::string FormatSeedLine(const SeedOutcome& outcome);
+
+// A seed's outcome as JSON and back (the messages of the MPI campaign,
+// fleet/campaign_run.h): numbers that are not finite are null (read back as
+// NaN); doubles round-trip exactly. SeedOutcomeFromJson throws
+// std::invalid_argument "<where>: expected …, got …" for a document that is
+// not such an outcome.
+nlohmann::json SeedOutcomeToJson(const SeedOutcome& outcome);
+SeedOutcome SeedOutcomeFromJson(const nlohmann::json& json, const std::string& where);
+
+// Runs seeds first..last on `threads` worker threads (each fit single
+// threaded when threads > 1), writing one line per finished seed to
+// `progress`. A seed whose fit throws is recorded with its message, not
+// fatal (RunCampaignSeed catches every std::exception; anything else is
+// rethrown after the other seeds have run, common/concurrency.h). Throws
+// std::invalid_argument if threads < 1.
+std::vector<SeedOutcome> RunCampaign(const CampaignConfig& config, int threads,
+                                     std::ostream* progress);
+
+// One rate: k of n, with its exact (Clopper–Pearson) 95 % interval
+// (boost::math::binomial_distribution).
+struct Rate {
+  int k = 0;
+  int n = 0;
+  double low = 0.0, high = 1.0;
+};
+Rate RateOf(int k, int n);
+
+// The campaign's figures: seeds run and failed, false discoveries (truth
+// without effects) or right effect first and exact final set, per truth
+// value coverage, verdict counts.
+struct CampaignSummary {
+  int seeds = 0;
+  int failed = 0;
+  Rate false_discovery;  // selected not empty; only if truth_effects is empty
+  Rate right_first;      // first added in truth_effects; only if not empty
+  Rate exact_set;        // selected == truth_effects
+  std::vector<Rate> covered;  // per truth value: inside the 95 % interval
+  // All truth values pooled (seeds × values; only with two or more). The
+  // values of one seed share its noise, so the Clopper–Pearson interval of
+  // the pooled rate is narrower than its true spread.
+  Rate covered_pooled;
+  Rate verdict_as_expected;   // only if truth_verdict is set
+  int explained = 0, incomplete = 0;
+  // Seeds per force map kept ("force_map.x_friction" → count), with
+  // discover.force_map; empty without.
+  std::map<std::string, int> force_maps;
+};
+CampaignSummary Summarize(const CampaignConfig& config,
+                          const std::vector<SeedOutcome>& outcomes);
+
+// The summary as a markdown table and the per-seed table.
+std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& summary,
+                           const std::vector<SeedOutcome>& outcomes);
+
+// Writes results.csv (one row per seed), summary.md and summary.json into
+// `dir` (created; each file written to a temporary name and renamed).
+// Throws std::runtime_error if a file cannot be written.
+void WriteCampaign(const std::string& dir, const CampaignConfig& config,
+                   const CampaignSummary& summary,
+                   const std::vector<SeedOutcome>& outcomes);
+
+}  // namespace axis
+
+#endif  // RUN_CAMPAIGN_H_

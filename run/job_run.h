@@ -1,0 +1,75 @@
+// The job pipeline: one job run as fit-params runs it — the fit, the
+// discovery loop and force map, the current-loop check and full-loop
+// refit, the residual diagnostics, the bootstrap, the next experiment and
+// the published comparison — before anything is written (WriteJobRun,
+// run/write_job_run.h). Every front end runs it: fit-params, fit-campaign's
+// seeds, fit-fleet's jobs and the Python module's fit.
+#ifndef RUN_JOB_RUN_H_
+#define RUN_JOB_RUN_H_
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "design/experiment_design.h"
+#include "discovery/diagnostics.h"
+#include "discovery/discovery.h"
+#include "discovery/force_map.h"
+#include "estimation/current_loop_check.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "report/published.h"
+#include "report/report.h"
+
+namespace axis {
+
+// A job run as fit-params runs it, before anything is written (RunJob).
+struct JobRun {
+  // The job; after discovery its model holds the selected effects with
+  // their fitted values.
+  FitJob job;
+  // The final fit: after discovery, of the augmented model; with
+  // uncertainty.bootstrap > 0, with the bootstrap's figures.
+  FitResult result;
+  bool discovered = false;  // the discovery loop ran
+  // If discovered: the loop's report, and the residual diagnostics of the
+  // model as declared at the base fit.
+  DiscoveryReport discovery;
+  std::vector<ChannelDiagnostics> diagnostics;
+  // If discovered with discover.force_map: the force-map step after the
+  // loop (discovery/force_map.h); with a map kept, `job` and `result` hold it.
+  ForceMapReport force_map;
+  // With `design:` (design/experiment_design.h): the next experiment, at the
+  // final estimates.
+  ExperimentProposal proposal;
+  // With current_loop: quasi_steady, what the approximation costs the final
+  // estimate (estimation/current_loop_check.h); ran = false otherwise.
+  CurrentLoopCheck loop_check;
+  bool has_published = false;     // the job has `published:`
+  PublishedComparison published;  // if has_published
+  // What params.md and report.json add to the fit's own tables: how input
+  // columns were read, the published comparison, the discovery loop.
+  ReportSections sections;
+  // How input columns were read, one line each ("<experiment>: <note>"),
+  // for report.html.
+  std::vector<std::string> input_lines;
+};
+
+// Runs `job` as fit-params does, writing no file: FitParameters; with
+// `discover` or the job's `discover:`, the residual diagnostics and the
+// discovery loop (Discover); the residual bootstrap if
+// uncertainty.bootstrap > 0; the published comparison if the job has one.
+// A job with `benchmark:` is refused (std::invalid_argument): fit-params runs
+// each of its criteria as a job of its own (CriterionJob, run/benchmark.h).
+// Prints to `out` what fit-params prints between its two header lines and
+// its "wrote" line: notes on input columns, the solver's progress (if
+// job.solver.progress; from the calling thread only), the discovery tables,
+// the parameter and fit tables, the cost, time, optimum-check and
+// uncertainty lines, the published table. Throws std::invalid_argument for
+// an inconsistent job (LoadFitJob has checked) and std::runtime_error if a
+// diagnostic simulation fails.
+JobRun RunJob(FitJob job, bool discover, std::ostream& out);
+
+}  // namespace axis
+
+#endif  // RUN_JOB_RUN_H_
