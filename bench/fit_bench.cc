@@ -2,9 +2,9 @@
 // two 2 s experiments at 1 kHz, the quasi-steady current loop at 100 µs; the
 // full loop at 10 µs until 2026-11-24: 12.2 s) from its factor-2 start, single
 // start, with the number of simulations and Jacobian evaluations as counters.
-#include <benchmark/benchmark.h>
-
 #include <string>
+
+#include <benchmark/benchmark.h>
 
 #include "discovery/discovery.h"
 #include "estimation/fit.h"

@@ -4,14 +4,15 @@
 // subprocess (alone, or under `mpirun --oversubscribe -np 2`), and on the
 // 2-rank run the speed-up over the 1-rank one (counter `speedup`). Run it on
 // an otherwise idle machine with at least 2 cores: the ranks share them.
-#include <benchmark/benchmark.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+
+#include <benchmark/benchmark.h>
+#include <sys/wait.h>
 
 namespace {
 

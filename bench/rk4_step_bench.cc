@@ -2,14 +2,12 @@
 // with gear coupling, 10 V step input, h = 10 µs), in double and in
 // ceres::Jet<double, 5>, next to a plain hand-written loop of the same
 // equations as the reference cost of the arithmetic itself.
-#include <benchmark/benchmark.h>
-
 #include <algorithm>
+#include <string>
 #include <type_traits>
 
+#include <benchmark/benchmark.h>
 #include <ceres/jet.h>
-
-#include <string>
 
 #include "sim/axis_model.h"
 #include "sim/config.h"

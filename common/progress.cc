@@ -1,10 +1,11 @@
 #include "common/progress.h"
 
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+
+#include <sys/ioctl.h>
 
 namespace axis {
 

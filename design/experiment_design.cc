@@ -1,14 +1,5 @@
 #include "design/experiment_design.h"
 
-#include "common/format.h"
-#include "discovery/discovery.h"
-#include "estimation/at_estimate.h"
-#include "estimation/experiment_cost.h"
-#include "estimation/fit_result.h"
-#include "estimation/stacked_jacobian.h"
-#include "job/design_settings.h"
-#include "job/fit_job.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,6 +12,14 @@
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/non_central_chi_squared.hpp>
 
+#include "common/format.h"
+#include "discovery/discovery.h"
+#include "estimation/at_estimate.h"
+#include "estimation/experiment_cost.h"
+#include "estimation/fit_result.h"
+#include "estimation/stacked_jacobian.h"
+#include "job/design_settings.h"
+#include "job/fit_job.h"
 #include "sim/channels.h"
 #include "sim/config.h"
 #include "sim/csv.h"

@@ -1,11 +1,5 @@
 #include "discovery/diagnostics.h"
 
-#include "common/gnuplot.h"
-#include "common/statistics.h"
-#include "estimation/evaluate_experiment.h"
-#include "estimation/fit_result.h"
-#include "job/fit_job.h"
-
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -13,6 +7,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/gnuplot.h"
+#include "common/statistics.h"
+#include "estimation/evaluate_experiment.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
 #include "sim/csv.h"
 
 namespace axis {

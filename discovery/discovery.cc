@@ -1,19 +1,5 @@
 #include "discovery/discovery.h"
 
-#include "common/format.h"
-#include "common/progress.h"
-#include "common/statistics.h"
-#include "discovery/diagnostics.h"
-#include "discovery/screen.h"
-#include "estimation/at_estimate.h"
-#include "estimation/experiment_cost.h"
-#include "estimation/fit.h"
-#include "estimation/fit_result.h"
-#include "estimation/horizon_checkpoint.h"
-#include "estimation/stacked_jacobian.h"
-#include "job/discovery_settings.h"
-#include "job/fit_job.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -26,6 +12,20 @@
 
 #include <Eigen/Dense>
 
+#include "common/format.h"
+#include "common/progress.h"
+#include "common/statistics.h"
+#include "discovery/diagnostics.h"
+#include "discovery/screen.h"
+#include "estimation/at_estimate.h"
+#include "estimation/experiment_cost.h"
+#include "estimation/fit.h"
+#include "estimation/fit_control.h"
+#include "estimation/fit_result.h"
+#include "estimation/horizon_checkpoint.h"
+#include "estimation/stacked_jacobian.h"
+#include "job/discovery_settings.h"
+#include "job/fit_job.h"
 #include "sim/config.h"
 
 namespace axis {
@@ -306,11 +306,11 @@ std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
   AsWarmRefit(without);
   without->solver.first_horizon = first_horizon;
   // Removed only if BIC falls: a refit that can no longer fall below the
-  // BIC with the effect stops early (SolverSettings::abandon_above_bic).
-  without->solver.abandon_above_bic = kStopFactor * result.bic;
+  // BIC with the effect stops early (FitControl::abandon_above_bic).
+  FitControl control;
+  control.abandon_above_bic = kStopFactor * result.bic;
   const Clock::time_point start = Clock::now();
-  FitResult refit = FitParameters(*without, nullptr);
-  without->solver.abandon_above_bic = std::numeric_limits<double>::infinity();
+  FitResult refit = FitParameters(*without, nullptr, control);
   DiscoveryStep record;
   record.seconds = SecondsSince(start);
   record.effect = c.name;
@@ -652,7 +652,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
     };
     // The level a refit must end below to matter (issue 11): a refit whose
     // BIC's lower bound passes kStopFactor times it stops on a shorter
-    // horizon (SolverSettings::abandon_above_bic). First the BIC before the
+    // horizon (FitControl::abandon_above_bic). First the BIC before the
     // step (a refit above it is rejected); once a batch's leading refit has
     // run, its BIC if it would be kept (no other refit above it can win the
     // step).
@@ -676,7 +676,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       }
       // The screen (several candidates, a horizon continuation): every
       // refit runs the first kScreenStages horizons only
-      // (SolverSettings::stop_after_horizon), and the refits then run in
+      // (FitControl::stop_after_horizon), and the refits then run in
       // the order of their BICs' lower bounds there, lowest first, so that
       // the leading refits are the likeliest to set a low level. The
       // order changes only which refits stop early, not which wins (the
@@ -686,7 +686,7 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       std::vector<double> screen_seconds(batch.size(), 0.0);
       // The screen's shorter horizons, per candidate and start, which its
       // refit goes on after instead of running them again
-      // (SolverSettings::resume): the same points, costs and stops, up to
+      // (FitControl::resume): the same points, costs and stops, up to
       // the last bits of a cost summed on another number of threads (the
       // leader's refit runs on more than its screen did). On the
       // coulomb_load_offset case (issue 11) 17.0 → 15.1 s whole process,
@@ -728,18 +728,21 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
       const auto run_candidates = [&](std::vector<size_t>::const_iterator from,
                                       std::vector<size_t>::const_iterator to) {
         std::vector<FitJob> jobs;
+        std::vector<FitControl> controls;
         for (auto it = from; it != to; ++it) {
           pos[*it] = fits.size() + jobs.size();
           level_of[*it] = level;
           for (size_t k = 0; k < batch[*it].starts.size(); ++k) {
-            FitJob j = batch[*it].starts[k];
-            j.solver.abandon_above_bic = kStopFactor * level.bic;
-            if (k < resume[*it].size()) j.solver.resume = resume[*it][k];
-            jobs.push_back(std::move(j));
+            jobs.push_back(batch[*it].starts[k]);
+            FitControl control;
+            control.abandon_above_bic = kStopFactor * level.bic;
+            if (k < resume[*it].size()) control.resume = resume[*it][k];
+            controls.push_back(std::move(control));
           }
         }
         std::vector<double> secs;
-        std::vector<FitResult> out = FitConcurrently(jobs, job->solver.threads, &secs);
+        std::vector<FitResult> out =
+            FitConcurrently(jobs, job->solver.threads, &secs, controls);
         fits.insert(fits.end(), std::make_move_iterator(out.begin()),
                     std::make_move_iterator(out.end()));
         seconds.insert(seconds.end(), secs.begin(), secs.end());
@@ -780,11 +783,12 @@ DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
           for (double& x : damped.step) x *= 0.1;
           for (double& x : damped.single_step) x *= 0.1;
           q.starts = refit_jobs(q.candidate, damped);
-          std::vector<FitJob> retry = q.starts;
-          for (FitJob& j : retry) j.solver.abandon_above_bic = kStopFactor * level.bic;
+          FitControl control;
+          control.abandon_above_bic = kStopFactor * level.bic;
           level_of[b] = level;
           std::vector<double> again;
-          own = FitConcurrently(retry, job->solver.threads, &again);
+          own = FitConcurrently(q.starts, job->solver.threads, &again,
+                                std::vector<FitControl>(q.starts.size(), control));
           for (double s : again) record.seconds += s;
           best = LowestFiniteBic(own);
           record.retried = "refit from the score step failed; retried from a tenth of it";

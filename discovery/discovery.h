@@ -182,7 +182,7 @@ struct DiscoveryStep {
   // there was already more than twice the level that decides the step (the
   // BIC before it, or the lowest BIC a refit of the step has already
   // reached; for a removal, the BIC with the effect; estimation/fit.h
-  // FitParameters, SolverSettings::abandon_above_bic): where and why, e.g.
+  // FitParameters, FitControl::abandon_above_bic): where and why, e.g.
   // "at the 0.2 s horizon: BIC >= 3.868e+04 there already, more than 2
   // times coulomb's BIC (1.192e+04)". Then bic_after is that lower bound
   // and `parameters` and `channels` are empty. Empty for a refit that ran

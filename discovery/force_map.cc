@@ -1,20 +1,5 @@
 #include "discovery/force_map.h"
 
-#include "common/format.h"
-#include "common/gnuplot.h"
-#include "discovery/diagnostics.h"
-#include "discovery/discovery.h"
-#include "discovery/screen.h"
-#include "estimation/at_estimate.h"
-#include "estimation/experiment_cost.h"
-#include "estimation/fit.h"
-#include "estimation/fit_result.h"
-#include "estimation/roughness_cost.h"
-#include "estimation/shared_level.h"
-#include "estimation/stacked_jacobian.h"
-#include "job/discovery_settings.h"
-#include "job/fit_job.h"
-
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -27,6 +12,22 @@
 
 #include <Eigen/Dense>
 
+#include "common/format.h"
+#include "common/gnuplot.h"
+#include "discovery/diagnostics.h"
+#include "discovery/discovery.h"
+#include "discovery/screen.h"
+#include "estimation/at_estimate.h"
+#include "estimation/experiment_cost.h"
+#include "estimation/fit.h"
+#include "estimation/fit_control.h"
+#include "estimation/fit_result.h"
+#include "estimation/optimum_check.h"
+#include "estimation/roughness_cost.h"
+#include "estimation/shared_level.h"
+#include "estimation/stacked_jacobian.h"
+#include "job/discovery_settings.h"
+#include "job/fit_job.h"
 #include "sim/csv.h"
 #include "sim/simulate.h"
 
@@ -419,20 +420,19 @@ ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryRep
   // of the first horizons choosing the leader, which then ran alone on
   // both threads, the others after it: 23.9 / 77.2, the friction patch's
   // slowest form starting only after the screen and the leader. The fits
-  // run on copies of the jobs (jobs[f], one of which becomes the map's,
-  // keep no level).
+  // run with a control each (the jobs keep no level).
   const int threads = std::max(1, job->solver.threads);
   const auto shared_level = std::make_shared<SharedLevel>(kStopFactor);
-  std::vector<FitJob> batch = jobs;
-  for (size_t f = 0; f < batch.size(); ++f) {
+  std::vector<FitControl> controls(jobs.size());
+  for (size_t f = 0; f < controls.size(); ++f) {
     if (f == 0) {
-      batch[f].solver.publish_level = shared_level;
+      controls[f].publish_level = shared_level;
     } else {
-      batch[f].solver.pending_level = shared_level;
+      controls[f].pending_level = shared_level;
     }
   }
   std::vector<double> seconds;
-  std::vector<FitResult> fits = FitConcurrently(batch, threads, &seconds);
+  std::vector<FitResult> fits = FitConcurrently(jobs, threads, &seconds, controls);
   double level = std::numeric_limits<double>::infinity();
   std::string level_name;
   if (fits[0].abandoned_horizon == 0.0 && std::isfinite(fits[0].bic)) {

@@ -1,14 +1,15 @@
 #include "discovery/screen.h"
 
-#include "estimation/fit.h"
-#include "estimation/fit_result.h"
-#include "job/fit_job.h"
-
 #include <cmath>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "estimation/fit.h"
+#include "estimation/fit_control.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
 
 namespace axis {
 
@@ -19,10 +20,14 @@ std::vector<ScreenedFit> ScreenFits(std::vector<FitJob> jobs, int threads) {
           "ScreenFits: expected jobs with solver.first_horizon > 0 (a horizon continuation), "
           "got " + std::to_string(j.solver.first_horizon) + " s");
     }
-    j.solver.stop_after_horizon = j.solver.first_horizon * std::pow(2.0, kScreenStages - 1);
+  }
+  std::vector<FitControl> controls(jobs.size());
+  for (size_t k = 0; k < jobs.size(); ++k) {
+    controls[k].stop_after_horizon =
+        jobs[k].solver.first_horizon * std::pow(2.0, kScreenStages - 1);
   }
   std::vector<double> seconds;
-  const std::vector<FitResult> fits = FitConcurrently(jobs, threads, &seconds);
+  const std::vector<FitResult> fits = FitConcurrently(jobs, threads, &seconds, controls);
   std::vector<ScreenedFit> out(fits.size());
   for (size_t k = 0; k < fits.size(); ++k) {
     out[k].bound =

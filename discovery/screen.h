@@ -43,13 +43,13 @@ struct ScreenedFit {
   // screened horizon (FitResult::bic of the stopped fit); +inf if it failed.
   double bound = 0.0;
   double seconds = 0.0;  // wall time of the screen's fit (s)
-  // Its shorter horizons, to resume from (SolverSettings::resume); null if
+  // Its shorter horizons, to resume from (FitControl::resume); null if
   // the fit ended before them.
   std::shared_ptr<const HorizonCheckpoint> checkpoint;
 };
 
 // Runs every job's first kScreenStages horizons only
-// (SolverSettings::stop_after_horizon = first_horizon·2^(kScreenStages−1)),
+// (FitControl::stop_after_horizon = first_horizon·2^(kScreenStages−1)),
 // up to `threads` fits at once (FitConcurrently, estimation/fit.h), and returns
 // per job (same order) the bound, time and checkpoint. Ordering competing
 // refits by the bound, lowest first, lets the leading one set a low level

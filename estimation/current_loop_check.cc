@@ -1,12 +1,5 @@
 #include "estimation/current_loop_check.h"
 
-#include "common/format.h"
-#include "estimation/at_estimate.h"
-#include "estimation/evaluate_experiment.h"
-#include "estimation/fit.h"
-#include "estimation/fit_result.h"
-#include "job/fit_job.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "common/format.h"
+#include "estimation/at_estimate.h"
+#include "estimation/evaluate_experiment.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
 #include "sim/channels.h"
 #include "sim/preflight.h"
 

@@ -1,9 +1,9 @@
 #include "estimation/experiment_cost.h"
 
-#include "job/fit_job.h"
-
 #include <algorithm>
 #include <stdexcept>
+
+#include "job/fit_job.h"
 
 namespace axis {
 namespace {

@@ -10,38 +10,52 @@
 #include <utility>
 #include <vector>
 
+#include "estimation/fit_control.h"
 #include "estimation/fit_result.h"
 #include "job/fit_job.h"
 
 namespace axis {
 
-// Fits the job. Prints one line per iteration to `progress` if non-null and
-// job.solver.progress. Starts: the job's initial point, then job.solver.starts
-// points drawn (seeded by job.solver.seed) log-uniformly within the bounds of
-// positive parameters and uniformly otherwise; the lowest final cost wins.
-// With a finite job.solver.abandon_above_bic (the discovery loop's refits),
-// a start whose BIC can no longer end below it stops on a shorter horizon of
-// the continuation (a stage's cost is a prefix of the whole record's, so
-// 2·(its minimum) + n·ln(m) bounds the final BIC from below; the minimum
-// taken as the lower of the stage's end point and the start); if every
-// start stops, the result says where (FitResult::abandoned_horizon).
-// job.solver.stop_after_horizon > 0 stops every start so after that horizon
-// (a screen), and the result carries the stages every start ran
-// (FitResult::checkpoint); a fit of the same job given that as
-// job.solver.resume takes those stages as run and goes on after them, with
-// the same end as running them again (bit for bit on the same number of
-// threads; estimation/horizon_checkpoint.h). A start that meets an earlier start's
-// point after a shorter horizon (within its parameter tolerance) stops
-// (FitResult::start_joined). With job.solver.publish_level the fit
-// publishes its BIC there when it ends (also when it throws: +inf); with
-// job.solver.pending_level it stops as under abandon_above_bic at that
-// level once another fit publishes it, and may block until then
-// (estimation/shared_level.h SharedLevel). Throws std::invalid_argument for an
-// inconsistent job (LoadFitJob has checked), for a solver.resume that is
-// not a checkpoint of this job, and for a pending_level with
-// solver.starts > 0 or a stop_after_horizon; the solver itself never
-// throws.
-FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
+// Fits the job (estimation/fitter.h: the steps in order). Prints one line
+// per iteration to `progress` if non-null and job.solver.progress.
+//
+// Starts: the job's initial point, then job.solver.starts points drawn
+// (seeded by job.solver.seed) log-uniformly within the bounds of positive
+// parameters and uniformly otherwise, each through the horizon continuation
+// (solver.first_horizon, doubled per stage); the solver.finalists lowest on
+// the longest shorter horizon fit the whole record and the lowest final
+// cost wins. A start that meets an earlier start's point after a shorter
+// horizon (within its parameter tolerance) stops (FitResult::start_joined).
+// With solver.starts 0 and the job's start ending at s² above
+// kAutoStartsAbove, the fit runs again with solver.auto_starts random
+// starts (FitResult::auto_starts_note). Then the optimum check
+// (solver.probe_rounds), the covariance, the local restarts
+// (solver.local_starts) and the intervals (uncertainty.method), any of
+// which restarts the solver at a lower cost it meets.
+//
+// `control` (estimation/fit_control.h) steers the fit from inside the tool:
+// with a finite control.abandon_above_bic (the discovery loop's refits), a
+// start whose BIC can no longer end below it stops on a shorter horizon (a
+// stage's cost is a prefix of the whole record's, so 2·(its minimum) +
+// n·ln(m) bounds the final BIC from below; the minimum taken as the lower
+// of the stage's end point and the start); if every start stops, the result
+// says where (FitResult::abandoned_horizon). control.stop_after_horizon > 0
+// stops every start so after that horizon (a screen), and the result
+// carries the stages every start ran (FitResult::checkpoint); a fit of the
+// same job given that as control.resume takes those stages as run and goes
+// on after them, with the same end as running them again (bit for bit on
+// the same number of threads; estimation/horizon_checkpoint.h). With
+// control.publish_level the fit publishes its BIC there when it ends (also
+// when it throws: +inf); with control.pending_level it stops as under
+// abandon_above_bic at that level once another fit publishes it, and may
+// block until then (estimation/shared_level.h).
+//
+// Throws std::invalid_argument for an inconsistent job (LoadFitJob has
+// checked), for a control.resume that is not a checkpoint of this job, and
+// for a pending_level with solver.starts > 0 or a stop_after_horizon; the
+// solver itself never throws.
+FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr,
+                        const FitControl& control = {});
 
 // Turns `job` into a warm refit: a fit that starts next to its optimum (the
 // residual bootstrap's refits of resampled data at the estimate) and only
@@ -55,28 +69,23 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr);
 // ended the Stribeck refit in a minimum 100 BIC higher).
 void AsWarmRefit(FitJob* job);
 
-// The smallest change of a cost (½Σr² of σ-weighted residuals) that the
-// solver resolves: `function_tolerance` (Ceres' relative stop, at least
-// 1e-9) times |cost|, plus 1e-6. Two fits whose costs differ by less ended
-// at the same optimum as far as the solver can tell (the optimum check's
-// "lower" point, estimation/fit.cc; the force map's removal ties,
-// discovery/force_map.cc). Never throws.
-double CostResolution(double cost, double function_tolerance);
-
-// Fits jobs[k] (FitParameters, no progress) for every k, up to `threads`
+// Fits jobs[k] (FitParameters, no progress, with controls[k] if `controls`
+// is not empty) for every k, up to `threads`
 // fits at once on their own std::threads; each fit's Ceres evaluation gets
 // threads / (fits at once) threads, at least 1 (its job.solver.threads is
 // overridden), taken in index order. The fits are independent (each builds
 // its own problems), so the results are those of fitting one after the
-// other, except that a fit with solver.pending_level waits for its level:
+// other, except that a fit with a control's pending_level waits for its level:
 // its publisher must come at a lower index (it then always runs first or
 // beside it; estimation/shared_level.h SharedLevel). `seconds`, if
 // non-null, receives each fit's wall time (s). Rethrows the exception of
 // the lowest-indexed fit that threw (std::invalid_argument for an
 // inconsistent job), after every fit has run (common/concurrency.h
-// ForEachConcurrently). threads < 1 counts as 1.
+// ForEachConcurrently); std::invalid_argument at once if `controls` is
+// neither empty nor of jobs' size. threads < 1 counts as 1.
 std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int threads,
-                                       std::vector<double>* seconds = nullptr);
+                                       std::vector<double>* seconds = nullptr,
+                                       const std::vector<FitControl>& controls = {});
 
 }  // namespace axis
 

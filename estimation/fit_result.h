@@ -117,14 +117,14 @@ struct FitResult {
   // without an estimate. ApplyEstimates (discovery/discovery.h) writes the fitted
   // ones back into a job.
   std::vector<std::array<double, 2>> initial_states;
-  // A fit stopped by solver.abandon_above_bic (estimation/fit.h FitParameters):
+  // A fit stopped by control.abandon_above_bic (estimation/fit.h FitParameters):
   // the horizon (s) of the stage where its BIC's lower bound passed that
   // level; 0 for a fit that ran to the whole record. Then `bic` is that
   // lower bound, `parameters` hold the values at the stop (standard errors
   // NaN), `experiments` is empty and the other figures are NaN.
   double abandoned_horizon = 0.0;
-  // With solver.stop_after_horizon: the stages every start ran, for a fit
-  // of the same job to go on from (SolverSettings::resume); null otherwise.
+  // With control.stop_after_horizon: the stages every start ran, for a fit
+  // of the same job to go on from (FitControl::resume); null otherwise.
   std::shared_ptr<const HorizonCheckpoint> checkpoint;
   int iterations = 0;
   int simulations = 0;            // residual-only evaluations

@@ -12,12 +12,12 @@
 namespace axis {
 
 // A level that one fit (the leader) decides while others run beside it
-// (SolverSettings::publish_level, pending_level): the leader's FitParameters
+// (FitControl::publish_level, pending_level): the leader's FitParameters
 // publishes its BIC when it ends (+inf if it stopped early, failed or
 // threw). A fit given it as pending_level records the BIC bounds of its
 // shorter horizons until then, and once it is published stops at the first
 // stage whose bound passed `factor` times it: it ends as it would have
-// ended had it run after the leader with solver.abandon_above_bic set to
+// ended had it run after the leader with control.abandon_above_bic set to
 // that level, only without waiting for the leader to start. The leader
 // must run before or beside its pending fits (FitConcurrently: a lower
 // index), or they wait for ever. Thread-safe.

@@ -1,11 +1,5 @@
 #include "estimation/uncertainty.h"
 
-#include "common/progress.h"
-#include "estimation/at_estimate.h"
-#include "estimation/fit.h"
-#include "estimation/fit_result.h"
-#include "job/fit_job.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,6 +11,11 @@
 #include <ceres/manifold.h>
 #include <ceres/solver.h>
 
+#include "common/progress.h"
+#include "estimation/at_estimate.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
 #include "sim/random.h"
 
 namespace axis {

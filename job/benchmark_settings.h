@@ -13,6 +13,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+
 namespace axis {
 
 struct FitExperiment;  // job/fit_job.h, which holds BenchmarkSettings

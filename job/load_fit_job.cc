@@ -1,12 +1,5 @@
 #include "job/load_fit_job.h"
 
-#include "common/statistics.h"
-#include "job/benchmark_settings.h"
-#include "job/design_settings.h"
-#include "job/fit_job.h"
-#include "job/published_reference.h"
-#include "job/solver_settings.h"
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -17,6 +10,12 @@
 
 #include <Eigen/Dense>
 
+#include "common/statistics.h"
+#include "job/benchmark_settings.h"
+#include "job/design_settings.h"
+#include "job/fit_job.h"
+#include "job/published_reference.h"
+#include "job/solver_settings.h"
 #include "sim/csv.h"
 #include "sim/data_table.h"
 #include "sim/preflight.h"

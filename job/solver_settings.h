@@ -6,13 +6,9 @@
 #define JOB_SOLVER_SETTINGS_H_
 
 #include <cstdint>
-#include <limits>
-#include <memory>
 
 namespace axis {
 
-class SharedLevel;         // estimation/shared_level.h
-struct HorizonCheckpoint;  // estimation/horizon_checkpoint.h
 
 // The s² (residual variance in units of the declared σ²) above which a fit
 // from the job's start alone adds SolverSettings::auto_starts random
@@ -58,31 +54,6 @@ struct SolverSettings {
   // skipped when discovery is enabled (estimation/fit.cc).
   double local_starts = 3.0;
   bool progress = true;         // print one line per iteration
-  // Set by the discovery loop (discovery/discovery.cc), not a job key: a refit
-  // that can no longer reach a BIC below this is stopped on a shorter
-  // horizon (estimation/fit.h FitParameters, FitResult::abandoned_horizon);
-  // +inf never stops.
-  double abandon_above_bic = std::numeric_limits<double>::infinity();
-  // Set by the discovery loop's screen of its refits, not a job key: if
-  // > 0, every start stops after the shorter horizon of this length (s) as
-  // if it had passed abandon_above_bic there, the result carrying that
-  // horizon and its BIC's lower bound; 0 fits to the end.
-  double stop_after_horizon = 0.0;
-  // Set by the discovery loop, not a job key: the shorter horizons this
-  // job's screen ran (FitResult::checkpoint of the same job with
-  // stop_after_horizon), which the fit takes as done and goes on after
-  // (estimation/fit.h FitParameters); null runs every stage.
-  std::shared_ptr<const HorizonCheckpoint> resume;
-  // Set by the force map's forms (discovery/force_map.cc), not job keys: the
-  // level of competing refits that run side by side (discovery/screen.h
-  // SharedLevel). publish_level: this fit publishes its BIC there when it
-  // ends. pending_level: this fit stops as if abandon_above_bic were that
-  // level (the lower of the two), its shorter horizons' bounds checked once
-  // the level is published (waiting for it at the end if need be); one
-  // start only (solver.starts 0, else FitParameters throws
-  // std::invalid_argument).
-  std::shared_ptr<SharedLevel> publish_level;
-  std::shared_ptr<const SharedLevel> pending_level;
 };
 
 // How the estimate's uncertainty is computed (job key `uncertainty:`;

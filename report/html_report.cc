@@ -1,17 +1,5 @@
 #include "report/html_report.h"
 
-#include "common/concurrency.h"
-#include "common/format.h"
-#include "common/gnuplot.h"
-#include "design/experiment_design.h"
-#include "discovery/diagnostics.h"
-#include "discovery/discovery.h"
-#include "discovery/force_map.h"
-#include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "report/published.h"
-#include "report/report.h"
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -26,6 +14,17 @@
 #include <string_view>
 #include <vector>
 
+#include "common/concurrency.h"
+#include "common/format.h"
+#include "common/gnuplot.h"
+#include "design/experiment_design.h"
+#include "discovery/diagnostics.h"
+#include "discovery/discovery.h"
+#include "discovery/force_map.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "report/published.h"
+#include "report/report.h"
 #include "sim/channels.h"
 #include "sim/csv.h"
 

@@ -1,15 +1,15 @@
 #include "report/published.h"
 
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
 #include "common/format.h"
 #include "estimation/evaluate_experiment.h"
 #include "estimation/fit_result.h"
 #include "job/fit_job.h"
 #include "job/published_reference.h"
-
-#include <cmath>
-#include <iomanip>
-#include <limits>
-#include <sstream>
 
 namespace axis {
 namespace {

@@ -1,28 +1,20 @@
 #include "report/report.h"
 
-#include "common/concurrency.h"
-#include "common/format.h"
-#include "common/gnuplot.h"
-#include "estimation/fit_result.h"
-
 #include <fcntl.h>
 #include <spawn.h>
-#include <sys/stat.h>
-#include <sys/types.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
-#include <functional>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <functional>
 #include <iomanip>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -30,8 +22,15 @@
 #include <system_error>
 #include <vector>
 
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
 #include <nlohmann/json.hpp>
 
+#include "common/concurrency.h"
+#include "common/format.h"
+#include "common/gnuplot.h"
+#include "estimation/fit_result.h"
 #include "sim/csv.h"
 
 extern char** environ;

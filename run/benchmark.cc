@@ -1,5 +1,12 @@
 #include "run/benchmark.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
 #include "common/format.h"
 #include "common/progress.h"
 #include "estimation/fit_result.h"
@@ -8,14 +15,6 @@
 #include "report/published.h"
 #include "run/job_run.h"
 #include "run/write_job_run.h"
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
-#include <set>
-#include <sstream>
-#include <stdexcept>
-
 #include "sim/channels.h"
 #include "sim/config.h"
 #include "sim/yaml_util.h"

@@ -1,17 +1,6 @@
 #include "run/campaign.h"
 
-#include "common/concurrency.h"
-#include "common/format.h"
-#include "common/json_fields.h"
-#include "discovery/diagnostics.h"
-#include "discovery/discovery.h"
-#include "discovery/force_map.h"
-#include "estimation/at_estimate.h"
-#include "estimation/fit.h"
-#include "estimation/fit_result.h"
-#include "job/discovery_settings.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -24,12 +13,22 @@
 #include <stdexcept>
 #include <thread>
 
-#include <unistd.h>
-
 #include <boost/math/distributions/binomial.hpp>
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "common/concurrency.h"
+#include "common/format.h"
+#include "common/json_fields.h"
+#include "discovery/diagnostics.h"
+#include "discovery/discovery.h"
+#include "discovery/force_map.h"
+#include "estimation/at_estimate.h"
+#include "estimation/fit.h"
+#include "estimation/fit_result.h"
+#include "job/discovery_settings.h"
+#include "job/fit_job.h"
+#include "job/load_fit_job.h"
 #include "sim/config.h"
 #include "sim/csv.h"
 #include "sim/experiment.h"

@@ -4,9 +4,6 @@
 // §3/§8 on the full nonlinear X axis, ceres::Jet runs against double runs and
 // central finite differences, and the RK4 stability limit of the default
 // X axis.
-#include "sim/axis_model.h"
-#include "sim/preflight.h"
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -21,7 +18,9 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
+#include "sim/axis_model.h"
 #include "sim/linear_model.h"
+#include "sim/preflight.h"
 #include "sim/simulate.h"
 
 namespace axis {

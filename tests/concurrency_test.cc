@@ -1,7 +1,5 @@
 // ForEachConcurrently (common/concurrency.h): every item once, on the threads
 // asked for, and the lowest item's exception after all items have run.
-#include "common/concurrency.h"
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -13,6 +11,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "common/concurrency.h"
 
 namespace axis {
 namespace {

@@ -12,7 +12,6 @@
 
 #include "sim/config.h"
 #include "sim/preflight.h"
-
 #include "tests/test_files.h"
 
 namespace axis {

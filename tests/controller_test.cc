@@ -4,8 +4,6 @@
 // Reference::Profile for trapezoidal and triangular moves; and a closed-loop
 // Simulate run (u held over each control period, within ±U_max, replayable
 // from the recorded states, injection added on top).
-#include "sim/controller.h"
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -17,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/axis_model.h"
+#include "sim/controller.h"
 #include "sim/simulate.h"
 
 namespace axis {

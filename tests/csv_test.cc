@@ -1,6 +1,3 @@
-#include "sim/csv.h"
-
-#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -12,6 +9,10 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sim/csv.h"
 
 namespace axis {
 namespace {

@@ -1,8 +1,6 @@
 // fit-params features beyond plain recovery: parameters the data cannot
 // determine are named, initial states can be estimated, and the quick
 // command-line form writes the full report.
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,27 +9,28 @@
 #include <fstream>
 #include <functional>
 #include <future>
-#include <limits>
-#include <memory>
 #include <iostream>
 #include <iterator>
+#include <limits>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <sys/wait.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "estimation/at_estimate.h"
 #include "estimation/fit.h"
+#include "estimation/fit_control.h"
 #include "estimation/fit_result.h"
 #include "estimation/shared_level.h"
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
 #include "run/job_run.h"
-
 #include "tests/test_files.h"
 
 namespace axis {
@@ -351,7 +350,7 @@ TEST(FitOptionsTest, FinalistsAreTheLowestAfterTheShorterHorizons) {
   }
 }
 
-// solver.abandon_above_bic (the discovery loop's early stop, estimation/fit.h): a
+// FitControl::abandon_above_bic (the discovery loop's early stop, estimation/fit.h): a
 // level just above the BIC the fit reaches leaves the fit as it was; a level
 // below the bound of the first horizon stops every start there, with that
 // bound below the whole fit's BIC (a stage's cost sums a prefix of the
@@ -364,14 +363,15 @@ TEST(FitOptionsTest, AFitThatCannotReachTheLevelStopsOnAShorterHorizon) {
   ASSERT_TRUE(std::isfinite(whole.bic));
   EXPECT_EQ(whole.abandoned_horizon, 0.0);
 
-  job.solver.abandon_above_bic = whole.bic * (1.0 + 1e-9);
-  const FitResult above = FitParameters(job);
+  FitControl control;
+  control.abandon_above_bic = whole.bic * (1.0 + 1e-9);
+  const FitResult above = FitParameters(job, nullptr, control);
   EXPECT_EQ(above.abandoned_horizon, 0.0);
   EXPECT_DOUBLE_EQ(above.final_cost, whole.final_cost);
   EXPECT_DOUBLE_EQ(above.bic, whole.bic);
 
-  job.solver.abandon_above_bic = 1.0;
-  const FitResult stopped = FitParameters(job);
+  control.abandon_above_bic = 1.0;
+  const FitResult stopped = FitParameters(job, nullptr, control);
   EXPECT_DOUBLE_EQ(stopped.abandoned_horizon, 0.05);
   EXPECT_GT(stopped.bic, 1.0);
   EXPECT_LT(stopped.bic, whole.bic);
@@ -415,9 +415,9 @@ class PublishOnText : public std::stringbuf {
   bool published_ = false;
 };
 
-// solver.pending_level (the force map's forms, estimation/shared_level.h SharedLevel):
+// FitControl::pending_level (the force map's forms, estimation/shared_level.h SharedLevel):
 // a fit whose level another fit publishes while it runs ends exactly as the
-// same fit with solver.abandon_above_bic at that level (same threads:
+// same fit with FitControl::abandon_above_bic at that level (same threads:
 // bit-for-bit) — stopped at the first horizon, at a later one (the first
 // horizon's bound recorded and passed over, the second's passing), or not
 // at all — whether the level comes before it starts, inside its second or
@@ -430,15 +430,15 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
   job.solver.starts = 0;
   const FitResult whole = FitParameters(job);
   ASSERT_TRUE(std::isfinite(whole.bic));
-  FitJob first_job = job;
-  first_job.solver.abandon_above_bic = 1.0;
-  const FitResult first = FitParameters(first_job);
+  FitControl first_control;
+  first_control.abandon_above_bic = 1.0;
+  const FitResult first = FitParameters(job, nullptr, first_control);
   ASSERT_DOUBLE_EQ(first.abandoned_horizon, 0.05);
-  FitJob later_job = job;
-  later_job.solver.abandon_above_bic = first.bic * (1.0 + 1e-9);
-  const FitResult later = FitParameters(later_job);
+  FitControl later_control;
+  later_control.abandon_above_bic = first.bic * (1.0 + 1e-9);
+  const FitResult later = FitParameters(job, nullptr, later_control);
   ASSERT_GT(later.abandoned_horizon, 0.05);
-  ASSERT_GT(later.bic, later_job.solver.abandon_above_bic);
+  ASSERT_GT(later.bic, later_control.abandon_above_bic);
 
   const auto expect_same = [](const FitResult& a, const FitResult& b) {
     EXPECT_EQ(a.abandoned_horizon, b.abandoned_horizon);
@@ -457,26 +457,26 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
   };
   const double inf = std::numeric_limits<double>::infinity();
   const std::vector<std::pair<double, const FitResult*>> cases = {
-      {1.0, &first}, {later_job.solver.abandon_above_bic, &later}, {inf, &whole}};
+      {1.0, &first}, {later_control.abandon_above_bic, &later}, {inf, &whole}};
   for (const auto& [threshold, reference] : cases) {
     SCOPED_TRACE(threshold);
     // Published before the fit starts.
     {
       auto level = std::make_shared<SharedLevel>(1.0);
       level->Publish(threshold);
-      FitJob pending = job;
-      pending.solver.pending_level = level;
-      expect_same(FitParameters(pending), *reference);
+      FitControl pending;
+      pending.pending_level = level;
+      expect_same(FitParameters(job, nullptr, pending), *reference);
     }
     // Published only after the fit has waited for it (1 s: about five
     // times the whole fit here; under load it may come mid-run, which must
     // give the same end, and the fit cannot end without it).
     {
       auto level = std::make_shared<SharedLevel>(1.0);
-      FitJob pending = job;
-      pending.solver.pending_level = level;
-      std::future<FitResult> fit =
-          std::async(std::launch::async, [&pending] { return FitParameters(pending); });
+      FitControl pending;
+      pending.pending_level = level;
+      std::future<FitResult> fit = std::async(
+          std::launch::async, [&job, &pending] { return FitParameters(job, nullptr, pending); });
       EXPECT_EQ(fit.wait_for(std::chrono::seconds(1)), std::future_status::timeout);
       level->Publish(threshold);
       ASSERT_EQ(fit.wait_for(std::chrono::seconds(60)), std::future_status::ready);
@@ -492,44 +492,47 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
       auto level = std::make_shared<SharedLevel>(1.0);
       PublishOnText publisher(stage, level.get(), threshold);
       std::ostream progress(&publisher);
-      FitJob pending = job;
-      pending.solver.pending_level = level;
-      pending.solver.progress = true;
-      expect_same(FitParameters(pending, &progress), *reference);
+      FitJob printing = job;
+      printing.solver.progress = true;
+      FitControl pending;
+      pending.pending_level = level;
+      expect_same(FitParameters(printing, &progress, pending), *reference);
       EXPECT_TRUE(publisher.published());
     }
   }
 
-  FitJob leader = job;
   auto published = std::make_shared<SharedLevel>(2.0);
-  leader.solver.publish_level = published;
-  const FitResult led = FitParameters(leader);
+  FitControl leader;
+  leader.publish_level = published;
+  const FitResult led = FitParameters(job, nullptr, leader);
   ASSERT_TRUE(published->TryAbandonAbove().has_value());
   EXPECT_EQ(*published->TryAbandonAbove(), 2.0 * led.bic);
 
   FitJob several = job;
   several.solver.starts = 2;
-  several.solver.pending_level = std::make_shared<SharedLevel>(1.0);
-  EXPECT_THROW(FitParameters(several), std::invalid_argument);
-  FitJob screen = job;
-  screen.solver.stop_after_horizon = 0.1;
-  screen.solver.pending_level = std::make_shared<SharedLevel>(1.0);
-  EXPECT_THROW(FitParameters(screen), std::invalid_argument);
+  FitControl waiting;
+  waiting.pending_level = std::make_shared<SharedLevel>(1.0);
+  EXPECT_THROW(FitParameters(several, nullptr, waiting), std::invalid_argument);
+  FitControl screen;
+  screen.stop_after_horizon = 0.1;
+  screen.pending_level = std::make_shared<SharedLevel>(1.0);
+  EXPECT_THROW(FitParameters(job, nullptr, screen), std::invalid_argument);
   // A publisher that throws (a checkpoint of another job) publishes +inf:
   // no level, its pending fits run on.
-  screen.solver.pending_level = nullptr;
+  screen.pending_level = nullptr;
   FitJob throwing = job;
-  throwing.solver.resume = FitParameters(screen).checkpoint;
   throwing.solver.starts = 1;
+  FitControl throwing_control;
+  throwing_control.resume = FitParameters(job, nullptr, screen).checkpoint;
   auto none = std::make_shared<SharedLevel>(2.0);
-  throwing.solver.publish_level = none;
-  EXPECT_THROW(FitParameters(throwing), std::invalid_argument);
+  throwing_control.publish_level = none;
+  EXPECT_THROW(FitParameters(throwing, nullptr, throwing_control), std::invalid_argument);
   ASSERT_TRUE(none->TryAbandonAbove().has_value());
   EXPECT_EQ(*none->TryAbandonAbove(), inf);
   EXPECT_THROW(SharedLevel(0.0), std::invalid_argument);
 }
 
-// solver.resume (the discovery loop's refits after their screen, issue 11):
+// FitControl::resume (the discovery loop's refits after their screen, issue 11):
 // a fit that goes on after a screen's shorter horizons (stop_after_horizon
 // 0.1 s: the 0.05 and 0.1 s stages of every start) ends exactly where the
 // fit that runs them again ends (same threads: bit-for-bit, no tolerance),
@@ -544,9 +547,9 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
   ASSERT_TRUE(std::isfinite(whole.final_cost));
   EXPECT_EQ(whole.checkpoint, nullptr);
 
-  FitJob screen = job;
-  screen.solver.stop_after_horizon = 0.1;
-  const FitResult screened = FitParameters(screen);
+  FitControl screen;
+  screen.stop_after_horizon = 0.1;
+  const FitResult screened = FitParameters(job, nullptr, screen);
   EXPECT_DOUBLE_EQ(screened.abandoned_horizon, 0.1);
   ASSERT_NE(screened.checkpoint, nullptr);
   ASSERT_EQ(screened.checkpoint->starts.size(), 4u);
@@ -557,9 +560,9 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
         << s;
   }
 
-  FitJob resumed_job = job;
-  resumed_job.solver.resume = screened.checkpoint;
-  const FitResult resumed = FitParameters(resumed_job);
+  FitControl resumed_control;
+  resumed_control.resume = screened.checkpoint;
+  const FitResult resumed = FitParameters(job, nullptr, resumed_control);
   EXPECT_EQ(resumed.final_cost, whole.final_cost);
   EXPECT_EQ(resumed.bic, whole.bic);
   for (size_t k = 0; k < whole.parameters.size(); ++k) {
@@ -586,10 +589,11 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
 
   // Under a level below the first horizon's bound both stop there, the
   // resumed fit with the screen's bound and no Jacobian.
-  job.solver.abandon_above_bic = 1.0;
-  resumed_job.solver.abandon_above_bic = 1.0;
-  const FitResult stopped = FitParameters(job);
-  const FitResult stopped_resumed = FitParameters(resumed_job);
+  FitControl level;
+  level.abandon_above_bic = 1.0;
+  resumed_control.abandon_above_bic = 1.0;
+  const FitResult stopped = FitParameters(job, nullptr, level);
+  const FitResult stopped_resumed = FitParameters(job, nullptr, resumed_control);
   EXPECT_DOUBLE_EQ(stopped.abandoned_horizon, 0.05);
   EXPECT_EQ(stopped_resumed.abandoned_horizon, stopped.abandoned_horizon);
   EXPECT_EQ(stopped_resumed.bic, stopped.bic);
@@ -602,11 +606,12 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
     FitJob other = LoadFitJob(ScreenedJob(4));
     other.solver.progress = false;
     change(&other);
-    other.solver.resume = screened.checkpoint;
+    FitControl resume_other;
+    resume_other.resume = screened.checkpoint;
     try {
-      FitParameters(other);
+      FitParameters(other, nullptr, resume_other);
     } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("solver.resume: expected a checkpoint of this job"),
+      EXPECT_NE(std::string(e.what()).find("FitControl::resume: expected a checkpoint of this job"),
                 std::string::npos)
           << e.what();
       return true;

@@ -1,13 +1,12 @@
 // fit-params on bad input: a clear message naming the file, line or key and
 // what was expected, exit code 2, and nothing written in the output folder.
-#include <sys/wait.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 
+#include <sys/wait.h>
 #include <gtest/gtest.h>
 
 #include "tests/test_files.h"

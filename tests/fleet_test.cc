@@ -6,8 +6,8 @@
 // The whole synthetic fleet on one and two ranks is tests/fleet_run_test.cc
 // (slow).
 #include <cmath>
-#include <iterator>
 #include <filesystem>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <string>

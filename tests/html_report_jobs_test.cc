@@ -4,14 +4,13 @@
 // (configs/jobs/emps.yaml, ~1–2 min), each rendered in headless Chromium
 // and checked (tests/browser_checks.h). Labelled slow (tests/CMakeLists.txt);
 // tests/html_report_test.cc has quick versions on short windows.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "run/job_run.h"

@@ -3,12 +3,6 @@
 // missing gnuplot), and short fits of the paper and EMPS jobs written by
 // fit-params and checked in headless Chromium (tests/browser_checks.h).
 // The whole jobs are in tests/html_report_jobs_test.cc (slow).
-#include "common/progress.h"
-#include "estimation/fit_result.h"
-#include "report/html_report.h"
-
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -20,6 +14,11 @@
 #include <thread>
 #include <vector>
 
+#include <gtest/gtest.h>
+
+#include "common/progress.h"
+#include "estimation/fit_result.h"
+#include "report/html_report.h"
 #include "tests/browser_checks.h"
 #include "tests/fit_result_fixture.h"
 #include "tests/test_files.h"

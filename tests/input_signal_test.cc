@@ -3,9 +3,6 @@
 // interpolation and zero-order hold, the cursor overload of Evaluate (exactly
 // the same values as the binary search), and MakePrbs (±amplitude + offset,
 // maximum-length period 2^n − 1, argument checks).
-#include "sim/input_signal.h"
-#include "sim/random.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -18,6 +15,9 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "sim/input_signal.h"
+#include "sim/random.h"
 
 namespace axis {
 namespace {

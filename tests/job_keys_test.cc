@@ -17,7 +17,6 @@
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
 #include "report/published.h"
-
 #include "tests/test_files.h"
 
 namespace axis {

@@ -9,8 +9,6 @@
 // the 8.1 A limit (> 40 ×); a 40 × peak would need only U0 ≥ ≈ 3.2 V. (1031 A
 // is also ≈ 40 × 25.8 A, so the paper's "40 times the rated peak current" may
 // refer to a ≈ 25 A motor rating rather than to I_s = 8.1 A.)
-#include "sim/linear_model.h"
-
 #include <cmath>
 #include <complex>
 #include <iostream>
@@ -24,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/axis_model.h"
+#include "sim/linear_model.h"
 #include "sim/simulate.h"
 
 namespace axis {

@@ -5,8 +5,6 @@
 // not a MAT file) are std::invalid_argument naming the file and the
 // variable and saying what was expected and what was got. The bad files are
 // written here with matio's own write API.
-#include "sim/mat_file.h"
-
 #include <matio.h>
 
 #include <cmath>
@@ -29,6 +27,7 @@
 #include "job/load_fit_job.h"
 #include "sim/csv.h"
 #include "sim/data_table.h"
+#include "sim/mat_file.h"
 #include "tests/test_files.h"
 
 namespace axis {

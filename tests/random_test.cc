@@ -2,14 +2,14 @@
 // the C++ standard, the distributions' first moments within their sampling
 // error, and one seed's first draws recorded (they must not change with the
 // compiler or standard library: issue 17).
-#include "sim/random.h"
-
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "sim/random.h"
 
 namespace axis {
 namespace {

@@ -1,10 +1,5 @@
 // The report writers: a hand-built FitResult written to a temporary
 // directory and read back.
-#include "common/output_staging.h"
-#include "estimation/fit_result.h"
-#include "report/report.h"
-
-#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,8 +14,12 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "common/output_staging.h"
+#include "estimation/fit_result.h"
+#include "report/report.h"
 #include "sim/csv.h"
 #include "tests/fit_result_fixture.h"
 #include "tests/test_files.h"

@@ -2,8 +2,6 @@
 // fourth-order convergence of the global error (halving h divides it by
 // ≈ 16), also through the axis simulator on the linear system of MODEL.md §4
 // against its closed-form step response (sim/linear_model.h).
-#include "sim/rk4.h"
-
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -15,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/linear_model.h"
+#include "sim/rk4.h"
 #include "sim/simulate.h"
 
 namespace axis {

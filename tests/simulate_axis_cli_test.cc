@@ -1,8 +1,6 @@
 // The simulate-axis command end to end: it writes the trace with canonical
 // headers, and bad input exits with code 2, a message naming the file and
 // key, and no output file.
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,10 +10,10 @@
 #include <utility>
 #include <vector>
 
+#include <sys/wait.h>
 #include <gtest/gtest.h>
 
 #include "sim/csv.h"
-
 #include "tests/test_files.h"
 
 namespace {

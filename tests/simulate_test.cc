@@ -1,7 +1,5 @@
 // Simulate (sim/simulate.h): the open-loop input looked up at the RK4 stage
 // times (Drive::stage_inputs) gives the very trace its evaluation gives.
-#include "sim/simulate.h"
-
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -10,6 +8,8 @@
 
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
+
+#include "sim/simulate.h"
 
 namespace axis {
 namespace {

@@ -1,9 +1,4 @@
 // Residual statistics against closed forms and hand-computed values.
-#include "common/statistics.h"
-#include "sim/random.h"
-
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -11,6 +6,11 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/statistics.h"
+#include "sim/random.h"
 
 namespace axis {
 namespace {

@@ -1,0 +1,177 @@
+// One fit of a job as a sequence of named steps, its state in members (as
+// Ceres's TrustRegionMinimizer): the problem and its horizon stages, the
+// starts over the shorter horizons, the finalists on the whole record, the
+// automatic random starts, the optimum check, the covariance with the local
+// restarts and the intervals, and the result with its notes. FitParameters
+// (estimation/fit.h) is the public entry; this class is internal to
+// estimation/. What each step does and why: estimation/fit.h FitParameters,
+// job/solver_settings.h SolverSettings, estimation/fit_control.h.
+#ifndef ESTIMATION_FITTER_H_
+#define ESTIMATION_FITTER_H_
+
+#include <memory>
+#include <ostream>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <ceres/ceres.h>
+
+#include "common/progress.h"
+#include "estimation/fit_control.h"
+#include "estimation/fit_problem.h"
+#include "estimation/fit_result.h"
+#include "estimation/horizon_checkpoint.h"
+#include "estimation/shared_level.h"
+#include "estimation/uncertainty.h"
+#include "job/fit_job.h"
+
+namespace axis {
+
+class Fitter {
+ public:
+  // `job`, `control` and `progress` (may be null) must outlive the fitter.
+  Fitter(const FitJob& job, const FitControl& control, std::ostream* progress);
+  Fitter(const Fitter&) = delete;
+  Fitter& operator=(const Fitter&) = delete;
+
+  // Runs the fit once (FitParameters without publishing to
+  // control.publish_level). Throws std::invalid_argument as FitParameters.
+  FitResult Run();
+
+ private:
+  // Where each start is between its stages.
+  struct StartRun {
+    std::vector<double> theta;  // its current point
+    // A stage whose warm start fails to evaluate (the previous, shorter
+    // horizon left a parameter it barely sees at a value where the longer
+    // simulation is hypersensitive, e.g. T_p at its lower bound) is retried
+    // once from the point the previous stage started from.
+    std::vector<double> previous_start;
+    ceres::Solver::Summary summary;
+    bool usable = true;
+    // Stopped by control.abandon_above_bic: the horizon (s) and the BIC's
+    // lower bound there; 0 and +inf while it runs.
+    double abandoned_horizon = 0.0;
+    double bic_bound = std::numeric_limits<double>::infinity();
+    // Joined the path of an earlier start (Joined): its index and the
+    // horizon (s); −1 and 0 otherwise.
+    int joined = -1;
+    double joined_horizon = 0.0;
+    // The stage it stopped after (abandoned_horizon > 0), and the bounds of
+    // the stages it ran while a control.pending_level was not yet known:
+    // (stage, bound).
+    size_t abandoned_stage = 0;
+    std::vector<std::pair<size_t, double>> waiting_bounds;
+  };
+
+  // ---- the problem
+  void BuildProblem();   // θ, bounds, estimated initial states
+  void BuildStages();    // the horizon continuation's problems
+  void SetSolverOptions();
+  void DrawStarts();     // the job's start, then random ones
+  void CheckControl();   // a resume of this job; pending_level's rules
+
+  // ---- the starts
+  void RunShorterStages();            // every start over the shorter horizons
+  void RunStage(size_t s, size_t i, StartRun* run);
+  void ShowStageStatus(size_t s, size_t i) const;
+  double CostAtStart(size_t s, size_t i);
+  bool PassedBound(size_t s, size_t i, StartRun* run);
+  bool Joined(size_t s, size_t i, StartRun* run);
+  void RefreshLevel(bool wait);
+  bool PassedRecorded(StartRun* run);
+  // The starts that go on to the whole record (order_), and the stopped
+  // start with the lowest bound (abandoned_); false if every start stopped.
+  bool RankFinalists();
+  void RunFinalists();
+  // The result of a fit whose every start stopped: `run`'s lowest bound.
+  FitResult StoppedResult(const StartRun& run);
+
+  // ---- far above the noise: more starts
+  bool NeedsAutoStarts() const;
+  FitResult FitWithAutoStarts();
+
+  // ---- the optimum check and the uncertainty
+  void ChooseChecks();         // what they run (discovery: less)
+  double LowerThanEstimate() const;
+  void RestartFrom(const std::vector<double>& point, double point_cost);
+  void CheckOptimum();
+  void EstimateUncertainty();  // covariance, local restarts, intervals
+  bool LocalRestarts();        // true if one ended lower (then checked again)
+  bool Intervals();            // true if they met a lower cost (likewise)
+
+  // ---- the result
+  FitResult Finish();
+  void FinishOptimumNote();
+  Eigen::MatrixXd PhysicalCovariance() const;
+  std::vector<bool> Determined(const Eigen::MatrixXd& cov);
+  void FinishIntervalNote(const std::vector<RatioInterval>& ratio);
+  void AppendFreeEstimates(const Eigen::MatrixXd& cov, const std::vector<bool>& determined,
+                           const std::vector<RatioInterval>& ratio);
+  void EvaluateExperiments(const AxisParams<double>& fitted);
+
+  const FitJob& job_;
+  const FitControl& control_;
+  std::ostream* progress_;
+  ProgressStream* status_ = nullptr;  // the terminal's status line, if any
+
+  FitProblem p_;
+  std::vector<int> state_index_;  // per experiment: its y0 in θ, −1 if fixed
+  int n_free_ = 0;
+  int theta_size_ = 0;
+  double longest_ = 0.0;  // s, the longest experiment
+  std::vector<HorizonStage> stages_;
+  size_t last_ = 0;  // the whole record's stage
+  int num_residuals_ = 0;
+  ceres::Problem* full_problem_ = nullptr;
+  ceres::Solver::Options options_;
+  // Solves that start next to a minimum (the local restarts, the profile
+  // refits): without the projected line search (SetSolverOptions).
+  ceres::Solver::Options near_options_;
+  std::vector<std::vector<double>> starts_;
+  const HorizonCheckpoint* resume_ = nullptr;
+
+  FitResult result_;
+  std::vector<StartRun> runs_;
+  std::vector<std::vector<std::vector<double>>> ends_;  // [start][stage] point
+  std::shared_ptr<HorizonCheckpoint> checkpoint_;      // the screen's record
+  size_t finals_total_ = 0;
+  size_t finals_done_ = 0;
+  double abandon_above_ = std::numeric_limits<double>::infinity();
+  const SharedLevel* pending_ = nullptr;
+  bool level_known_ = true;
+  double bic_penalty_ = 0.0;  // n·ln(m)
+  double stop_after_ = 0.0;
+  std::vector<size_t> order_;  // the finalists, lowest on the screen first
+  size_t abandoned_ = 0;
+
+  double best_cost_ = std::numeric_limits<double>::infinity();
+  std::vector<double> best_;
+  std::vector<double> best_step_;  // the last stage's step
+  ceres::Solver::Summary best_summary_;
+  int dof_ = 1;  // m − n
+
+  bool discovering_ = false;
+  int probe_rounds_ = 0;
+  int probes_ = 0;
+  double entry_cost_ = 0.0;
+  double t975_ = 0.0;
+  bool ratio_method_ = false;
+  bool profile_method_ = false;
+  bool run_scan_ = false;
+  double local_starts_ = 0.0;
+  Eigen::MatrixXd cov_theta_;
+  RatioScan scan_;
+  ProfileScan profile_;
+  // JᵀJ of the last covariance and the point it was evaluated at: the null
+  // space reuses it if the estimate has not moved since.
+  Eigen::MatrixXd jtj_at_;
+  std::vector<double> jtj_point_;
+  int ratio_restarts_ = 0;
+  int local_passes_ = 0;
+};
+
+}  // namespace axis
+
+#endif  // ESTIMATION_FITTER_H_

@@ -1,0 +1,104 @@
+#include "estimation/optimum_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include <Eigen/Dense>
+
+#include "estimation/experiment_cost.h"
+#include "estimation/uncertainty.h"
+
+namespace axis {
+
+bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj) {
+  ceres::CRSMatrix crs;
+  double cost = 0.0;
+  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr,
+                         nullptr, &crs)) {
+    return false;
+  }
+  *jtj = Eigen::MatrixXd::Zero(n, n);
+  for (int row = 0; row < crs.num_rows; ++row) {
+    for (int a = crs.rows[row]; a < crs.rows[row + 1]; ++a) {
+      if (crs.cols[a] >= n) continue;
+      for (int b = crs.rows[row]; b < crs.rows[row + 1]; ++b) {
+        if (crs.cols[b] >= n) continue;
+        (*jtj)(crs.cols[a], crs.cols[b]) += crs.values[a] * crs.values[b];
+      }
+    }
+  }
+  return true;
+}
+
+double CostResolution(double cost, double function_tolerance) {
+  return std::max(kLowerRelative, function_tolerance) * std::abs(cost) + kLowerAbsolute;
+}
+
+double LowerThan(double cost, double relative) {
+  return cost - CostResolution(cost, relative);
+}
+
+void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
+                const std::vector<double>& upper,
+                const std::vector<double>& last_step, double cost,
+                EvaluationCounter* counter, int threads,
+                std::vector<double>* theta, std::vector<double>* best,
+                double* best_cost, int* probes) {
+  const int n = static_cast<int>(theta->size());
+  const std::vector<double> centre = *theta;
+  *best = centre;
+  *best_cost = cost;
+  Eigen::MatrixXd jtj;
+  if (!GaussNewtonMatrix(problem, n, &jtj)) return;
+  std::vector<Eigen::VectorXd> directions;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
+  const double largest = eig.eigenvalues().maxCoeff();
+  const Eigen::MatrixXd cov = eig.eigenvectors() *
+      eig.eigenvalues()
+          .unaryExpr([&](double l) { return l > 1e-14 * largest ? 1.0 / l : 0.0; })
+          .asDiagonal() *
+      eig.eigenvectors().transpose();
+  for (int k = 0; k < n; ++k) {
+    if (cov(k, k) <= 0.0) continue;
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+    d[k] = std::sqrt(cov(k, k));
+    directions.push_back(d);
+  }
+  for (int e = 0; e < n; ++e) {
+    const double l = eig.eigenvalues()[e];
+    if (l > 1e-14 * largest) directions.push_back(eig.eigenvectors().col(e) / std::sqrt(l));
+  }
+  Eigen::VectorXd step = Eigen::Map<const Eigen::VectorXd>(last_step.data(), n);
+  const double curvature = step.dot(jtj * step);
+  if (curvature > 0.0) directions.push_back(step / std::sqrt(curvature));
+  std::vector<std::pair<double, std::vector<double>>> lower_points;
+  counter->guard = false;
+  for (const Eigen::VectorXd& d : directions) {
+    for (double s : {0.01, 0.3, 1.0, 3.0, 10.0}) {
+      for (double sign : {-1.0, 1.0}) {
+        std::vector<double> point = centre;
+        for (int k = 0; k < n; ++k) {
+          point[k] = std::clamp(centre[k] + sign * s * d[k], lower[k], upper[k]);
+        }
+        const double c = CostAt(problem, point, threads, theta);
+        ++*probes;
+        if (c < cost) lower_points.emplace_back(c, point);
+      }
+    }
+  }
+  counter->guard = true;
+  // The lowest point that passes the guard (the same cost, by the same
+  // arithmetic, when it passes).
+  std::sort(lower_points.begin(), lower_points.end());
+  for (const auto& [c, point] : lower_points) {
+    if (std::isfinite(CostAt(problem, point, threads, theta))) {
+      *best_cost = c;
+      *best = point;
+      break;
+    }
+  }
+  std::copy(centre.begin(), centre.end(), theta->begin());
+}
+
+}  // namespace axis

@@ -1,0 +1,71 @@
+// The optimum check of a fit (estimation/fitter.h): the Gauss–Newton
+// matrix JᵀJ, the cost resolution below which two fits ended at the same
+// optimum, and one round of probing the cost around the estimate.
+#ifndef ESTIMATION_OPTIMUM_CHECK_H_
+#define ESTIMATION_OPTIMUM_CHECK_H_
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <ceres/ceres.h>
+
+#include "estimation/experiment_cost.h"
+
+namespace axis {
+
+// JᵀJ of the weighted residuals over the first n entries of θ at the
+// current θ (the Gauss–Newton approximation of the cost's Hessian), or false
+// if the Jacobian cannot be evaluated there.
+bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj);
+
+// The relative function and parameter tolerance of the continuation's
+// shorter horizons (at least; the job's if larger): they only deliver a warm
+// start for the next.
+constexpr double kStageParameterTolerance = 1e-4;
+
+// A point counts as lower than the estimate if its cost (½Σr² of σ-weighted
+// residuals, i.e. half a χ²) is below by more than `relative` (the solver's
+// function_tolerance, at least 1e-9) times the cost plus 1e-6 absolute. The
+// solver itself stops once an iteration gains less than function_tolerance
+// relative, so a smaller difference is within its accuracy and restarting
+// it there moves the estimate by a few thousandths of a standard deviation
+// (the paper job: three probe rounds and two local-restart passes, 9 s,
+// for a decrease of 4.6e-5 in a cost of 4070, where 4.1e-5 is the solver's
+// own stop); a χ² difference of 2e-6 means nothing statistically, and on
+// noise-free records (cost ~1e-8 at the optimum) smaller differences are
+// round-off that would otherwise restart the solver again and again
+// (CostResolution, estimation/fit.h).
+constexpr double kLowerRelative = 1e-9;
+constexpr double kLowerAbsolute = 1e-6;
+
+// The smallest change of a cost (½Σr² of σ-weighted residuals) that the
+// solver resolves: `function_tolerance` (Ceres' relative stop, at least
+// kLowerRelative) times |cost|, plus kLowerAbsolute. Two fits whose costs
+// differ by less ended at the same optimum as far as the solver can tell
+// (the optimum check's "lower" point; the force map's removal ties,
+// discovery/force_map.cc). Never throws.
+double CostResolution(double cost, double function_tolerance);
+
+// The cost a point must be below to count as lower than `cost` (see above).
+double LowerThan(double cost, double relative);
+
+// One round of the optimum check: the cost at θ* + s·d for the probe
+// directions d (every coordinate and every principal axis of (JᵀJ)⁻¹, scaled
+// to one standard deviation — a change of ½ in cost on a quadratic — and the
+// last step, scaled alike) and s = ±{0.01, 0.3, 1, 3, 10}, clipped to the
+// bounds. Returns the lowest point found and its cost in *best / *best_cost
+// (θ* and `cost` if nothing is lower). The probes simulate in double (the
+// guard of `counter` off); a point lower than θ* is kept only if it also
+// passes the sensitivity guard (ExperimentCost), as the solver will start
+// from it. The cost is evaluated on `threads` threads (CostAt). Leaves
+// *theta at θ*.
+void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
+                const std::vector<double>& upper,
+                const std::vector<double>& last_step, double cost,
+                EvaluationCounter* counter, int threads,
+                std::vector<double>* theta, std::vector<double>* best,
+                double* best_cost, int* probes);
+
+}  // namespace axis
+
+#endif  // ESTIMATION_OPTIMUM_CHECK_H_
