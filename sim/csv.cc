@@ -2,6 +2,7 @@
 
 #include <csv.h>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -414,6 +415,33 @@ void WriteFileAtomic(const std::string& path, const std::string& contents) {
   if (closed != 0) fail("closing '" + temp + "'", errno);
   if (std::rename(temp.c_str(), path.c_str()) != 0) {
     fail("renaming '" + temp + "' over it", errno);
+  }
+}
+
+void CheckOutputFile(const std::string& path) {
+  const std::string expected =
+      ": expected an output file (a path in an existing folder this process may write into), "
+      "got ";
+  if (path.empty()) throw std::invalid_argument("''" + expected + "an empty path");
+  if (path.back() == '/') {
+    throw std::invalid_argument(path + expected + "a folder path (ending in '/')");
+  }
+  struct stat info;
+  if (::lstat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
+    throw std::invalid_argument(path + expected + "a folder");
+  }
+  const size_t slash = path.find_last_of('/');
+  const std::string folder =
+      slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  if (::stat(folder.c_str(), &info) != 0) {
+    throw std::invalid_argument(path + expected + "'" + folder + "', a folder that does not exist");
+  }
+  if (!S_ISDIR(info.st_mode)) {
+    throw std::invalid_argument(path + expected + "'" + folder + "', which is not a folder");
+  }
+  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+    throw std::invalid_argument(path + expected + "'" + folder +
+                                "', a folder that cannot be written into");
   }
 }
 

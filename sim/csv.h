@@ -67,6 +67,15 @@ void CheckStrictlyIncreasing(const CsvTable& table, const std::string& column);
 // either the old file or the complete new one.
 void WriteFileAtomic(const std::string& path, const std::string& contents);
 
+// Checks, before any work, that WriteFileAtomic can write `path`: a
+// non-empty path that is not a folder (a symbolic link is replaced, not
+// followed), in an existing folder this process may write into (the
+// temporary file is made there). Throws std::invalid_argument "<path>:
+// expected an output file (a path in an existing folder this process may
+// write into), got …" naming the folder in the way, the missing folder or
+// the one that cannot be written into.
+void CheckOutputFile(const std::string& path);
+
 // `text` as one CSV field: as is, or in double quotes (inner quotes
 // doubled) if it holds a comma, a quote or a line break; what WriteCsvAtomic
 // does with the header's names. Never throws (except std::bad_alloc).

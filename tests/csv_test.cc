@@ -359,6 +359,43 @@ TEST_F(CsvTest, WriteFileAtomicIntoMissingDirectoryThrowsAndLeavesNothing) {
   EXPECT_TRUE(Listing().empty());
 }
 
+// CheckOutputFile (issue 46: simulate-axis found a folder in the way only
+// after its simulation): a folder, a missing folder, a file as folder and
+// a read-only folder are refused naming the path; a new or existing file
+// in a writable folder is accepted.
+TEST_F(CsvTest, CheckOutputFileRefusesWhatWriteFileAtomicWouldFailOn) {
+  const std::string expected =
+      ": expected an output file (a path in an existing folder this process may write into), got ";
+  const auto error_of = [](const std::string& path) -> std::string {
+    try {
+      CheckOutputFile(path);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error_of(dir_.string()), dir_.string() + expected + "a folder");
+  EXPECT_EQ(error_of(PathOf("sub/")), PathOf("sub/") + expected + "a folder path (ending in '/')");
+  EXPECT_EQ(error_of(PathOf("no_such_dir/x.csv")),
+            PathOf("no_such_dir/x.csv") + expected + "'" + PathOf("no_such_dir") +
+                "', a folder that does not exist");
+  const std::string file = WriteText("file.csv", "t\n0\n");
+  EXPECT_EQ(error_of(file + "/x.csv"),
+            file + "/x.csv" + expected + "'" + file + "', which is not a folder");
+  EXPECT_EQ(error_of(""), "''" + expected + "an empty path");
+  EXPECT_EQ(error_of(file), "no error");  // replaced
+  EXPECT_EQ(error_of(PathOf("new.csv")), "no error");
+  if (::geteuid() != 0) {  // root writes anywhere
+    const fs::path locked = dir_ / "locked";
+    fs::create_directories(locked);
+    fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+    EXPECT_EQ(error_of((locked / "x.csv").string()),
+              (locked / "x.csv").string() + expected + "'" + locked.string() +
+                  "', a folder that cannot be written into");
+    fs::permissions(locked, fs::perms::owner_all);
+  }
+}
+
 TEST_F(CsvTest, WriteFileAtomicRemovesTemporaryWhenRenameFails) {
   // A directory cannot be replaced by a file: the rename fails after the
   // temporary was written, which must then be removed.
