@@ -347,6 +347,23 @@ TEST(CampaignTest, CommandLineErrorsExitWithTwo) {
       << through.err;
 }
 
+// --jobs says its rule: CLI11's PositiveNumber said "Value 0 not in range
+// 0.000000 to 1.797…e308", a range holding the value it refused (issue 46).
+TEST(CampaignTest, JobsFlagIsAPositiveInteger) {
+  const std::string campaign = WriteCampaign("seeds: {first: 1, last: 2}\noutput: {dir: out}\n");
+  for (const std::string jobs : {"0", "-3", "1.5", "x", "2147483648"}) {
+    SCOPED_TRACE(jobs);
+    const auto r = testing_files::RunCommand(std::string(BINARY_DIR) + "/fit-campaign",
+                                             campaign + " --jobs " + jobs, true);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--jobs: expected a positive integer (1..2147483647, seeds at once), "
+                         "got '" + jobs + "'"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("not in range"), std::string::npos) << r.err;
+  }
+}
+
 // --first and --last take the range of seeds.first and seeds.last, 0..10^6:
 // `--first 0 --last 2147483647` used to overflow the seed count and die in
 // std::vector; a negative or overflowing number is refused by the flag too.
