@@ -303,8 +303,8 @@ CampaignConfig LoadCampaign(const std::string& path) {
     }
     t.Finish();
   }
-  {
-    YamlMap out(map.Required("output"), path, "output.");
+  if (const YAML::Node output = map.Optional("output")) {  // else fit-campaign --out
+    YamlMap out(output, path, "output.");
     c.out_dir = ResolvePath(dir, out.String("dir"));
     out.Finish();
   }
