@@ -305,7 +305,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
   }
   if (const YAML::Node output = map.Optional("output")) {  // else fit-campaign --out
     YamlMap out(output, path, "output.");
-    c.out_dir = ResolvePath(dir, out.String("dir"));
+    c.out_dir = OutputDirectory(&out, dir);
     out.Finish();
   }
   map.Finish();

@@ -729,7 +729,7 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
   }
   if (const YAML::Node node = root.Optional("output")) {
     YamlMap map(node, path, "output.");
-    job.out_dir = ResolvePath(dir, map.String("dir"));
+    job.out_dir = OutputDirectory(&map, dir);
     map.Finish();
   }
   std::map<std::string, std::string> names;  // experiment name -> its key

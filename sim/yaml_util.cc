@@ -303,6 +303,16 @@ std::string DirectoryOf(const std::string& path) {
   return path.substr(0, slash);
 }
 
+std::string OutputDirectory(YamlMap* output, const std::string& base_dir) {
+  const std::string dir = output->String("dir");
+  if (dir.find_first_not_of(" \t") == std::string::npos) {
+    ThrowConfigError(output->file(), output->node()["dir"], output->KeyPath("dir"),
+                     "a folder path (relative to the file's folder, or absolute)",
+                     "'" + dir + "' (an empty path would write into the file's own folder)");
+  }
+  return ResolvePath(base_dir, dir);
+}
+
 std::string ResolvePath(const std::string& base_dir,
                         const std::string& relative) {
   if (!relative.empty() && relative[0] == '/') return relative;

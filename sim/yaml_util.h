@@ -112,6 +112,14 @@ std::string DirectoryOf(const std::string& path);
 std::string ResolvePath(const std::string& base_dir,
                         const std::string& relative);
 
+// The key `dir` of the output block `output` (output.dir of a job, a
+// campaign or a fleet manifest), resolved against `base_dir` (ResolvePath).
+// Throws std::invalid_argument as YamlMap::String, and "<file>:<line>: key
+// 'output.dir': expected a folder path (relative to the file's folder, or
+// absolute), got '' …" for an empty or blank path (it resolved to the
+// file's own folder, while --out "" is refused).
+std::string OutputDirectory(YamlMap* output, const std::string& base_dir);
+
 }  // namespace axis
 
 #endif  // SIM_YAML_UTIL_H_

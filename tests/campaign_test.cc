@@ -370,6 +370,14 @@ TEST(CampaignTest, OutputDirIsOptionalWithOut) {
       << with_out.err;
 }
 
+// An empty output.dir is refused, naming file, line and key: it meant the
+// campaign's own folder, while --out "" is refused (issue 46).
+TEST(CampaignTest, EmptyOutputDirIsRefused) {
+  const std::string e = LoadError("seeds: {first: 1, last: 1}\noutput: {dir: ''}\n");
+  EXPECT_NE(e.find("campaign.yaml:4: key 'output.dir': expected a folder path"), std::string::npos)
+      << e;
+}
+
 // --jobs says its rule: CLI11's PositiveNumber said "Value 0 not in range
 // 0.000000 to 1.797…e308", a range holding the value it refused (issue 46).
 TEST(CampaignTest, JobsFlagIsAPositiveInteger) {

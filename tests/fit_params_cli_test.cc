@@ -195,6 +195,20 @@ TEST_F(FitParamsBadInput, OutputPathThroughAFile) {
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "t,u\n0,0\n");
 }
 
+// output: {dir: ""} without --out wrote into the job file's folder while
+// --out "" is refused (issue 46): refused naming file, line and key, and
+// nothing written there.
+TEST_F(FitParamsBadInput, EmptyOutputDirInTheJob) {
+  const std::string job = Job("empty_out.yaml", kRoot + "/testdata/x_step_10V_clean.csv");
+  std::ofstream(job, std::ios::app) << "output: {dir: \"\"}\n";
+  const Result r = RunCli(job);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("empty_out.yaml:10: key 'output.dir': expected a folder path"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(axis::testing_files::TestTempDir() + "report.json"));
+}
+
 TEST_F(FitParamsBadInput, CommandLine) {
   EXPECT_EQ(RunCli("").exit_code, 2);
   EXPECT_EQ(RunCli("--model " + kRoot + "/configs/axes/x_axis.yaml").exit_code, 2);

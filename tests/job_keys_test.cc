@@ -303,6 +303,22 @@ TEST(JobKeysTest, TimeNotInSecondsIsRefused) {
   EXPECT_NE(msg.find("got a period of 1 "), std::string::npos) << msg;
 }
 
+// output.dir "" resolved to the job file's own folder and the job wrote
+// there, while --out "" is refused (issue 46): refused naming file, line, key.
+TEST(JobKeysTest, AnEmptyOutputDirIsRefused) {
+  for (const std::string dir : {"\"\"", "' '"}) {
+    SCOPED_TRACE(dir);
+    const std::string path = Write("empty_out.yaml", Job("", "output: {dir: " + dir + "}\n"));
+    const std::string msg = LoadError(path);
+    EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("key 'output.dir': expected a folder path (relative to the file's "
+                       "folder, or absolute), got '"),
+              std::string::npos)
+        << msg;
+  }
+  EXPECT_EQ(LoadError(Write("out.yaml", Job("", "output: {dir: out}\n"))), "no error");
+}
+
 // discover.alpha is a level: in (0, 1), as the fleet's `alpha`; 5 used to
 // be accepted (every candidate significant).
 TEST(JobKeysTest, DiscoverAlphaIsALevel) {
