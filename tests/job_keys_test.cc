@@ -303,6 +303,30 @@ TEST(JobKeysTest, TimeNotInSecondsIsRefused) {
   EXPECT_NE(msg.find("got a period of 1 "), std::string::npos) << msg;
 }
 
+// One dropped sample (0.149 -> 0.151 s at 1 ms) is named at its own line
+// with the step found there (issue 46): the steps were compared to the
+// mean period, which the gap skews, and the record was refused at line 3,
+// a normal step.
+TEST(JobKeysTest, ADroppedSampleIsNamedAtItsLine) {
+  std::string csv = "t,u,x\n";
+  char row[64];
+  for (int k = 0; k < 300; ++k) {
+    if (k == 150) continue;  // dropped
+    std::snprintf(row, sizeof row, "%.3f,1,%.6f\n", 0.001 * k, 0.2 + 0.5e-3 * k);
+    csv += row;
+  }
+  const std::string data = Write("gap.csv", csv);
+  std::string text = Job("");
+  const size_t at = text.find(RampCsv());
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, RampCsv().size(), data);
+  const std::string msg = LoadError(Write("gap.yaml", text));
+  // t = 0.151 s is data row 150, line 152.
+  EXPECT_EQ(msg, data + ":152: expected uniform sampling (the median step 0.001 s within "
+                        "0.1 %), got a step of 0.002 s from 0.149 to 0.151 s (a gap: a dropped "
+                        "sample?)");
+}
+
 // output.dir "" resolved to the job file's own folder and the job wrote
 // there, while --out "" is refused (issue 46): refused naming file, line, key.
 TEST(JobKeysTest, AnEmptyOutputDirIsRefused) {
