@@ -23,6 +23,8 @@
 #include <utility>
 #include <vector>
 
+#include "sim/utf8_text.h"
+
 namespace axis {
 namespace {
 
@@ -299,11 +301,13 @@ CsvTable ParseChunks(const std::string& path, ReadChunk read_chunk) {
   std::unique_ptr<csv_parser, ParserDeleter> parser(&parser_storage);
 
   Reader reader(path);
+  Utf8Checker utf8;  // the bytes before a refused one are parsed: an earlier error comes first
   std::vector<char> buffer(kChunkSize);
   bool first_chunk = true;
-  while (!reader.failed()) {
-    const size_t size = read_chunk(buffer.data(), buffer.size());
+  while (!reader.failed() && !utf8.failed()) {
+    size_t size = read_chunk(buffer.data(), buffer.size());
     if (size == 0) break;
+    size = utf8.Feed(buffer.data(), size);
     size_t begin = 0;
     if (first_chunk && size >= 3 &&
         std::memcmp(buffer.data(), "\xEF\xBB\xBF", 3) == 0) {
@@ -325,6 +329,10 @@ CsvTable ParseChunks(const std::string& path, ReadChunk read_chunk) {
                                        csv_strerror(status));
       }
     }
+  }
+  if (!reader.failed() && !utf8.Finish()) {
+    reader.ThrowIfFailed();
+    throw std::invalid_argument(utf8.Error(path));
   }
   if (!reader.failed() &&
       csv_fini(parser.get(), OnField, OnRow, &reader) != 0) {

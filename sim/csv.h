@@ -39,8 +39,10 @@ using CsvTable = DataTable;
 // more rows; an empty cell ("expected a number in column 'x', got an empty
 // cell"); a non-numeric cell; a NaN or infinite cell (including overflow such
 // as 1e999); malformed quoting; a line break inside a quoted field (each row
-// must be one line, so that row i is line i + 2). Blank trailing lines are
-// ignored. Throws std::bad_alloc if memory runs out.
+// must be one line, so that row i is line i + 2); bytes that are not UTF-8
+// text (a NUL byte, a UTF-16 file; Utf8Checker's "<path>:<line>: expected
+// UTF-8 text, got … at byte offset N (not UTF-8 text …)", sim/utf8_text.h).
+// Blank trailing lines are ignored. Throws std::bad_alloc if memory runs out.
 CsvTable ReadCsv(const std::string& path);
 
 // As ReadCsv, from the text of a CSV file held in memory; `name` stands for

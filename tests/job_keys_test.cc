@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -341,6 +342,42 @@ TEST(JobKeysTest, AnEmptyOutputDirIsRefused) {
         << msg;
   }
   EXPECT_EQ(LoadError(Write("out.yaml", Job("", "output: {dir: out}\n"))), "no error");
+}
+
+// A second YAML document was silently ignored and a merge key '<<' not
+// applied (yaml-cpp reads it as a key named "<<"), the job then failing on a
+// key it did not name; a job that is not UTF-8 text printed raw bytes cut
+// at the first NUL (issue 46). Each is refused naming the file and line.
+TEST(JobKeysTest, SecondDocumentMergeKeyAndNonUtf8AreRefused) {
+  const std::string job = Job("");
+  const int lines = static_cast<int>(std::count(job.begin(), job.end(), '\n'));
+  std::string path = Write("two_documents.yaml", job + "---\nsolver: {starts: 5}\n");
+  std::string msg = LoadError(path);
+  EXPECT_EQ(msg, path + ":" + std::to_string(lines + 1) +
+                     ": expected one YAML document, got a second one (a '---' line; only one "
+                     "document per file is read)");
+  // A leading '---' (one document) is fine.
+  EXPECT_EQ(LoadError(Write("leading_marker.yaml", "---\n" + job)), "no error");
+
+  std::string text = "bounds: &b {lower: 10, upper: 500}\n" + job;
+  const size_t at = text.find("  M: {initial: 95, lower: 10, upper: 500}\n");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 42, "  M:\n    <<: *b\n    initial: 95\n");
+  path = Write("merge.yaml", text);
+  msg = LoadError(path);
+  const int merge_line = 2 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+  EXPECT_EQ(msg, path + ":" + std::to_string(merge_line) +
+                     ": key 'free.M.<<': expected no YAML merge key (not supported: write the "
+                     "keys out), got '<<' (a merge key)");
+
+  text = job;
+  text.replace(text.find("model:"), 1, std::string(1, '\0'));
+  path = Write("nul.yaml", "");
+  std::ofstream(path, std::ios::binary) << text;
+  msg = LoadError(path);
+  EXPECT_EQ(msg, path + ":1: expected UTF-8 text, got a NUL byte at byte offset 0 (not UTF-8 "
+                        "text; a UTF-16 file? save it as UTF-8)");
+  EXPECT_EQ(msg.size(), std::strlen(msg.c_str()));  // no NUL in the message
 }
 
 // discover.alpha is a level: in (0, 1), as the fleet's `alpha`; 5 used to
