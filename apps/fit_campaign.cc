@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <limits>
 
 #include <CLI/CLI.hpp>
 #include <glog/logging.h>
@@ -34,7 +35,7 @@ int main(int argc, char** argv) {
     app.add_option("--jobs", options.jobs,
                    "seeds run in parallel in one process (default: the number of cores); "
                    "under mpirun each rank runs one seed at a time")
-        ->check(CLI::PositiveNumber);
+        ->check(axis::PositiveInteger(std::numeric_limits<int>::max(), "seeds at once"));
     const CLI::Validator seed =
         axis::IntegerIn(0, axis::kMaxCampaignSeed, "the range of seeds.first and seeds.last");
     app.add_option("--first", options.first, "first seed (overrides seeds.first)")->check(seed);

@@ -29,6 +29,24 @@ inline CLI::Validator IntegerIn(long long min, long long max, const std::string&
       "INT in " + range);
 }
 
+// Accepts the decimal integers in [1, max]; else CLI11 reports (exit 2)
+// "<flag>: expected a positive integer (1..<max>, <as>), got '<text>'"
+// (CLI::PositiveNumber said "Value 0 not in range 0.000000 to 1.797…e308").
+inline CLI::Validator PositiveInteger(long long max, const std::string& as) {
+  const std::string range = "1.." + std::to_string(max);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const long long x = std::strtoll(text.c_str(), &end, 10);
+        if (text.empty() || *end != '\0' || errno == ERANGE || x < 1 || x > max) {
+          return "expected a positive integer (" + range + ", " + as + "), got '" + text + "'";
+        }
+        return "";
+      },
+      "INT in " + range);
+}
+
 }  // namespace axis
 
 #endif  // APPS_INTEGER_OPTION_H_

@@ -88,6 +88,11 @@ int RunFitCampaign(const FitCampaignOptions& options, const MpiSession& mpi, std
                                   std::to_string(config.last_seed));
     }
     if (!options.out_dir.empty()) config.out_dir = options.out_dir;
+    if (config.out_dir.empty()) {
+      throw std::invalid_argument(options.campaign_path +
+                                  ": expected an output folder (--out DIR or output.dir in "
+                                  "the campaign), got none");
+    }
     // Before the seeds, not after them (the files go into it directly).
     CheckOutputDirectory(config.out_dir, /*staged=*/false);
   };

@@ -49,7 +49,8 @@ struct FitCampaignOptions {
 // prints the progress and the summary to `out`. Every rank must call it.
 // Returns the exit code: 0 when the files are written (also when some
 // seeds failed: they are counted), 2 for bad input (campaign, job,
-// generating config, first > last, --jobs > 1 with several ranks; rank 0
+// generating config, first > last, --jobs > 1 with several ranks, neither
+// --out nor output.dir, an output folder that cannot be written; rank 0
 // prints "fit-campaign: error: …" to `err`), 1 for other failures. Never
 // throws (except std::bad_alloc).
 int RunFitCampaign(const FitCampaignOptions& options, const MpiSession& mpi, std::ostream& out,

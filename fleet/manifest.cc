@@ -289,7 +289,7 @@ FleetManifest ParseFleetManifest(const YAML::Node& root, const std::string& path
   }
   if (const YAML::Node output = map.Optional("output")) {
     YamlMap out(output, path, "output.");
-    m.out_dir = ResolvePath(base_dir, out.String("dir"));
+    m.out_dir = OutputDirectory(&out, base_dir);
     out.Finish();
   }
   map.Finish();

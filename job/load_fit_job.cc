@@ -31,6 +31,17 @@ std::string Num(double x) {
   return out.str();
 }
 
+// The median of the steps time[k] - time[k - 1] over the `count` samples
+// from `first` (count >= 2; of an even number of steps, the upper middle).
+double MedianStep(const std::vector<double>& time, size_t first, size_t count) {
+  std::vector<double> steps;
+  steps.reserve(count - 1);
+  for (size_t k = first + 1; k < first + count; ++k) steps.push_back(time[k] - time[k - 1]);
+  const auto middle = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+  std::nth_element(steps.begin(), middle, steps.end());
+  return *middle;
+}
+
 Channel ChannelOrThrow(const std::string& name, const YamlMap& map,
                        const YAML::Node& node, const std::string& key) {
   const auto c = ParseChannel(name);
@@ -359,12 +370,17 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
         "(a sample period of at most " + Num(kMaxSamplePeriod) + " s), got a period of " +
         Num(period) + " (is the time column in ms? convert it to s)");
   }
+  // Each step against the median step, not the mean: one dropped sample
+  // skews the mean, and every step then looked wrong but the gap's.
+  const double median_step = MedianStep(time, first, count);
   for (size_t k = first + 1; k < first + count; ++k) {
     const double dt = time[k] - time[k - 1];
-    if (std::abs(dt - period) > 1e-3 * period) {
+    if (std::abs(dt - median_step) > 1e-3 * median_step) {
       throw std::invalid_argument(
-          data.RowLocation(k) + ": expected uniform sampling (period " + Num(period) +
-          " s within 0.1 %), got a step of " + Num(dt) + " s");
+          data.RowLocation(k) + ": expected uniform sampling (the median step " +
+          Num(median_step) + " s within 0.1 %), got a step of " + Num(dt) + " s from " +
+          Num(time[k - 1]) + " to " + Num(time[k]) + " s" +
+          (dt > 1.5 * median_step ? " (a gap: a dropped sample?)" : ""));
     }
   }
   for (size_t k = first; k < first + count; ++k) e.t.push_back(time[k] - e.t_offset);
@@ -726,7 +742,7 @@ FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
   }
   if (const YAML::Node node = root.Optional("output")) {
     YamlMap map(node, path, "output.");
-    job.out_dir = ResolvePath(dir, map.String("dir"));
+    job.out_dir = OutputDirectory(&map, dir);
     map.Finish();
   }
   std::map<std::string, std::string> names;  // experiment name -> its key

@@ -21,6 +21,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "common/output_staging.h"
 #include "common/progress.h"
 #include "discovery/discovery.h"
 #include "estimation/fit_result.h"
@@ -58,13 +59,85 @@ bool IsMapping(py::handle value) {
          py::isinstance(value, py::module_::import("collections.abc").attr("Mapping"));
 }
 
-// os.fspath(value) for a str or os.PathLike, else TypeError naming `what`.
-std::string PathOf(py::handle value, const std::string& what) {
+// The type name and a short repr of `value`, as messages quote it: "str 'heavy'".
+std::string Quoted(py::handle value) {
+  std::string text = py::repr(value).cast<std::string>();
+  if (text.size() > 60) text = text.substr(0, 60) + "...";
+  return std::string(py::str(py::type::of(value).attr("__name__"))) + " " + text;
+}
+
+// os.fspath(value) for a str or os.PathLike, else TypeError naming `what`
+// (the expectation "a path (str or os.PathLike)" + `or_else`).
+std::string PathOf(py::handle value, const std::string& what,
+                   const std::string& or_else = " or a dict") {
   if (py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__")) {
     return py::module_::import("os").attr("fspath")(value).cast<std::string>();
   }
-  throw py::type_error(what + ": expected a path (str or os.PathLike) or a dict, got " +
+  throw py::type_error(what + ": expected a path (str or os.PathLike)" + or_else + ", got " +
                        std::string(py::str(py::type::of(value).attr("__name__"))));
+}
+
+// An argument that must be True or False (or a NumPy bool), else TypeError
+// "<name>: expected True or False, got <type> <repr>" (pybind11's own
+// error listed the signature and took None for False).
+bool BoolArgument(py::handle value, const char* name) {
+  if (py::isinstance<py::bool_>(value) ||
+      py::isinstance(value, py::module_::import("numpy").attr("bool_"))) {
+    return py::cast<bool>(py::bool_(py::reinterpret_borrow<py::object>(value)));
+  }
+  throw py::type_error(std::string(name) + ": expected True or False, got " + Quoted(value));
+}
+
+// simulate(seed=...): None (the experiment's seed) or an integer in
+// 0..kMaxExperimentSeed, the range of simulate-axis --seed. TypeError for a
+// non-integer (a bool or a float too), ValueError out of range.
+std::optional<std::uint64_t> SeedArgument(py::handle value) {
+  if (value.is_none()) return std::nullopt;
+  const std::string rule = "an integer in 0.." + std::to_string(kMaxExperimentSeed) +
+                           " (the range of the experiment's seed key)";
+  if (py::isinstance<py::bool_>(value) || !PyIndex_Check(value.ptr())) {
+    throw py::type_error("seed: expected None or " + rule + ", got " + Quoted(value));
+  }
+  const py::int_ seed = py::module_::import("operator").attr("index")(value);
+  if (seed < py::int_(0) || seed > py::int_(kMaxExperimentSeed)) {
+    throw py::value_error("seed: expected " + rule + ", got " + py::repr(seed).cast<std::string>());
+  }
+  return seed.cast<std::uint64_t>();
+}
+
+// simulate(set=...): applies a dict MODEL.md parameter name -> number to
+// `model` as simulate-axis --set does (SetParam, then ValidateAxisConfig),
+// the messages naming "set['<name>']". TypeError if `set` is not a
+// mapping; ValueError for a key that is not a str or not a parameter, or a
+// value that is not a real number (a bool or a str neither) or is out of
+// the parameter's range.
+void ApplySetDict(py::handle set, AxisConfig* model) {
+  if (set.is_none()) return;
+  if (!IsMapping(set)) {
+    throw py::type_error("set: expected None or a dict parameter name -> number, got " +
+                         Quoted(set));
+  }
+  for (const py::handle item : set.attr("items")()) {
+    const py::tuple pair = py::reinterpret_borrow<py::tuple>(item);
+    if (!py::isinstance<py::str>(pair[0])) {
+      throw py::value_error("set: expected str keys (MODEL.md parameter names), got " +
+                            Quoted(pair[0]));
+    }
+    const std::string where = "set['" + pair[0].cast<std::string>() + "']";
+    const py::handle value = pair[1];
+    const bool number = !py::isinstance<py::bool_>(value) && !py::isinstance<py::str>(value) &&
+                        !py::isinstance<py::bytes>(value) &&
+                        (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value) ||
+                         py::hasattr(value, "__float__"));
+    double x = 0.0;
+    if (number) x = py::float_(py::reinterpret_borrow<py::object>(value)).cast<double>();
+    if (!number || std::isnan(x)) {
+      throw py::value_error(where + ": expected a number (the parameter's value in SI units), got " +
+                            Quoted(value));
+    }
+    SetParam(model, pair[0].cast<std::string>(), x, where);
+    ValidateAxisConfig(*model, where);
+  }
 }
 
 // The folder relative paths of a dict document resolve against: base_dir,
@@ -76,9 +149,9 @@ std::string BaseDir(py::handle base_dir, bool is_dict) {
     throw std::invalid_argument(
         "base_dir: expected no base_dir with a file path (its relative paths "
         "resolve against the file's folder), got '" +
-        PathOf(base_dir, "base_dir") + "'");
+        PathOf(base_dir, "base_dir", " or None") + "'");
   }
-  return PathOf(base_dir, "base_dir");
+  return PathOf(base_dir, "base_dir", " or None");
 }
 
 // A parsed dict document (ParseYamlText: the same duplicate-key and syntax
@@ -99,14 +172,14 @@ FitJob JobFrom(py::handle job, py::handle base_dir) {
     if (!base_dir.is_none()) {
       throw std::invalid_argument(
           "base_dir: expected no base_dir with a loaded Job (its paths are "
-          "resolved), got '" + PathOf(base_dir, "base_dir") + "'");
+          "resolved), got '" + PathOf(base_dir, "base_dir", " or None") + "'");
     }
     return job.cast<FitJob>();
   }
   const bool is_dict = IsMapping(job);
   const std::string dir = BaseDir(base_dir, is_dict);
   if (is_dict) return ParseFitJob(ParseDict(job, kJobDict), kJobDict, dir);
-  return LoadFitJob(PathOf(job, "job"));
+  return LoadFitJob(PathOf(job, "job", ", a dict or a Job"));
 }
 
 // The channels a simulate(channels=...) asks for: None keeps the
@@ -117,6 +190,17 @@ void ChooseChannels(py::handle channels, ExperimentConfig* e) {
   if (py::isinstance<py::str>(channels) && channels.cast<std::string>() == "all") {
     for (int c = 1; c < kNumChannels; ++c) chosen.push_back(static_cast<Channel>(c));
   } else {
+    // (cast<std::vector<std::string>> raised RuntimeError "Unable to cast")
+    const bool list = py::isinstance<py::list>(channels) || py::isinstance<py::tuple>(channels);
+    if (py::isinstance<py::str>(channels) || !list) {
+      throw py::type_error("channels: expected None, \"all\" or a list of channel names (" +
+                           ChannelNameList() + "), got " + Quoted(channels));
+    }
+    for (const py::handle item : channels) {
+      if (!py::isinstance<py::str>(item)) {
+        throw py::type_error("channels: expected channel names (str), got " + Quoted(item));
+      }
+    }
     for (const std::string& name : channels.cast<std::vector<std::string>>()) {
       const std::optional<Channel> c = ParseChannel(name);
       if (!c) {
@@ -134,22 +218,18 @@ void ChooseChannels(py::handle channels, ExperimentConfig* e) {
   e->options.channels = std::move(chosen);
 }
 
-py::dict Simulate(py::object experiment, py::object base_dir, bool noise,
-                  std::optional<std::uint64_t> seed, std::optional<py::dict> set,
-                  py::object channels) {
+py::dict Simulate(py::object experiment, py::object base_dir, py::object noise,
+                  py::object seed_arg, py::object set, py::object channels) {
+  // The arguments first, each named with its rule, then the experiment.
+  const bool with_noise = BoolArgument(noise, "noise");
+  const std::optional<std::uint64_t> seed = SeedArgument(seed_arg);
   ExperimentConfig e = ExperimentFrom(experiment, base_dir);
   ChooseChannels(channels, &e);
+  ApplySetDict(set, &e.model);  // as SimulateExperiment applies --set: before the initial state
   SimulateAxisOptions options;
-  options.no_noise = !noise;
+  options.no_noise = !with_noise;
   options.has_seed = seed.has_value();
   options.seed = seed.value_or(0);
-  if (set) {
-    for (const auto& [name, value] : *set) {
-      char number[64];
-      std::snprintf(number, sizeof number, "%.17g", value.cast<double>());
-      options.sets.push_back(py::str(name).cast<std::string>() + "=" + number);
-    }
-  }
   const std::vector<Channel> recorded = e.options.channels;
   Trace<double> trace;
   {
@@ -180,8 +260,9 @@ py::object FiniteOrNone(double value, bool present) {
   return present && std::isfinite(value) ? py::object(py::float_(value)) : py::none();
 }
 
-JobRun Fit(py::object job_arg, bool discover, py::object progress, py::object out,
+JobRun Fit(py::object job_arg, py::object discover_arg, py::object progress, py::object out,
            py::object base_dir) {
+  const bool discover = BoolArgument(discover_arg, "discover");
   if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
     throw py::type_error("progress: expected a callable taking one str, or None");
   }
@@ -196,8 +277,15 @@ JobRun Fit(py::object job_arg, bool discover, py::object progress, py::object ou
       out_dir = job.out_dir;
     }
   } else if (!out.is_none()) {
-    out_dir = PathOf(out, "out");
+    out_dir = PathOf(out, "out", ", True, False or None");
+    if (out_dir.empty()) {
+      throw std::invalid_argument(
+          "out: expected a folder path (or True, False or None), got '' (it wrote nothing)");
+    }
   }
+  // Before the fit, not after it (fit-params does the same): a file in the
+  // way or a folder that cannot be written into.
+  if (!out_dir.empty()) CheckOutputDirectory(out_dir);
   ProgressStream stream(progress);
   JobRun run;
   std::vector<std::string> warnings;
@@ -521,8 +609,11 @@ channels: None for the experiment's channels, "all", or a list of channel names
 Returns a dict {"t": times in s, channel: values in the channel's SI unit, ...}, float64
 arrays of one length, the channels in the experiment's order.
 Raises ValueError (bad experiment, with the loader's "<file>:<line>: key '<path>': expected
-..., got ..." message), TypeError (experiment neither a path nor a dict), RuntimeError
-(the simulation left the finite numbers). Releases the GIL while simulating.)doc");
+..., got ..." message; seed outside 0..2**62; a set name that is not a parameter or a value
+that is not a number in its range, "set['M']: ..."), TypeError (experiment neither a path
+nor a dict; noise not a bool; seed not an integer; set not a dict; channels not "all" or a
+list of str), RuntimeError (the simulation left the finite numbers); the arguments are
+checked before simulating. Releases the GIL while simulating.)doc");
 
   m.def(
       "load_job",
@@ -550,8 +641,10 @@ out: None or False writes nothing (the job's output.dir is ignored); a folder pa
     fit-params' files there (params.md, params.csv, report.json, fit_*.csv/.png ...);
     True writes them to the job's output.dir.
 The GIL is released while fitting: other Python threads run meanwhile.
-Raises ValueError (bad job, with the loader's message), TypeError, RuntimeError (outputs
-that cannot be written). Plot warnings (gnuplot missing) are RuntimeWarnings.)doc");
+Raises ValueError (bad job, with the loader's message; out a file, or in a folder that cannot
+be written into, or ''), TypeError (discover not a bool, progress not callable, out not a
+path or a bool), all before fitting; RuntimeError (outputs that cannot be written after
+all). Plot warnings (gnuplot missing) are RuntimeWarnings.)doc");
 
   m.def(
       "to_yaml", [](py::object document) { return ap::ToYamlText(document, "<dict>"); },

@@ -307,9 +307,9 @@ CampaignConfig LoadCampaign(const std::string& path) {
     }
     t.Finish();
   }
-  {
-    YamlMap out(map.Required("output"), path, "output.");
-    c.out_dir = ResolvePath(dir, out.String("dir"));
+  if (const YAML::Node output = map.Optional("output")) {  // else fit-campaign --out
+    YamlMap out(output, path, "output.");
+    c.out_dir = OutputDirectory(&out, dir);
     out.Finish();
   }
   map.Finish();

@@ -33,7 +33,7 @@ constexpr int kMaxCampaignSeed = 1000000;
 //     values: {F_c: 30}                 # true values, for interval coverage
 //     verdict: explained                # expected verdict (optional)
 //     outside_library: [friction_patch] # generator-only forces in the data
-//   output: {dir: ../../build/campaigns/none}
+//   output: {dir: ../../build/campaigns/none}   # optional with fit-campaign --out
 // Every experiment of the job (fitted and validation) needs a generating
 // config; seed s simulates each noise-free and adds noise with seed
 // config.seed + 1000·s (AddNoise), the input as the config defines it.
@@ -53,7 +53,7 @@ struct CampaignConfig {
   // set is exact and an effect selected is a stand-in, not a false
   // discovery: the measure is the verdict (`incomplete`).
   std::vector<std::string> truth_outside;
-  std::string out_dir;
+  std::string out_dir;  // output.dir resolved; "" if the file has no output block
 };
 
 // Loads and checks a campaign file: every generating config is loaded and

@@ -2,6 +2,7 @@
 
 #include <csv.h>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,6 +22,8 @@
 #include <unordered_map>
 #include <utility>
 #include <vector>
+
+#include "sim/utf8_text.h"
 
 namespace axis {
 namespace {
@@ -298,11 +301,13 @@ CsvTable ParseChunks(const std::string& path, ReadChunk read_chunk) {
   std::unique_ptr<csv_parser, ParserDeleter> parser(&parser_storage);
 
   Reader reader(path);
+  Utf8Checker utf8;  // the bytes before a refused one are parsed: an earlier error comes first
   std::vector<char> buffer(kChunkSize);
   bool first_chunk = true;
-  while (!reader.failed()) {
-    const size_t size = read_chunk(buffer.data(), buffer.size());
+  while (!reader.failed() && !utf8.failed()) {
+    size_t size = read_chunk(buffer.data(), buffer.size());
     if (size == 0) break;
+    size = utf8.Feed(buffer.data(), size);
     size_t begin = 0;
     if (first_chunk && size >= 3 &&
         std::memcmp(buffer.data(), "\xEF\xBB\xBF", 3) == 0) {
@@ -324,6 +329,10 @@ CsvTable ParseChunks(const std::string& path, ReadChunk read_chunk) {
                                        csv_strerror(status));
       }
     }
+  }
+  if (!reader.failed() && !utf8.Finish()) {
+    reader.ThrowIfFailed();
+    throw std::invalid_argument(utf8.Error(path));
   }
   if (!reader.failed() &&
       csv_fini(parser.get(), OnField, OnRow, &reader) != 0) {
@@ -414,6 +423,33 @@ void WriteFileAtomic(const std::string& path, const std::string& contents) {
   if (closed != 0) fail("closing '" + temp + "'", errno);
   if (std::rename(temp.c_str(), path.c_str()) != 0) {
     fail("renaming '" + temp + "' over it", errno);
+  }
+}
+
+void CheckOutputFile(const std::string& path) {
+  const std::string expected =
+      ": expected an output file (a path in an existing folder this process may write into), "
+      "got ";
+  if (path.empty()) throw std::invalid_argument("''" + expected + "an empty path");
+  if (path.back() == '/') {
+    throw std::invalid_argument(path + expected + "a folder path (ending in '/')");
+  }
+  struct stat info;
+  if (::lstat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
+    throw std::invalid_argument(path + expected + "a folder");
+  }
+  const size_t slash = path.find_last_of('/');
+  const std::string folder =
+      slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  if (::stat(folder.c_str(), &info) != 0) {
+    throw std::invalid_argument(path + expected + "'" + folder + "', a folder that does not exist");
+  }
+  if (!S_ISDIR(info.st_mode)) {
+    throw std::invalid_argument(path + expected + "'" + folder + "', which is not a folder");
+  }
+  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+    throw std::invalid_argument(path + expected + "'" + folder +
+                                "', a folder that cannot be written into");
   }
 }
 

@@ -39,8 +39,10 @@ using CsvTable = DataTable;
 // more rows; an empty cell ("expected a number in column 'x', got an empty
 // cell"); a non-numeric cell; a NaN or infinite cell (including overflow such
 // as 1e999); malformed quoting; a line break inside a quoted field (each row
-// must be one line, so that row i is line i + 2). Blank trailing lines are
-// ignored. Throws std::bad_alloc if memory runs out.
+// must be one line, so that row i is line i + 2); bytes that are not UTF-8
+// text (a NUL byte, a UTF-16 file; Utf8Checker's "<path>:<line>: expected
+// UTF-8 text, got … at byte offset N (not UTF-8 text …)", sim/utf8_text.h).
+// Blank trailing lines are ignored. Throws std::bad_alloc if memory runs out.
 CsvTable ReadCsv(const std::string& path);
 
 // As ReadCsv, from the text of a CSV file held in memory; `name` stands for
@@ -66,6 +68,15 @@ void CheckStrictlyIncreasing(const CsvTable& table, const std::string& column);
 // and the system error. Never leaves a partial file at `path`: readers see
 // either the old file or the complete new one.
 void WriteFileAtomic(const std::string& path, const std::string& contents);
+
+// Checks, before any work, that WriteFileAtomic can write `path`: a
+// non-empty path that is not a folder (a symbolic link is replaced, not
+// followed), in an existing folder this process may write into (the
+// temporary file is made there). Throws std::invalid_argument "<path>:
+// expected an output file (a path in an existing folder this process may
+// write into), got …" naming the folder in the way, the missing folder or
+// the one that cannot be written into.
+void CheckOutputFile(const std::string& path);
 
 // `text` as one CSV field: as is, or in double quotes (inner quotes
 // doubled) if it holds a comma, a quote or a line break; what WriteCsvAtomic

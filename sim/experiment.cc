@@ -70,6 +70,7 @@ Trace<double> SimulateExperiment(ExperimentConfig e, const SimulateAxisOptions& 
 void SimulateAxis(const SimulateAxisOptions& options) {
   SetInterruptTarget(options.out_path);
   ExperimentConfig e = LoadExperiment(options.experiment_path);
+  CheckOutputFile(options.out_path);  // before the simulation, not after it
   const std::vector<Channel> channels = e.options.channels;
   const Trace<double> trace = SimulateExperiment(std::move(e), options);
   DeferInterrupts defer;  // no temporary file left behind (sim/interrupt.h)

@@ -52,10 +52,13 @@ struct SimulateAxisOptions {
 // finite numbers …" if it diverges.
 Trace<double> SimulateExperiment(ExperimentConfig e, const SimulateAxisOptions& options);
 
-// Loads the experiment, applies the overrides, simulates, adds noise and
-// writes the CSV (SimulateExperiment, WriteTraceCsv). Throws std::invalid_argument on bad input (nothing is
-// written then) and std::runtime_error if the output cannot be written or
-// the simulation leaves the finite numbers.
+// Loads the experiment, checks the output path (CheckOutputFile, before
+// simulating), applies the overrides, simulates, adds noise and writes the
+// CSV (SimulateExperiment, WriteTraceCsv). Throws std::invalid_argument on
+// bad input, an output path that is a folder or in a folder that is missing
+// or cannot be written into (nothing is written then), and
+// std::runtime_error if the output cannot be written after all or the
+// simulation leaves the finite numbers.
 void SimulateAxis(const SimulateAxisOptions& options);
 
 }  // namespace axis

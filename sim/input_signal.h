@@ -54,7 +54,7 @@ struct InputSignal {
 // by a recorder (issue 10: linear interpolation of a 1 kHz sine leaves an
 // input error that a microsecond sensor delay absorbs). Throws
 // std::invalid_argument "expected …, got …" unless `s` is a table of at
-// least 5 samples uniformly spaced (every spacing within 1e-6 of the mean)
+// least 5 samples uniformly spaced (every spacing within 1e-6 of the median)
 // and not held.
 void MakeCubic(InputSignal* s);
 

@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sim/utf8_text.h"
+
 namespace axis {
 namespace {
 
@@ -58,6 +60,13 @@ void CheckOwnKeys(const YAML::Node& node, const std::string& file, const std::st
   std::map<std::string, int> first_line;
   for (const auto& entry : node) {
     const std::string key = KeyText(entry.first);
+    // yaml-cpp reads a merge key as an ordinary key named "<<" and merges
+    // nothing: the keys it should bring in would be missing without a word.
+    if (key == "<<" && entry.first.Tag() != "!") {
+      ThrowConfigError(file, entry.first, dot + key,
+                       "no YAML merge key (not supported: write the keys out)",
+                       "'<<' (a merge key)");
+    }
     const auto [where, inserted] = first_line.emplace(key, entry.first.Mark().line + 1);
     if (!inserted) {
       ThrowConfigError(file, entry.first, dot + key, "each key once in a mapping",
@@ -65,6 +74,32 @@ void CheckOwnKeys(const YAML::Node& node, const std::string& file, const std::st
                            std::to_string(where->second) + ")");
     }
   }
+}
+
+// Throws "<name>:<line>: expected one YAML document, got a second one" at
+// the line of the second document's start marker ("---" at the start of a
+// line after some content), or with no line if there is none (a bare
+// document after "...").
+[[noreturn]] void ThrowSecondDocument(const std::string& text, const std::string& name) {
+  size_t line = 0;
+  bool content = false;  // the first document has begun
+  size_t number = 1;
+  for (size_t begin = 0; begin < text.size() && line == 0; ++number) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    const std::string row = text.substr(begin, end - begin);
+    const bool marker = row.compare(0, 3, "---") == 0 &&
+                        (row.size() == 3 || row[3] == ' ' || row[3] == '\t' || row[3] == '\r');
+    if (marker && content) line = number;
+    if (!row.empty() && row[0] != '#' && row[0] != '%' &&
+        row.find_first_not_of(" \t\r") != std::string::npos) {
+      content = true;
+    }
+    begin = end + 1;
+  }
+  throw std::invalid_argument(name + (line > 0 ? ":" + std::to_string(line) : std::string()) +
+                              ": expected one YAML document, got a second one (a '---' line; "
+                              "only one document per file is read)");
 }
 
 }  // namespace
@@ -103,13 +138,16 @@ YAML::Node LoadYamlFile(const std::string& file) {
 }
 
 YAML::Node ParseYamlText(const std::string& text, const std::string& name) {
-  YAML::Node root;
+  CheckUtf8Text(text, name);  // before the parser quotes any of it
+  std::vector<YAML::Node> documents;
   try {
-    root = YAML::Load(text);
+    documents = YAML::LoadAll(text);
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(name + ":" + std::to_string(e.mark.line + 1) +
                                 ": invalid YAML: " + e.msg);
   }
+  if (documents.size() > 1) ThrowSecondDocument(text, name);
+  YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   CheckUniqueKeys(root, name, "");
   return root;
 }
@@ -301,6 +339,16 @@ std::string DirectoryOf(const std::string& path) {
   if (slash == std::string::npos) return ".";
   if (slash == 0) return "/";
   return path.substr(0, slash);
+}
+
+std::string OutputDirectory(YamlMap* output, const std::string& base_dir) {
+  const std::string dir = output->String("dir");
+  if (dir.find_first_not_of(" \t") == std::string::npos) {
+    ThrowConfigError(output->file(), output->node()["dir"], output->KeyPath("dir"),
+                     "a folder path (relative to the file's folder, or absolute)",
+                     "'" + dir + "' (an empty path would write into the file's own folder)");
+  }
+  return ResolvePath(base_dir, dir);
 }
 
 std::string ResolvePath(const std::string& base_dir,

@@ -15,9 +15,13 @@
 namespace axis {
 
 // Loads a YAML file. Throws std::invalid_argument "<file>: cannot read",
-// "<file>:<line>: invalid YAML: <reason>", or, for a key repeated in any
-// mapping of the document (yaml-cpp keeps both; the loaders would read one
-// and ignore the other), CheckUniqueKeys' error.
+// "<file>:<line>: invalid YAML: <reason>", CheckUtf8Text's error for a file
+// that is not UTF-8 text (sim/utf8_text.h), "<file>:<line>: expected one
+// YAML document, got a second one ('---') …" (the loaders read the first
+// and ignored the rest), or, for a key repeated in any mapping of the
+// document (yaml-cpp keeps both; the loaders would read one and ignore the
+// other) or a merge key '<<' (yaml-cpp merges nothing), CheckUniqueKeys'
+// error.
 YAML::Node LoadYamlFile(const std::string& file);
 
 // As LoadYamlFile, from YAML text held in memory; `name` stands for the file
@@ -26,8 +30,10 @@ YAML::Node ParseYamlText(const std::string& text, const std::string& name);
 
 // Throws std::invalid_argument "<file>:<line>: key '<path>': expected each
 // key once in a mapping, got '<key>' again (first on line N)" for the first
-// key repeated in `node` or any mapping below it. `prefix` is the key path
-// of `node` ("" at top level).
+// key repeated in `node` or any mapping below it, and "<file>:<line>: key
+// '<path><<': expected no YAML merge key (not supported: write the keys
+// out), got '<<' (a merge key)" for an unquoted '<<' key. `prefix` is the
+// key path of `node` ("" at top level).
 void CheckUniqueKeys(const YAML::Node& node, const std::string& file,
                      const std::string& prefix);
 
@@ -111,6 +117,14 @@ const char* RangeText(YamlMap::Range range);
 std::string DirectoryOf(const std::string& path);
 std::string ResolvePath(const std::string& base_dir,
                         const std::string& relative);
+
+// The key `dir` of the output block `output` (output.dir of a job, a
+// campaign or a fleet manifest), resolved against `base_dir` (ResolvePath).
+// Throws std::invalid_argument as YamlMap::String, and "<file>:<line>: key
+// 'output.dir': expected a folder path (relative to the file's folder, or
+// absolute), got '' …" for an empty or blank path (it resolved to the
+// file's own folder, while --out "" is refused).
+std::string OutputDirectory(YamlMap* output, const std::string& base_dir);
 
 }  // namespace axis
 

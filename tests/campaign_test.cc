@@ -347,6 +347,54 @@ TEST(CampaignTest, CommandLineErrorsExitWithTwo) {
       << through.err;
 }
 
+// output.dir is optional when --out is given (the flag's help said it
+// defaults to output.dir, yet the file had to have one), as in jobs and
+// manifests; with neither, the error names both (issue 46).
+TEST(CampaignTest, OutputDirIsOptionalWithOut) {
+  const std::string bare = WriteCampaign("seeds: {first: 1, last: 1}\n");
+  EXPECT_EQ(ErrorLoading(bare), "");
+  EXPECT_EQ(LoadCampaign(bare).out_dir, "");
+  const std::string fit_campaign = std::string(BINARY_DIR) + "/fit-campaign";
+  const auto neither = testing_files::RunCommand(fit_campaign, bare, true);
+  EXPECT_EQ(neither.exit_code, 2);
+  EXPECT_NE(neither.err.find(bare + ": expected an output folder (--out DIR or output.dir in the "
+                                    "campaign), got none"),
+            std::string::npos)
+      << neither.err;
+  // With --out the file loads and the flag's folder is the one checked (a
+  // path through a file, so that no seed runs).
+  const std::string file = testing_files::WriteTemp("a_file", "x\n");
+  const auto with_out = testing_files::RunCommand(fit_campaign, bare + " --out " + file + "/out", true);
+  EXPECT_EQ(with_out.exit_code, 2);
+  EXPECT_NE(with_out.err.find(file + "/out: expected an output directory"), std::string::npos)
+      << with_out.err;
+}
+
+// An empty output.dir is refused, naming file, line and key: it meant the
+// campaign's own folder, while --out "" is refused (issue 46).
+TEST(CampaignTest, EmptyOutputDirIsRefused) {
+  const std::string e = LoadError("seeds: {first: 1, last: 1}\noutput: {dir: ''}\n");
+  EXPECT_NE(e.find("campaign.yaml:4: key 'output.dir': expected a folder path"), std::string::npos)
+      << e;
+}
+
+// --jobs says its rule: CLI11's PositiveNumber said "Value 0 not in range
+// 0.000000 to 1.797…e308", a range holding the value it refused (issue 46).
+TEST(CampaignTest, JobsFlagIsAPositiveInteger) {
+  const std::string campaign = WriteCampaign("seeds: {first: 1, last: 2}\noutput: {dir: out}\n");
+  for (const std::string jobs : {"0", "-3", "1.5", "x", "2147483648"}) {
+    SCOPED_TRACE(jobs);
+    const auto r = testing_files::RunCommand(std::string(BINARY_DIR) + "/fit-campaign",
+                                             campaign + " --jobs " + jobs, true);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--jobs: expected a positive integer (1..2147483647, seeds at once), "
+                         "got '" + jobs + "'"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("not in range"), std::string::npos) << r.err;
+  }
+}
+
 // --first and --last take the range of seeds.first and seeds.last, 0..10^6:
 // `--first 0 --last 2147483647` used to overflow the seed count and die in
 // std::vector; a negative or overflowing number is refused by the flag too.

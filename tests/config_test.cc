@@ -1,8 +1,10 @@
 // Strict loading of model configs and experiment files: every committed
 // config loads, and bad input gives a message naming the file, the line and
 // the key and saying what was expected.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -126,6 +128,32 @@ TEST(ConfigTest, RepeatedKeyIsRefusedWithBothLines) {
       "twice_nested.yaml", Experiment("", "input:\n  type: step\n  amplitude: 1\n  amplitude: 2\n"));
   msg = ErrorOf([&] { LoadExperiment(nested); });
   EXPECT_NE(msg.find(nested + ":7: key 'input.amplitude'"), std::string::npos) << msg;
+}
+
+// Every YAML file goes through LoadYamlFile (issue 46): a model config with
+// a second document (ignored before), or a merge key (not applied), or
+// bytes that are not UTF-8 text, is refused naming the file and line.
+TEST(ConfigTest, SecondDocumentMergeKeyAndNonUtf8AreRefused) {
+  std::ifstream in(kRoot + "/configs/axes/x_axis.yaml");
+  const std::string model((std::istreambuf_iterator<char>(in)), {});
+  const int lines = static_cast<int>(std::count(model.begin(), model.end(), '\n'));
+  std::string path = WriteTemp("two.yaml", model + "---\nname: other\n");
+  std::string msg = ErrorOf([&] { LoadAxisConfig(path); });
+  EXPECT_EQ(msg.rfind(path + ":" + std::to_string(lines + 1) +
+                          ": expected one YAML document, got a second one",
+                      0),
+            0u)
+      << msg;
+  path = WriteTemp("merge.yaml", Experiment("", "defaults: &d {type: step}\ninput:\n  <<: *d\n  "
+                                                "amplitude: 1\n"));
+  msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find(path + ":6: key 'input.<<': expected no YAML merge key"), std::string::npos)
+      << msg;
+  path = WriteTemp("latin1.yaml", Experiment("title: caf\xe9\n"));
+  msg = ErrorOf([&] { LoadExperiment(path); });
+  EXPECT_NE(msg.find(path + ":5: expected UTF-8 text, got byte 0xE9 at byte offset"),
+            std::string::npos)
+      << msg;
 }
 
 // The memory check: nothing below half the physical memory, a clear

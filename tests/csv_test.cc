@@ -302,6 +302,36 @@ TEST_F(CsvTest, MalformedQuoting) {
                   ":1: ", {"got a line break inside a quoted field"});
 }
 
+// Bytes that are not UTF-8 text (issue 46): a NUL byte cut the message at
+// the NUL and other bytes went into it raw; now the byte, its offset and
+// line are named, and an error on an earlier line still comes first.
+TEST_F(CsvTest, TextThatIsNotUtf8IsRefusedWithItsOffset) {
+  ExpectReadError(std::string("t,x\n0,1\n1,\0\n", 12), ":3: ",
+                  {"expected UTF-8 text, got a NUL byte at byte offset 10 (not UTF-8 text"});
+  ExpectReadError("t,x\n0,1\n1,\xff\n", ":3: ",
+                  {"got byte 0xFF at byte offset 10 (not UTF-8 text"});
+  // UTF-16 (little-endian, with its byte order mark) of "t,x\n0,1\n".
+  std::string utf16 = "\xff\xfe";
+  for (const char c : std::string("t,x\n0,1\n")) utf16 += std::string(1, c) + '\0';
+  ExpectReadError(utf16, ":1: ",
+                  {"got byte 0xFF at byte offset 0 (not UTF-8 text; a UTF-16 file?"});
+  ExpectReadError("t,x\r\n0,1\r\n1,\xc3(\r\n", ":3: ", {"byte 0xC3 at byte offset 12"});
+  ExpectReadError("t,x\n0,1\n1,2\xe2\x82", ":3: ",
+                  {"byte 0xE2 at byte offset 11, a character cut off by the end of the text"});
+  ExpectReadError("t,x\n0,y\n1,\xff\n", ":2: ", {"expected a number in column 'x'"});
+  // Beyond the first 64 KiB read (kChunkSize): the offset counts from the file's start.
+  std::string big = "t,x\n";
+  while (big.size() < 70000) big += "0,1\n";
+  const size_t offset = big.size();
+  const size_t line = 1 + offset / 4;
+  ExpectReadError(big + "\x80,1\n", ":" + std::to_string(line) + ": ",
+                  {"byte 0x80 at byte offset " + std::to_string(offset)});
+  // UTF-8 names still read, with or without a byte order mark.
+  const CsvTable table = ParseCsv("\xef\xbb\xbft,caf\xc3\xa9,\xe2\x82\xac\n0,1,2\n", "utf8.csv");
+  EXPECT_EQ(table.names[1], "caf\xc3\xa9");
+  EXPECT_EQ(table.names[2], "\xe2\x82\xac");
+}
+
 TEST_F(CsvTest, CheckStrictlyIncreasingAcceptsIncreasingColumn) {
   const CsvTable table =
       ReadCsv(WriteText("in.csv", "t,x\n0,5\n0.001,5\n0.002,4\n"));
@@ -358,6 +388,43 @@ TEST_F(CsvTest, WriteFileAtomicIntoMissingDirectoryThrowsAndLeavesNothing) {
   EXPECT_TRUE(Listing().empty());
   EXPECT_THROW(WriteCsvAtomic(path, {"x"}, {{1.0}}), std::runtime_error);
   EXPECT_TRUE(Listing().empty());
+}
+
+// CheckOutputFile (issue 46: simulate-axis found a folder in the way only
+// after its simulation): a folder, a missing folder, a file as folder and
+// a read-only folder are refused naming the path; a new or existing file
+// in a writable folder is accepted.
+TEST_F(CsvTest, CheckOutputFileRefusesWhatWriteFileAtomicWouldFailOn) {
+  const std::string expected =
+      ": expected an output file (a path in an existing folder this process may write into), got ";
+  const auto error_of = [](const std::string& path) -> std::string {
+    try {
+      CheckOutputFile(path);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error_of(dir_.string()), dir_.string() + expected + "a folder");
+  EXPECT_EQ(error_of(PathOf("sub/")), PathOf("sub/") + expected + "a folder path (ending in '/')");
+  EXPECT_EQ(error_of(PathOf("no_such_dir/x.csv")),
+            PathOf("no_such_dir/x.csv") + expected + "'" + PathOf("no_such_dir") +
+                "', a folder that does not exist");
+  const std::string file = WriteText("file.csv", "t\n0\n");
+  EXPECT_EQ(error_of(file + "/x.csv"),
+            file + "/x.csv" + expected + "'" + file + "', which is not a folder");
+  EXPECT_EQ(error_of(""), "''" + expected + "an empty path");
+  EXPECT_EQ(error_of(file), "no error");  // replaced
+  EXPECT_EQ(error_of(PathOf("new.csv")), "no error");
+  if (::geteuid() != 0) {  // root writes anywhere
+    const fs::path locked = dir_ / "locked";
+    fs::create_directories(locked);
+    fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+    EXPECT_EQ(error_of((locked / "x.csv").string()),
+              (locked / "x.csv").string() + expected + "'" + locked.string() +
+                  "', a folder that cannot be written into");
+    fs::permissions(locked, fs::perms::owner_all);
+  }
 }
 
 TEST_F(CsvTest, WriteFileAtomicRemovesTemporaryWhenRenameFails) {

@@ -194,6 +194,46 @@ TEST_F(FitParamsBadInput, OutputPathThroughAFile) {
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "t,u\n0,0\n");
 }
 
+// output: {dir: ""} without --out wrote into the job file's folder while
+// --out "" is refused (issue 46): refused naming file, line and key, and
+// nothing written there.
+TEST_F(FitParamsBadInput, EmptyOutputDirInTheJob) {
+  const std::string job = Job("empty_out.yaml", kRoot + "/testdata/x_step_10V_clean.csv");
+  std::ofstream(job, std::ios::app) << "output: {dir: \"\"}\n";
+  const Result r = RunCli(job);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("empty_out.yaml:10: key 'output.dir': expected a folder path"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(axis::testing_files::TestTempDir() + "report.json"));
+}
+
+// Text that is not UTF-8 (a UTF-16 job, a NUL byte in a CSV) is named by
+// byte offset instead of printed raw and cut at the NUL; a dropped sample
+// is named at its line (issue 46).
+TEST_F(FitParamsBadInput, NonUtf8TextAndADroppedSample) {
+  const std::string csv = kRoot + "/testdata/x_step_10V_clean.csv";
+  const std::string job = Job("utf8.yaml", csv);
+  std::ifstream in(job);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  std::string utf16 = "\xff\xfe";
+  for (const char c : text) utf16 += std::string(1, c) + '\0';
+  std::ofstream(job, std::ios::binary) << utf16;
+  ExpectRejected(job, {"utf8.yaml:1: expected UTF-8 text, got byte 0xFF at byte offset 0 (not "
+                       "UTF-8 text; a UTF-16 file?"});
+  const std::string nul = axis::testing_files::TestTempDir() + "nul.csv";
+  std::ofstream(nul, std::ios::binary) << std::string("t,u,tach\n0,1,0\n0.001,\0,0\n", 25);
+  ExpectRejected(Job("nul.yaml", nul), {"nul.csv:3: expected UTF-8 text, got a NUL byte at byte "
+                                         "offset 21"});
+  std::string gap = "t,u,tach\n";
+  for (int k = 0; k < 10; ++k) {
+    if (k != 5) gap += "0.00" + std::to_string(k) + ",1,0\n";
+  }
+  ExpectRejected(Job("gap.yaml", Write("gap.csv", gap)),
+                 {"gap.csv:7: expected uniform sampling", "got a step of 0.002 s from 0.004 to "
+                                                         "0.006 s (a gap: a dropped sample?)"});
+}
+
 TEST_F(FitParamsBadInput, CommandLine) {
   EXPECT_EQ(RunCli("").exit_code, 2);
   EXPECT_EQ(RunCli("--model " + kRoot + "/configs/axes/x_axis.yaml").exit_code, 2);

@@ -136,6 +136,24 @@ TEST(FleetManifestTest, ErrorsNameFileLineAndKey) {
   }
 }
 
+// An empty output.dir meant the manifest's own folder (--out "" is
+// refused); a second document was ignored and a merge key not applied
+// (issue 46): each refused naming the file, line and key.
+TEST(FleetManifestTest, EmptyOutputDirSecondDocumentAndMergeKeyAreRefused) {
+  const std::string data = kSource + "/testdata/fleet/r01_x/now.csv";
+  const std::string manifest = WithTemplate("axes:\n" + Axis("r01/x", data));
+  EXPECT_EQ(ManifestError(manifest + "output: {dir: out}\n"), "");
+  EXPECT_THAT(ManifestError(manifest + "output: {dir: ''}\n"),
+              HasSubstr("manifest.yaml:4: key 'output.dir': expected a folder path (relative to "
+                        "the file's folder, or absolute), got ''"));
+  EXPECT_THAT(ManifestError(manifest + "---\noutput: {dir: out}\n"),
+              HasSubstr("manifest.yaml:4: expected one YAML document, got a second one"));
+  EXPECT_THAT(ManifestError("common: &c {model: " + kFleet + "/axes/r01_x.yaml}\n" +
+                            WithTemplate("axes:\n  - <<: *c\n    axis: r01/x\n    data: " +
+                                         data + "\n")),
+              HasSubstr("manifest.yaml:4: key 'axes[0].<<': expected no YAML merge key"));
+}
+
 TEST(FleetManifestTest, TemplateMustLeaveModelDataAndOutputToTheManifest) {
   const std::string data = kSource + "/testdata/fleet/r01_x/now.csv";
   const auto template_error = [&data](const std::string& text) {

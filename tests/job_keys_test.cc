@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -302,6 +303,82 @@ TEST(JobKeysTest, TimeNotInSecondsIsRefused) {
   EXPECT_NE(msg.find(data + ":"), std::string::npos) << msg;
   EXPECT_NE(msg.find("expected time in seconds"), std::string::npos) << msg;
   EXPECT_NE(msg.find("got a period of 1 "), std::string::npos) << msg;
+}
+
+// One dropped sample (0.149 -> 0.151 s at 1 ms) is named at its own line
+// with the step found there (issue 46): the steps were compared to the
+// mean period, which the gap skews, and the record was refused at line 3,
+// a normal step.
+TEST(JobKeysTest, ADroppedSampleIsNamedAtItsLine) {
+  std::string csv = "t,u,x\n";
+  char row[64];
+  for (int k = 0; k < 300; ++k) {
+    if (k == 150) continue;  // dropped
+    std::snprintf(row, sizeof row, "%.3f,1,%.6f\n", 0.001 * k, 0.2 + 0.5e-3 * k);
+    csv += row;
+  }
+  const std::string data = Write("gap.csv", csv);
+  std::string text = Job("");
+  const size_t at = text.find(RampCsv());
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, RampCsv().size(), data);
+  const std::string msg = LoadError(Write("gap.yaml", text));
+  // t = 0.151 s is data row 150, line 152.
+  EXPECT_EQ(msg, data + ":152: expected uniform sampling (the median step 0.001 s within "
+                        "0.1 %), got a step of 0.002 s from 0.149 to 0.151 s (a gap: a dropped "
+                        "sample?)");
+}
+
+// output.dir "" resolved to the job file's own folder and the job wrote
+// there, while --out "" is refused (issue 46): refused naming file, line, key.
+TEST(JobKeysTest, AnEmptyOutputDirIsRefused) {
+  for (const std::string dir : {"\"\"", "' '"}) {
+    SCOPED_TRACE(dir);
+    const std::string path = Write("empty_out.yaml", Job("", "output: {dir: " + dir + "}\n"));
+    const std::string msg = LoadError(path);
+    EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("key 'output.dir': expected a folder path (relative to the file's "
+                       "folder, or absolute), got '"),
+              std::string::npos)
+        << msg;
+  }
+  EXPECT_EQ(LoadError(Write("out.yaml", Job("", "output: {dir: out}\n"))), "no error");
+}
+
+// A second YAML document was silently ignored and a merge key '<<' not
+// applied (yaml-cpp reads it as a key named "<<"), the job then failing on a
+// key it did not name; a job that is not UTF-8 text printed raw bytes cut
+// at the first NUL (issue 46). Each is refused naming the file and line.
+TEST(JobKeysTest, SecondDocumentMergeKeyAndNonUtf8AreRefused) {
+  const std::string job = Job("");
+  const int lines = static_cast<int>(std::count(job.begin(), job.end(), '\n'));
+  std::string path = Write("two_documents.yaml", job + "---\nsolver: {starts: 5}\n");
+  std::string msg = LoadError(path);
+  EXPECT_EQ(msg, path + ":" + std::to_string(lines + 1) +
+                     ": expected one YAML document, got a second one (a '---' line; only one "
+                     "document per file is read)");
+  // A leading '---' (one document) is fine.
+  EXPECT_EQ(LoadError(Write("leading_marker.yaml", "---\n" + job)), "no error");
+
+  std::string text = "bounds: &b {lower: 10, upper: 500}\n" + job;
+  const size_t at = text.find("  M: {initial: 95, lower: 10, upper: 500}\n");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 42, "  M:\n    <<: *b\n    initial: 95\n");
+  path = Write("merge.yaml", text);
+  msg = LoadError(path);
+  const int merge_line = 2 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+  EXPECT_EQ(msg, path + ":" + std::to_string(merge_line) +
+                     ": key 'free.M.<<': expected no YAML merge key (not supported: write the "
+                     "keys out), got '<<' (a merge key)");
+
+  text = job;
+  text.replace(text.find("model:"), 1, std::string(1, '\0'));
+  path = Write("nul.yaml", "");
+  std::ofstream(path, std::ios::binary) << text;
+  msg = LoadError(path);
+  EXPECT_EQ(msg, path + ":1: expected UTF-8 text, got a NUL byte at byte offset 0 (not UTF-8 "
+                        "text; a UTF-16 file? save it as UTF-8)");
+  EXPECT_EQ(msg.size(), std::strlen(msg.c_str()));  // no NUL in the message
 }
 
 // discover.alpha is a level: in (0, 1), as the fleet's `alpha`; 5 used to

@@ -568,5 +568,29 @@ TEST(MatFileJobTest, JobErrorsNameTheKeyTheFileAndTheVariable) {
   EXPECT_EQ(good.experiments[0].measured[0].size(), 50u);
 }
 
+// One dropped sample in a MAT log's time (issue 46) is named at its sample,
+// with the step found there, not at sample 2 against a mean period the gap
+// skews.
+TEST(MatFileJobTest, ADroppedSampleIsNamedAtItsSample) {
+  std::vector<double> t, x;
+  for (int k = 0; k < 50; ++k) {
+    if (k == 20) continue;  // dropped
+    t.push_back(0.001 * k);
+    x.push_back(0.5 * t.back());
+  }
+  const std::string data = TestTempDir() + "gap.mat";
+  WriteMat(data, {Doubles("t", t), Doubles("x", x)});
+  const std::string job = WriteTemp("gap.yaml",
+                                    "model: " + kRoot + "/configs/axes/emps.yaml\n"
+                                    "free:\n  M: {initial: 95, lower: 10, upper: 500}\n"
+                                    "experiments:\n  - name: log\n    data: " + data + "\n"
+                                    "    channels: {x: x}\n    input: {column: x}\n"
+                                    "    fit: {x: 1.0e-6}\n");
+  EXPECT_EQ(ErrorOf([&] { LoadFitJob(job); }),
+            data + ": sample 21: expected uniform sampling (the median step 0.001 s within "
+                   "0.1 %), got a step of 0.002 s from 0.019 to 0.021 s (a gap: a dropped "
+                   "sample?)");
+}
+
 }  // namespace
 }  // namespace axis

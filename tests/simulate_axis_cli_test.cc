@@ -1,10 +1,13 @@
 // The simulate-axis command end to end: it writes the trace with canonical
 // headers, and bad input exits with code 2, a message naming the file and
 // key, and no output file.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <utility>
@@ -189,10 +192,49 @@ TEST(SimulateAxisCli, SetInfinityOnlyWhereTheRangeAllowsIt) {
   EXPECT_EQ(RunCli(experiment + " --set V_L=inf").exit_code, 0);
 }
 
+// The output path is checked before the work, exit 2, as fit-params does
+// (issue 46: a folder as --out was found after a 120 s simulation, exit 1).
+// `--set NOPE=1` is refused at the start of the work: the output's error
+// coming instead shows the check ran first.
+TEST(SimulateAxisCli, OutputPathIsCheckedBeforeTheSimulation) {
+  const std::string dir = axis::testing_files::TestTempDir();
+  const std::string experiment = kRoot + "/configs/experiments/x_step_10V.yaml --set NOPE=1 --out ";
+  const std::string expected =
+      ": expected an output file (a path in an existing folder this process may write into), got ";
+  struct Case {
+    std::string out, got;
+  };
+  const std::string file = axis::testing_files::WriteTemp("a_file", "x\n");
+  const Case cases[] = {
+      {dir, "a folder path (ending in '/')"},
+      {dir.substr(0, dir.size() - 1), "a folder"},
+      {dir + "missing/x.csv", "'" + dir + "missing', a folder that does not exist"},
+      {file + "/x.csv", "'" + file + "', which is not a folder"},
+      {"''", "an empty path"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.out);
+    const Result r = RunCli(experiment + c.out);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find(c.out + expected + c.got), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("NOPE"), std::string::npos) << r.err;
+  }
+  if (::geteuid() != 0) {  // root writes into a read-only folder
+    const std::string locked = dir + "locked";
+    std::filesystem::create_directories(locked);
+    std::filesystem::permissions(locked, std::filesystem::perms::owner_read |
+                                             std::filesystem::perms::owner_exec);
+    const Result r = RunCli(experiment + locked + "/x.csv");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("a folder that cannot be written into"), std::string::npos) << r.err;
+    std::filesystem::permissions(locked, std::filesystem::perms::owner_all);
+  }
+}
+
 TEST(SimulateAxisCli, UnwritableOutputFailsWithoutPartialFile) {
   const Result r = RunCli(kRoot + "/configs/experiments/x_step_10V.yaml --out "
                        "/nonexistent_dir/x.csv");
-  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.exit_code, 2);  // refused before simulating (exit 1 after it)
   EXPECT_NE(r.err.find("/nonexistent_dir/x.csv"), std::string::npos) << r.err;
 }
 
