@@ -16,6 +16,10 @@ every relative link resolves.
 - A relative markdown link [text](target) must name an existing file
   (PENDING lists pages another change is writing).
 
+The generated tables (between `<!-- BEGIN generated: NAME -->` markers)
+must be what `scripts/docs-tables --check` renders from
+docs/measurements.json: a figure typed into a table by hand fails.
+
 Before checking the real files it checks itself: a scratch page naming a
 bogus path, a bogus flag and a broken link must fail on all three, so the
 test cannot pass by finding nothing. Exit 0 when all is well, 1 with one
@@ -132,6 +136,12 @@ def main():
     for md in files:
         problems += check_file(os.path.abspath(md), root, flags)
         checked += 1
+    if not args.files:
+        proc = subprocess.run([sys.executable, os.path.join(root, "scripts", "docs-tables"),
+                               "--check"], capture_output=True, text=True, timeout=60)
+        if proc.returncode != 0:
+            problems.append("generated tables differ from docs/measurements.json "
+                            "(run scripts/docs-tables): " + proc.stderr.strip())
     for p in problems:
         print(p)
     if problems:
