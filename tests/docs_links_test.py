@@ -44,7 +44,7 @@ EXTERNAL = {
 }
 PENDING = {"docs/architecture.md"}  # written by the layers change
 
-PATH_RE = re.compile(r"(?<![\w./-])(?:configs|sim|fit|fleet|apps|python|tests|scripts|testdata|"
+PATH_RE = re.compile(r"(?<![\w./-])(?:configs|sim|common|job|estimation|discovery|design|report|run|fleet|apps|python|tests|scripts|testdata|"
                      r"examples|bench|fuzz|cmake|docs)/[\w./*-]*")
 FLAG_RE = re.compile(r"(?<![\w-])--[a-z][a-z0-9_-]*")
 LINK_RE = re.compile(r"\]\(([^)\s]+)\)")
@@ -95,6 +95,8 @@ def check_file(md, root, flags):
             if "*" in path:
                 if not glob.glob(os.path.join(root, path)):
                     problems.append(f"{name}:{lineno}: {path}: matches nothing")
+            elif os.path.normpath(path).split(os.sep)[0] == "build":
+                continue  # an output the tools write (not in a fresh clone)
             elif not os.path.exists(os.path.join(root, path)) and path not in PENDING:
                 problems.append(f"{name}:{lineno}: {path}: no such file or folder")
         for flag in FLAG_RE.findall(line):
