@@ -22,13 +22,10 @@
 #include "common/json_fields.h"
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
-#include "discovery/force_map.h"
-#include "estimation/at_estimate.h"
-#include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/discovery_settings.h"
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
+#include "run/job_run.h"
 #include "sim/config.h"
 #include "sim/csv.h"
 #include "sim/experiment.h"
@@ -71,10 +68,22 @@ std::vector<std::pair<std::string, YAML::Node>> JobExperiments(YAML::Node root) 
   return out;
 }
 
-// The job of seed `seed`: each experiment simulated from its generating
-// config with noise seed config.seed + 1000·seed, written to `dir`, and the
-// job loaded with its data paths pointing there.
-FitJob JobForSeed(const CampaignConfig& c, int seed, const std::string& dir) {
+std::string FormatRate(const Rate& r) {
+  if (r.n == 0) return "—";
+  std::ostringstream out;
+  out << r.k << "/" << r.n << " = " << std::fixed << std::setprecision(1)
+      << 100.0 * r.k / r.n << " % [" << 100.0 * r.low << ", " << 100.0 * r.high << "]";
+  return out.str();
+}
+
+nlohmann::json RateJson(const Rate& r) {
+  return {{"k", r.k}, {"n", r.n}, {"ci95_low", JsonNumber(r.low)},
+          {"ci95_high", JsonNumber(r.high)}};
+}
+
+}  // namespace
+
+FitJob CampaignSeedJob(const CampaignConfig& c, int seed, const std::string& dir) {
   YAML::Node root = YAML::Clone(LoadYamlFile(c.job_path));
   std::vector<std::pair<std::string, YAML::Node>> experiments = JobExperiments(root);
   for (const auto& [name, generator] : c.generate) {
@@ -93,21 +102,6 @@ FitJob JobForSeed(const CampaignConfig& c, int seed, const std::string& dir) {
   return ParseFitJob(root, c.job_path, DirectoryOf(c.job_path));
 }
 
-std::string FormatRate(const Rate& r) {
-  if (r.n == 0) return "—";
-  std::ostringstream out;
-  out << r.k << "/" << r.n << " = " << std::fixed << std::setprecision(1)
-      << 100.0 * r.k / r.n << " % [" << 100.0 * r.low << ", " << 100.0 * r.high << "]";
-  return out.str();
-}
-
-nlohmann::json RateJson(const Rate& r) {
-  return {{"k", r.k}, {"n", r.n}, {"ci95_low", JsonNumber(r.low)},
-          {"ci95_high", JsonNumber(r.high)}};
-}
-
-}  // namespace
-
 SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_threads) {
   SeedOutcome o;
   o.seed = seed;
@@ -117,36 +111,32 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
   const auto start = std::chrono::steady_clock::now();
   try {
     const ScopedTempDir dir(std::to_string(seed));
-    FitJob job = JobForSeed(c, seed, dir.path);
+    FitJob job = CampaignSeedJob(c, seed, dir.path);
     job.solver.progress = false;
     job.solver.threads = solver_threads;
-    FitResult result = FitParameters(job);
+    if (!c.discover) job.discover.enabled = false;  // the campaign's key decides
+    // fit-params' own pipeline, its printed text dropped.
+    std::ostringstream discarded;
+    discarded.setstate(std::ios::badbit);
+    const JobRun run = RunJob(std::move(job), c.discover, discarded);
     ResidualVerdict verdict;
-    if (c.discover) {
-      DiscoverySettings settings = job.discover;
-      settings.enabled = true;
-      DiscoveryReport report = Discover(settings, &job, &result, nullptr);
-      if (settings.force_map) {
-        const ForceMapReport map = AddForceMap(settings, report, &job, &result, nullptr);
-        if (map.kept) o.force_map = "force_map." + map.kind;
-        ApplyRemovals(map, &report);
-      }
-      o.selected = report.selected;
-      for (const DiscoveryStep& s : report.steps) {
+    if (run.discovered) {
+      if (run.force_map.kept) o.force_map = "force_map." + run.force_map.kind;
+      o.selected = run.discovery.selected;
+      for (const DiscoveryStep& s : run.discovery.steps) {
         if (!s.removal && s.kept && o.first_added.empty()) o.first_added = s.effect;
         if (!s.retried.empty()) o.retried.push_back(s.effect);
       }
-      verdict = report.verdict;
+      verdict = run.discovery.verdict;
     } else {
-      // At the estimate (the job's model holds the generating config's values).
-      verdict = JudgeResiduals(DiagnoseResiduals(AtEstimate(job, result)), result,
-                               job.discover.alpha);
+      // The diagnostics of the fitted model, at its estimate.
+      verdict = JudgeResiduals(run.diagnostics, run.result, run.job.discover.alpha);
     }
     std::sort(o.selected.begin(), o.selected.end());
     o.verdict = verdict.verdict;
     o.s2 = verdict.s2;
     for (size_t k = 0; k < c.truth_values.size(); ++k) {
-      for (const ParameterEstimate& e : result.parameters) {
+      for (const ParameterEstimate& e : run.result.parameters) {
         if (e.name != c.truth_values[k].first || !e.free) continue;
         o.value[k] = e.value;
         o.ci95_low[k] = e.ci95_low;
@@ -367,7 +357,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
   // Every generating config and the job with the first seed's data (its
   // `data:` paths are replaced, so they need not exist).
   const ScopedTempDir check("check");
-  const FitJob job = JobForSeed(c, c.first_seed, check.path);
+  const FitJob job = CampaignSeedJob(c, c.first_seed, check.path);
   // Each true value names a parameter the fits estimate: a free parameter
   // of the job or, with discovery, one of an effect of truth.effects (the
   // loop frees it when it adds the effect). Another name, a misspelt one,

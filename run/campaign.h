@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "job/fit_job.h"
+
 
 namespace axis {
 
@@ -86,9 +88,21 @@ struct SeedOutcome {
   double seconds = 0.0;                // wall time of simulate + fit + loop
 };
 
-// Seed `seed` of the campaign: its records simulated (into a temporary
-// folder, removed after), the job fitted with `solver_threads` Ceres
-// threads and, if config.discover, the discovery loop run. A failure (bad
+// The job of seed `seed`: each experiment of config.job_path simulated from
+// its generating config with noise seed (the config's seed) + 1000·seed,
+// written as <dir>/<experiment>.csv (`dir` must exist), and the job loaded
+// (ParseFitJob) with its data paths pointing there. Throws
+// std::invalid_argument as ParseFitJob, std::runtime_error if a simulation
+// leaves the finite numbers or a file cannot be written.
+FitJob CampaignSeedJob(const CampaignConfig& config, int seed, const std::string& dir);
+
+// Seed `seed` of the campaign: its records simulated (CampaignSeedJob, into
+// a temporary folder, removed after) and the job run through fit-params'
+// own pipeline (RunJob, run/job_run.h: the fit, the current-loop check and
+// full-loop refit, the discovery loop and force map if config.discover,
+// the diagnostics) with `solver_threads` Ceres threads, its printed text
+// dropped. With config.discover false the job's own `discover:` is off too
+// (the verdict then judges the fitted model's diagnostics). A failure (bad
 // data, a fit that throws) is recorded in SeedOutcome::error, not thrown
 // (except std::bad_alloc).
 SeedOutcome RunCampaignSeed(const CampaignConfig& config, int seed, int solver_threads);

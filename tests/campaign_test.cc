@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "estimation/fit.h"
 #include "run/campaign.h"
 #include "sim/config.h"
 #include "tests/campaign_files.h"
@@ -207,6 +208,68 @@ TEST(CampaignTest, SmallCampaignEndToEnd) {
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["coverage"]["B_a"]["k"], covered);
   EXPECT_EQ(j["seeds"]["run"], 4);
+}
+
+// A campaign measures the tool users run: a seed's outcome is what
+// fit-params reports for the same records. The seed's records
+// (CampaignSeedJob) are fitted by the fit-params command from a job file
+// that names them, with the quasi-steady current loop and a refit
+// threshold so low that the pipeline's current-loop check refits with the
+// full loop; the campaign's estimate and 95 % interval equal report.json's
+// to the last bit (the same pipeline, RunJob, on the same threads: no
+// tolerance), and differ from the quasi-steady fit alone (what a campaign
+// that ran FitParameters without the pipeline would report).
+TEST(CampaignTest, ASeedGivesWhatFitParamsReportsOnItsRecords) {
+  const std::string root = PROJECT_SOURCE_DIR;
+  const std::string job_text = "model: " + root + "/configs/axes/x_axis.yaml\n"
+                               "configuration: {current_loop: quasi_steady}\n"
+                               "simulation: {step: 1.0e-4, full_loop_refit_above: 1.0e-9}\n"
+                               "free:\n  B_a: {initial: 150, lower: 10, upper: 2000}\n"
+                               "experiments:\n  - name: sine\n    data: DATA\n"
+                               "    channels: {u: u, a: a, tach: tach}\n    input: {column: u}\n"
+                               "    fit: {a: 0.02, tach: 0.005}\n"
+                               "solver: {threads: 2}\n";
+  WriteCampaign("seeds: {first: 2, last: 2}\ndiscover: false\n");  // sine.yaml
+  std::string campaign_job = job_text;
+  campaign_job.replace(campaign_job.find("DATA"), 4, "replaced.csv");
+  testing_files::WriteTemp("loop_job.yaml", campaign_job);
+  const CampaignConfig config = LoadCampaign(testing_files::WriteTemp(
+      "loop_campaign.yaml", "job: loop_job.yaml\ngenerate: {sine: sine.yaml}\n"
+                            "seeds: {first: 2, last: 2}\ndiscover: false\n"
+                            "truth: {values: {B_a: 200}}\n"));
+  const SeedOutcome o = RunCampaignSeed(config, 2, 2);
+  ASSERT_EQ(o.error, "");
+  ASSERT_EQ(o.value.size(), 1u);
+
+  const std::string records = testing_files::TestTempDir() + "seed_2";
+  std::filesystem::create_directories(records);
+  CampaignSeedJob(config, 2, records);
+  std::string fit_job = job_text;
+  fit_job.replace(fit_job.find("DATA"), 4, records + "/sine.csv");
+  const std::string job_path = testing_files::WriteTemp("seed_2_job.yaml", fit_job);
+  const std::string out = testing_files::TestTempDir() + "seed_2_fit";
+  const auto r = testing_files::RunCommand(std::string(BINARY_DIR) + "/fit-params",
+                                           job_path + " --out " + out, true);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  ASSERT_TRUE(report.contains("current_loop_check")) << "the pipeline's loop check ran";
+  EXPECT_TRUE(report["current_loop_check"]["refitted_with_full_loop"].get<bool>());
+  FitJob quasi_steady = CampaignSeedJob(config, 2, records);
+  quasi_steady.solver.progress = false;
+  const FitResult alone = FitParameters(quasi_steady);
+  bool found = false;
+  for (const nlohmann::json& p : report["parameters"]) {
+    if (p["name"] != "B_a") continue;
+    found = true;
+    EXPECT_EQ(p["value"].get<double>(), o.value[0]);
+    EXPECT_EQ(p["ci95_low"].get<double>(), o.ci95_low[0]);
+    EXPECT_EQ(p["ci95_high"].get<double>(), o.ci95_high[0]);
+    for (const ParameterEstimate& e : alone.parameters) {
+      if (e.name == "B_a") EXPECT_NE(e.value, o.value[0]);
+    }
+  }
+  EXPECT_TRUE(found);
 }
 
 // The MPI campaign's messages (fleet/campaign_run.h): an outcome survives
