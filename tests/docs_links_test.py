@@ -42,7 +42,7 @@ EXTERNAL = {
     "--test-dir": "ctest", "--output-on-failure": "ctest",
     "--install": "cmake", "--prefix": "cmake", "--build": "cmake",
 }
-PENDING = {"docs/architecture.md"}  # written by the layers change
+PENDING = set()  # docs not yet written
 
 PATH_RE = re.compile(r"(?<![\w./-])(?:configs|sim|common|job|estimation|discovery|design|report|run|fleet|apps|python|tests|scripts|testdata|"
                      r"examples|bench|fuzz|cmake|docs)/[\w./*-]*")
