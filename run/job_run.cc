@@ -116,7 +116,7 @@ class JobPipeline {
       ApplyRemovals(run_.force_map, &run_.discovery);
       out_ << "\n" << FormatForceMap(run_.force_map);
     }
-    out_ << "\nAfter discovery:";
+    out_ << "\nAfter discovery:\n";
   }
 
   // With the quasi-steady current loop: how far the approximation moves the
