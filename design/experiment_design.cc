@@ -310,164 +310,255 @@ std::string InputYaml(const DesignCandidate& c) {
   return y.str();
 }
 
-}  // namespace
+// The search of ProposeExperiment as a sequence of named steps, its state in
+// members (as estimation/fitter.h): the job at the estimates, the records'
+// Jacobians, the pair to decide (else the parameters known too poorly), the
+// criterion's columns, then every input of the family scored.
+class ExperimentDesigner {
+ public:
+  // `job_in`, `result` and `progress` (may be null) must outlive it.
+  ExperimentDesigner(const FitJob& job_in, const FitResult& result, std::ostream* progress)
+      : job_in_(job_in), result_(result), progress_(progress), d_(job_in.design) {}
+  ExperimentDesigner(const ExperimentDesigner&) = delete;
+  ExperimentDesigner& operator=(const ExperimentDesigner&) = delete;
 
-ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& result,
-                                     std::ostream* progress) {
-  const Clock::time_point start = Clock::now();
-  ExperimentProposal p;
-  const DesignSettings& d = job_in.design;
-  if (job_in.experiments.empty()) {
-    throw std::invalid_argument(job_in.path + ": design: expected a job with a fitted "
+  // Runs the search once (ProposeExperiment).
+  ExperimentProposal Run();
+
+ private:
+  void Begin();            // the job at the estimates, the proposal's frame
+  void RecordJacobians();  // the records' own
+  void FindPair();         // the pair the discovery loop would stop on
+  bool Needed();           // false (with the reason) if nothing is to decide
+  void ChooseCriterion();  // T for the pair, else D
+  void SetUpPair();        // T: the pair's columns, steps and models
+  void ScoreFamily();      // every input of the family: feasible, then scored
+  void ScoreCandidate(size_t k);
+  void ShowCandidate(const DesignCandidate& c) const;
+  const Candidate& Named(const std::string& name) const;
+  ExperimentProposal Done();  // the wall time; the proposal
+
+  const FitJob& job_in_;
+  const FitResult& result_;
+  std::ostream* progress_;
+  const DesignSettings& d_;
+  Clock::time_point start_;
+  ExperimentProposal p_;
+  FitJob job_;       // at the estimates
+  double s2_ = 0.0;  // the residual variance (at least 1e-300)
+
+  Eigen::VectorXd r_;
+  Eigen::MatrixXd jf_;  // the records' Jacobian of the free parameters
+  int m_ = 0;           // its rows
+
+  std::vector<Candidate> candidates_;
+  Ranking ranking_;
+  double level_ = 0.0;
+  const Score* score_a_ = nullptr;  // the pair, in ranking_.scores
+  const Score* score_b_ = nullptr;
+  bool t_design_ = false;
+  double worst_ = 0.0;  // the largest finite relative standard error now
+
+  Candidate ca_, cb_;
+  Eigen::MatrixXd ja_old_, jb_old_;
+  Eigen::VectorXd beta_a_, beta_b_;  // the score steps (T)
+  FitJob job_a_, job_b_;             // the current model plus a, plus b (T)
+
+  std::vector<DesignCandidate> family_;
+  size_t best_ = 0;  // family_.size() while none is feasible
+};
+
+ExperimentProposal ExperimentDesigner::Run() {
+  start_ = Clock::now();
+  Begin();
+  RecordJacobians();
+  FindPair();
+  if (!Needed()) return Done();
+  ChooseCriterion();
+  ScoreFamily();
+  if (best_ == family_.size()) {
+    p_.reason += "; no input of the family keeps the axis inside design.travel [" +
+                 Num(d_.travel_low) + ", " + Num(d_.travel_high) + "] m";
+    return Done();
+  }
+  p_.proposed = true;
+  p_.best = family_[best_];
+  return Done();
+}
+
+void ExperimentDesigner::Begin() {
+  if (job_in_.experiments.empty()) {
+    throw std::invalid_argument(job_in_.path + ": design: expected a job with a fitted "
                                 "experiment, got none");
   }
-  FitJob job = AtEstimate(job_in, result);
-  p.duration = d.duration;
-  p.start_x = 0.5 * (d.travel_low + d.travel_high);
-  p.closed_loop = job.experiments.front().drive.closed_loop;
-  const double s2 = std::max(result.residual_variance, 1e-300);
+  job_ = AtEstimate(job_in_, result_);
+  p_.duration = d_.duration;
+  p_.start_x = 0.5 * (d_.travel_low + d_.travel_high);
+  p_.closed_loop = job_.experiments.front().drive.closed_loop;
+  s2_ = std::max(result_.residual_variance, 1e-300);
+}
 
-  // The records' own Jacobians.
-  Eigen::VectorXd r;
-  Eigen::MatrixXd jf;
-  StackedJacobian(job, &r, &jf);
-  const int m = static_cast<int>(r.size());
+void ExperimentDesigner::RecordJacobians() {
+  StackedJacobian(job_, &r_, &jf_);
+  m_ = static_cast<int>(r_.size());
+}
 
-  // What to decide: a pair the data cannot tell apart, else a parameter
-  // known too poorly.
-  const std::vector<Candidate> candidates = ListCandidates(job, job.discover.candidates);
-  const Ranking ranking = RankCandidates(job, candidates, job.discover.alpha);
-  const double level = job.discover.alpha / std::max<size_t>(1, candidates.size());
+// What to decide: a pair the data cannot tell apart, else a parameter known
+// too poorly.
+void ExperimentDesigner::FindPair() {
+  candidates_ = ListCandidates(job_, job_.discover.candidates);
+  ranking_ = RankCandidates(job_, candidates_, job_.discover.alpha);
+  level_ = job_.discover.alpha / std::max<size_t>(1, candidates_.size());
   // The pair the loop stops on (discovery/discovery.cc Discover): the most
   // significant candidate with an indistinguishable twin of at most its
   // size, and that twin.
-  const Score* score_a = nullptr;
-  const Score* score_b = nullptr;
-  for (const Score& s : ranking.scores) {
-    if (!(s.p_value < level)) break;
-    for (const auto& [a, b] : ranking.indistinguishable) {
+  for (const Score& s : ranking_.scores) {
+    if (!(s.p_value < level_)) break;
+    for (const auto& [a, b] : ranking_.indistinguishable) {
       const std::string other = a == s.name ? b : (b == s.name ? a : "");
       if (other.empty()) continue;
-      for (const Score& t : ranking.scores) {
-        if (t.name == other && t.dof <= s.dof) score_b = &t;
+      for (const Score& t : ranking_.scores) {
+        if (t.name == other && t.dof <= s.dof) score_b_ = &t;
       }
     }
-    if (score_b != nullptr) {
-      score_a = &s;
+    if (score_b_ != nullptr) {
+      score_a_ = &s;
       break;
     }
   }
-  const auto named = [&](const std::string& name) {
-    return *std::find_if(candidates.begin(), candidates.end(),
-                         [&](const Candidate& c) { return c.name == name; });
-  };
-  std::vector<double> rel_now = RelativeErrors(job, jf, s2);
-  for (const FreeParameter& f : job.free) p.names.push_back(f.name);
-  p.rel_se_now = rel_now;
-  const bool t_design = score_a != nullptr && score_b != nullptr;
+}
+
+bool ExperimentDesigner::Needed() {
+  std::vector<double> rel_now = RelativeErrors(job_, jf_, s2_);
+  for (const FreeParameter& f : job_.free) p_.names.push_back(f.name);
+  p_.rel_se_now = rel_now;
+  t_design_ = score_a_ != nullptr && score_b_ != nullptr;
   // Parameters at zero (an offset, a phase) have no relative error.
   double worst = 0.0;
   for (double x : rel_now) {
     if (std::isfinite(x)) worst = std::max(worst, x);
   }
-  if (!t_design && !(d.rel_se > 0.0 && worst > d.rel_se)) {
-    p.reason = "no experiment needed: no pair of candidates the loop would stop on";
-    p.reason += d.rel_se > 0.0 ? ", and every relative standard error is at most " +
-                                     Num(d.rel_se, 3) + " (largest " + Num(worst, 3) + ")"
-                               : " (design.rel_se not set)";
-    p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    return p;
+  if (!t_design_ && !(d_.rel_se > 0.0 && worst > d_.rel_se)) {
+    p_.reason = "no experiment needed: no pair of candidates the loop would stop on";
+    p_.reason += d_.rel_se > 0.0 ? ", and every relative standard error is at most " +
+                                       Num(d_.rel_se, 3) + " (largest " + Num(worst, 3) + ")"
+                                 : " (design.rel_se not set)";
+    return false;
   }
-  Candidate ca, cb;
-  Eigen::MatrixXd ja_old, jb_old;
-  Eigen::VectorXd beta_a, beta_b;  // the score steps (T)
-  FitJob job_a = job, job_b = job;
-  if (t_design) {
-    p.criterion = "T-optimal";
-    p.a = score_a->name;
-    p.b = score_b->name;
-    p.dof_a = score_a->dof;
-    p.dof_b = score_b->dof;
-    p.critical_a = Critical(p.dof_a, level);
-    p.critical_b = Critical(p.dof_b, level);
-    ca = named(p.a);
-    cb = named(p.b);
-    ja_old = CandidateColumns(job, ca, m);
-    jb_old = CandidateColumns(job, cb, m);
-    beta_a = Eigen::Map<const Eigen::VectorXd>(score_a->step.data(), p.dof_a);
-    beta_b = Eigen::Map<const Eigen::VectorXd>(score_b->step.data(), p.dof_b);
-    p.chi2_a_given_b_now = Unabsorbed(jf, jb_old, ja_old * beta_a);
-    p.chi2_b_given_a_now = Unabsorbed(jf, ja_old, jb_old * beta_b);
-    AddEffect(ca, *score_a, 0, &job_a);
-    AddEffect(cb, *score_b, 0, &job_b);
-    p.reason = p.a + " and " + p.b + " cannot be told apart on the records";
-  } else {
-    p.criterion = "D-optimal";
-    p.reason = "a relative standard error above design.rel_se " + Num(d.rel_se, 3) + " (largest " +
-               Num(worst, 3) + ")";
-  }
+  worst_ = worst;
+  return true;
+}
 
-  // Every input of the family: feasible, then scored.
-  const FitExperiment& first = job.experiments.front();
-  std::vector<DesignCandidate> family =
-      first.drive.closed_loop ? ClosedLoopFamily(d, first.options.output_period) : Family(d);
-  size_t best = family.size();
-  for (size_t k = 0; k < family.size(); ++k) {
-    DesignCandidate& c = family[k];
-    const FitExperiment e = ProposedExperiment(job, c.input, d.duration, p.start_x);
-    c.x_min = std::numeric_limits<double>::infinity();
-    c.x_max = -std::numeric_limits<double>::infinity();
-    bool finite = Travel(job.model, e, &c.x_min, &c.x_max);
-    if (t_design) {
-      finite = finite && Travel(job_a.model, e, &c.x_min, &c.x_max) &&
-               Travel(job_b.model, e, &c.x_min, &c.x_max);
-    }
-    c.feasible = finite && c.x_min >= d.travel_low && c.x_max <= d.travel_high;
-    if (c.feasible) {
-      FitJob proposed = job;
-      proposed.experiments = {e};
-      Eigen::VectorXd re;
-      Eigen::MatrixXd je;
-      try {
-        StackedJacobian(proposed, &re, &je);
-      } catch (const std::runtime_error&) {
-        c.feasible = false;
-      }
-      if (c.feasible) {
-        const Eigen::MatrixXd f = Stack(jf, je);
-        if (t_design) {
-          const int me = static_cast<int>(re.size());
-          const Eigen::MatrixXd ja = Stack(ja_old, CandidateColumns(proposed, ca, me));
-          const Eigen::MatrixXd jb = Stack(jb_old, CandidateColumns(proposed, cb, me));
-          c.chi2_a_given_b = Unabsorbed(f, jb, ja * beta_a);
-          c.chi2_b_given_a = Unabsorbed(f, ja, jb * beta_b);
-          c.criterion = std::min(c.chi2_a_given_b, c.chi2_b_given_a);
-        } else {
-          c.criterion = LogDet(f);
-        }
-        if (best == family.size() || c.criterion > family[best].criterion) {
-          best = k;
-          if (!t_design) p.rel_se_predicted = RelativeErrors(job, f, s2);
-        }
-      }
-    }
-    if (progress) {
-      *progress << "design: " << c.description << ": "
-                << (c.feasible ? "criterion " + Num(c.criterion) : "infeasible") << ", x in ["
-                << Num(c.x_min) << ", " << Num(c.x_max) << "] m\n";
-    }
+void ExperimentDesigner::ChooseCriterion() {
+  job_a_ = job_;
+  job_b_ = job_;
+  if (t_design_) {
+    SetUpPair();
+  } else {
+    p_.criterion = "D-optimal";
+    p_.reason = "a relative standard error above design.rel_se " + Num(d_.rel_se, 3) +
+                " (largest " + Num(worst_, 3) + ")";
   }
-  p.candidates = family;
-  if (best == family.size()) {
-    p.reason += "; no input of the family keeps the axis inside design.travel [" +
-                Num(d.travel_low) + ", " + Num(d.travel_high) + "] m";
-    p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    return p;
+}
+
+void ExperimentDesigner::SetUpPair() {
+  p_.criterion = "T-optimal";
+  p_.a = score_a_->name;
+  p_.b = score_b_->name;
+  p_.dof_a = score_a_->dof;
+  p_.dof_b = score_b_->dof;
+  p_.critical_a = Critical(p_.dof_a, level_);
+  p_.critical_b = Critical(p_.dof_b, level_);
+  ca_ = Named(p_.a);
+  cb_ = Named(p_.b);
+  ja_old_ = CandidateColumns(job_, ca_, m_);
+  jb_old_ = CandidateColumns(job_, cb_, m_);
+  beta_a_ = Eigen::Map<const Eigen::VectorXd>(score_a_->step.data(), p_.dof_a);
+  beta_b_ = Eigen::Map<const Eigen::VectorXd>(score_b_->step.data(), p_.dof_b);
+  p_.chi2_a_given_b_now = Unabsorbed(jf_, jb_old_, ja_old_ * beta_a_);
+  p_.chi2_b_given_a_now = Unabsorbed(jf_, ja_old_, jb_old_ * beta_b_);
+  AddEffect(ca_, *score_a_, 0, &job_a_);
+  AddEffect(cb_, *score_b_, 0, &job_b_);
+  p_.reason = p_.a + " and " + p_.b + " cannot be told apart on the records";
+}
+
+const Candidate& ExperimentDesigner::Named(const std::string& name) const {
+  return *std::find_if(candidates_.begin(), candidates_.end(),
+                       [&](const Candidate& c) { return c.name == name; });
+}
+
+void ExperimentDesigner::ScoreFamily() {
+  const FitExperiment& first = job_.experiments.front();
+  family_ = first.drive.closed_loop ? ClosedLoopFamily(d_, first.options.output_period)
+                                    : Family(d_);
+  best_ = family_.size();
+  for (size_t k = 0; k < family_.size(); ++k) {
+    ScoreCandidate(k);
+    ShowCandidate(family_[k]);
   }
-  p.proposed = true;
-  p.best = family[best];
-  p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  return p;
+  p_.candidates = family_;
+}
+
+// Feasible if the axis stays inside design.travel in every model simulated
+// and the proposal's Jacobian can be taken; then its criterion, and the
+// best so far.
+void ExperimentDesigner::ScoreCandidate(size_t k) {
+  DesignCandidate& c = family_[k];
+  const FitExperiment e = ProposedExperiment(job_, c.input, d_.duration, p_.start_x);
+  c.x_min = std::numeric_limits<double>::infinity();
+  c.x_max = -std::numeric_limits<double>::infinity();
+  bool finite = Travel(job_.model, e, &c.x_min, &c.x_max);
+  if (t_design_) {
+    finite = finite && Travel(job_a_.model, e, &c.x_min, &c.x_max) &&
+             Travel(job_b_.model, e, &c.x_min, &c.x_max);
+  }
+  c.feasible = finite && c.x_min >= d_.travel_low && c.x_max <= d_.travel_high;
+  if (!c.feasible) return;
+  FitJob proposed = job_;
+  proposed.experiments = {e};
+  Eigen::VectorXd re;
+  Eigen::MatrixXd je;
+  try {
+    StackedJacobian(proposed, &re, &je);
+  } catch (const std::runtime_error&) {
+    c.feasible = false;
+  }
+  if (!c.feasible) return;
+  const Eigen::MatrixXd f = Stack(jf_, je);
+  if (t_design_) {
+    const int me = static_cast<int>(re.size());
+    const Eigen::MatrixXd ja = Stack(ja_old_, CandidateColumns(proposed, ca_, me));
+    const Eigen::MatrixXd jb = Stack(jb_old_, CandidateColumns(proposed, cb_, me));
+    c.chi2_a_given_b = Unabsorbed(f, jb, ja * beta_a_);
+    c.chi2_b_given_a = Unabsorbed(f, ja, jb * beta_b_);
+    c.criterion = std::min(c.chi2_a_given_b, c.chi2_b_given_a);
+  } else {
+    c.criterion = LogDet(f);
+  }
+  if (best_ == family_.size() || c.criterion > family_[best_].criterion) {
+    best_ = k;
+    if (!t_design_) p_.rel_se_predicted = RelativeErrors(job_, f, s2_);
+  }
+}
+
+void ExperimentDesigner::ShowCandidate(const DesignCandidate& c) const {
+  if (progress_) {
+    *progress_ << "design: " << c.description << ": "
+               << (c.feasible ? "criterion " + Num(c.criterion) : "infeasible") << ", x in ["
+               << Num(c.x_min) << ", " << Num(c.x_max) << "] m\n";
+  }
+}
+
+ExperimentProposal ExperimentDesigner::Done() {
+  p_.seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+  return p_;
+}
+
+}  // namespace
+
+ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& result,
+                                     std::ostream* progress) {
+  return ExperimentDesigner(job_in, result, progress).Run();
 }
 
 std::string FormatProposal(const ExperimentProposal& p) {

@@ -404,7 +404,8 @@ void DefineJob(py::module_& m) {
       });
 }
 
-void DefineResult(py::module_& m) {
+// Parameter: one ParameterEstimate of a fit result.
+void DefineParameter(py::module_& m) {
   py::class_<ParameterEstimate>(m, "Parameter", "One model parameter of a fit result.")
       .def_readonly("name", &ParameterEstimate::name, "MODEL.md name, e.g. 'B_a'")
       .def_readonly("unit", &ParameterEstimate::unit, "SI unit, e.g. 'N*s/m'")
@@ -432,7 +433,10 @@ void DefineResult(py::module_& m) {
         return "Parameter(" + p.name + " = " + std::to_string(p.value) + " " + p.unit +
                (p.free ? ", free)" : ", fixed)");
       });
+}
 
+// ChannelFit: the goodness of fit of one channel.
+void DefineChannelFit(py::module_& m) {
   py::class_<ChannelFit>(m, "ChannelFit", "Goodness of fit of one channel of one experiment.")
       .def_readonly("channel", &ChannelFit::channel)
       .def_readonly("unit", &ChannelFit::unit)
@@ -457,7 +461,10 @@ void DefineResult(py::module_& m) {
         return "ChannelFit(" + c.channel + ", rms " + std::to_string(c.rms) + " " + c.unit +
                ", fit " + std::to_string(c.fit_percent) + " %)";
       });
+}
 
+// ExperimentFit: one experiment's traces and its ChannelFits.
+void DefineExperimentFit(py::module_& m) {
   py::class_<ExperimentFit>(m, "ExperimentFit",
                             "The traces and statistics of one experiment of a fit.")
       .def_readonly("name", &ExperimentFit::name)
@@ -471,9 +478,12 @@ void DefineResult(py::module_& m) {
         return "ExperimentFit('" + e.name + "', " + e.role + ", " +
                std::to_string(e.channels.size()) + " channels)";
       });
+}
 
-  py::class_<JobRun>(m, "FitResult", "What fit() returns.")
-      .def_property_readonly("title", [](const JobRun& r) { return r.job.title; })
+// FitResult (a JobRun), in three groups of properties, defined in this order:
+// the estimates, the fit's figures and notes, the reports and the rest.
+void DefineFitResultEstimates(py::class_<JobRun>& c) {
+  c.def_property_readonly("title", [](const JobRun& r) { return r.job.title; })
       .def_property_readonly("parameters", [](const JobRun& r) { return r.result.parameters; },
                              "list of Parameter: the free ones first (job order), then fixed")
       .def("parameter", Lookup(&FitResult::parameters, "parameter"), py::arg("name"),
@@ -500,9 +510,12 @@ void DefineResult(py::module_& m) {
         }
         return out;
       }, "n x n correlation of the free parameters (free_names order)")
-      .def_property_readonly("undetermined", [](const JobRun& r) { return r.result.undetermined; })
-      .def_property_readonly("initial_cost", [](const JobRun& r) { return r.result.initial_cost; },
-                             "Ceres cost 1/2 sum(r^2) at the initial point")
+      .def_property_readonly("undetermined", [](const JobRun& r) { return r.result.undetermined; });
+}
+
+void DefineFitResultFigures(py::class_<JobRun>& c) {
+  c.def_property_readonly("initial_cost", [](const JobRun& r) { return r.result.initial_cost; },
+                          "Ceres cost 1/2 sum(r^2) at the initial point")
       .def_property_readonly("final_cost", [](const JobRun& r) { return r.result.final_cost; })
       .def_property_readonly("converged", [](const JobRun& r) { return r.result.converged; })
       .def_property_readonly("aic", [](const JobRun& r) { return r.result.aic; })
@@ -526,15 +539,18 @@ void DefineResult(py::module_& m) {
           "set when the job's start ended above s^2 = 4 and solver.auto_starts were added")
       .def_property_readonly(
           "residual_note", [](const JobRun& r) { return r.result.residual_note; },
-          "a warning when the fit ends above s^2 = 4 (residual RMS over twice sigma), else ''")
-      .def_property_readonly(
-          "discovery",
-          [](const JobRun& r) -> py::object {
-            if (!r.discovered) return py::none();
-            return JsonToPython(nlohmann::ordered_json(DiscoveryToJson(r.discovery)));
-          },
-          "None without discovery, else report.json's 'discovery' block as a dict: "
-          "'selected', 'steps', 'verdict', 'verdict_detail', 'ranking', 'stop_reason', ...")
+          "a warning when the fit ends above s^2 = 4 (residual RMS over twice sigma), else ''");
+}
+
+void DefineFitResultReports(py::class_<JobRun>& c) {
+  c.def_property_readonly(
+       "discovery",
+       [](const JobRun& r) -> py::object {
+         if (!r.discovered) return py::none();
+         return JsonToPython(nlohmann::ordered_json(DiscoveryToJson(r.discovery)));
+       },
+       "None without discovery, else report.json's 'discovery' block as a dict: "
+       "'selected', 'steps', 'verdict', 'verdict_detail', 'ranking', 'stop_reason', ...")
       .def_property_readonly(
           "discovery_table",
           [](const JobRun& r) { return r.discovered ? FormatDiscovery(r.discovery) : ""; },
@@ -567,6 +583,21 @@ void DefineResult(py::module_& m) {
         return "FitResult('" + r.job.title + "', cost " + std::to_string(r.result.final_cost) +
                (r.result.converged ? ", converged)" : ", not converged)");
       });
+}
+
+void DefineFitResult(py::module_& m) {
+  py::class_<JobRun> c(m, "FitResult", "What fit() returns.");
+  DefineFitResultEstimates(c);
+  DefineFitResultFigures(c);
+  DefineFitResultReports(c);
+}
+
+// The result classes: Parameter, ChannelFit, ExperimentFit, FitResult.
+void DefineResult(py::module_& m) {
+  DefineParameter(m);
+  DefineChannelFit(m);
+  DefineExperimentFit(m);
+  DefineFitResult(m);
 }
 
 }  // namespace

@@ -446,32 +446,60 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
   WriteFileAtomic(path, out);
 }
 
-nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections& extra) {
-  Json j = Json::object();
+namespace {
+
+// ---------------------------------------------------------------- report.json sections
+
+// "parameters": free ones first (ParameterOrder).
+Json ParameterJson(const FitResult& result, const ParameterEstimate& p) {
+  Json e = Json::object();
+  e["name"] = p.name;
+  e["unit"] = p.unit;
+  e["value"] = JsonNumber<Json>(p.value);
+  e["std_error"] = p.free ? JsonNumber<Json>(p.std_error) : Json(nullptr);
+  e["ci95_low"] = p.free ? JsonNumber<Json>(p.ci95_low) : Json(nullptr);
+  e["ci95_high"] = p.free ? JsonNumber<Json>(p.ci95_high) : Json(nullptr);
+  e["std_error_gauss_newton"] =
+      p.free ? JsonNumber<Json>(p.std_error_gauss_newton) : Json(nullptr);
+  if (p.free && result.bootstrap_replicates > 0) {
+    e["bootstrap"] = {{"std_error", JsonNumber<Json>(p.std_error_bootstrap)},
+                      {"low", JsonNumber<Json>(p.bootstrap_low)},
+                      {"high", JsonNumber<Json>(p.bootstrap_high)}};
+  }
+  e["initial"] = JsonNumber<Json>(p.initial);
+  e["free"] = p.free;
+  e["determined"] = p.determined;
+  return e;
+}
+
+Json ParametersJson(const FitResult& result) {
   Json parameters = Json::array();
   for (size_t k : ParameterOrder(result)) {
-    const ParameterEstimate& p = result.parameters[k];
-    Json e = Json::object();
-    e["name"] = p.name;
-    e["unit"] = p.unit;
-    e["value"] = JsonNumber<Json>(p.value);
-    e["std_error"] = p.free ? JsonNumber<Json>(p.std_error) : Json(nullptr);
-    e["ci95_low"] = p.free ? JsonNumber<Json>(p.ci95_low) : Json(nullptr);
-    e["ci95_high"] = p.free ? JsonNumber<Json>(p.ci95_high) : Json(nullptr);
-    e["std_error_gauss_newton"] =
-        p.free ? JsonNumber<Json>(p.std_error_gauss_newton) : Json(nullptr);
-    if (p.free && result.bootstrap_replicates > 0) {
-      e["bootstrap"] = {{"std_error", JsonNumber<Json>(p.std_error_bootstrap)},
-                        {"low", JsonNumber<Json>(p.bootstrap_low)},
-                        {"high", JsonNumber<Json>(p.bootstrap_high)}};
-    }
-    e["initial"] = JsonNumber<Json>(p.initial);
-    e["free"] = p.free;
-    e["determined"] = p.determined;
-    parameters.push_back(e);
+    parameters.push_back(ParameterJson(result, result.parameters[k]));
   }
-  j["parameters"] = parameters;
+  return parameters;
+}
 
+// "experiments": each with its CSV's name and its channels.
+Json ChannelJson(const ChannelFit& c) {
+  Json ch = Json::object();
+  ch["channel"] = c.channel;
+  ch["unit"] = c.unit;
+  ch["rms"] = JsonNumber<Json>(c.rms);
+  ch["fit_percent"] = JsonNumber<Json>(c.fit_percent);
+  ch["max_error"] = JsonNumber<Json>(c.max_error);
+  ch["relative_error_percent"] = JsonNumber<Json>(c.relative_error_percent);
+  ch["ljung_box_q"] = JsonNumber<Json>(c.ljung_box_q);
+  ch["ljung_box_lags"] = c.ljung_box_lags;
+  ch["ljung_box_p"] = JsonNumber<Json>(c.ljung_box_p);
+  ch["input_xcorr_peak"] = JsonNumber<Json>(c.input_xcorr_peak);
+  ch["input_xcorr_lag"] = c.input_xcorr_lag;
+  ch["sigma"] = JsonNumber<Json>(c.sigma);
+  ch["fitted"] = c.fitted;
+  return ch;
+}
+
+Json ExperimentsJson(const FitResult& result) {
   const std::vector<std::string> stems = ExperimentFileStems(result);
   Json experiments = Json::array();
   for (size_t i = 0; i < result.experiments.size(); ++i) {
@@ -481,28 +509,17 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
     e["role"] = x.role;
     e["csv"] = stems[i] + ".csv";
     Json channels = Json::array();
-    for (const ChannelFit& c : x.channels) {
-      Json ch = Json::object();
-      ch["channel"] = c.channel;
-      ch["unit"] = c.unit;
-      ch["rms"] = JsonNumber<Json>(c.rms);
-      ch["fit_percent"] = JsonNumber<Json>(c.fit_percent);
-      ch["max_error"] = JsonNumber<Json>(c.max_error);
-      ch["relative_error_percent"] = JsonNumber<Json>(c.relative_error_percent);
-      ch["ljung_box_q"] = JsonNumber<Json>(c.ljung_box_q);
-      ch["ljung_box_lags"] = c.ljung_box_lags;
-      ch["ljung_box_p"] = JsonNumber<Json>(c.ljung_box_p);
-      ch["input_xcorr_peak"] = JsonNumber<Json>(c.input_xcorr_peak);
-      ch["input_xcorr_lag"] = c.input_xcorr_lag;
-      ch["sigma"] = JsonNumber<Json>(c.sigma);
-      ch["fitted"] = c.fitted;
-      channels.push_back(ch);
-    }
+    for (const ChannelFit& c : x.channels) channels.push_back(ChannelJson(c));
     e["channels"] = channels;
     experiments.push_back(e);
   }
-  j["experiments"] = experiments;
+  return experiments;
+}
 
+// "cost", "converged" and the starts: "starts", "start_screen_costs",
+// "start_joined", "start_joined_horizon", "screen_horizon".
+void AddCostAndStarts(const FitResult& result, Json* out) {
+  Json& j = *out;
   j["cost"] = {{"initial", JsonNumber<Json>(result.initial_cost)},
                {"final", JsonNumber<Json>(result.final_cost)}};
   j["converged"] = result.converged;
@@ -517,6 +534,11 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
   for (double h : result.start_joined_horizon) joined_horizon.push_back(JsonNumber<Json>(h));
   j["start_joined_horizon"] = joined_horizon;
   j["screen_horizon"] = JsonNumber<Json>(result.screen_horizon);
+}
+
+// The fit's figures and notes, "aic" to "integration".
+void AddFigures(const FitResult& result, Json* out) {
+  Json& j = *out;
   j["aic"] = JsonNumber<Json>(result.aic);
   j["bic"] = JsonNumber<Json>(result.bic);
   j["num_residuals"] = result.num_residuals;
@@ -530,6 +552,11 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
   j["auto_starts_note"] = result.auto_starts_note;
   j["residual_note"] = result.residual_note;
   j["integration"] = result.integration;
+}
+
+// "phases", "uncertainty" and "optimum".
+void AddPhasesAndChecks(const FitResult& result, Json* out) {
+  Json& j = *out;
   Json phases = Json::array();
   for (const FitPhase& f : result.phases) {
     phases.push_back({{"name", f.name},
@@ -547,7 +574,11 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
                   {"probe_decrease", JsonNumber<Json>(result.probe_decrease)},
                   {"local_starts", result.local_starts},
                   {"local_decrease", JsonNumber<Json>(result.local_decrease)}};
+}
 
+// "correlation": {"names", "matrix"}.
+void AddCorrelation(const FitResult& result, Json* out) {
+  Json& j = *out;
   const Eigen::MatrixXd& r = result.correlation;
   Json names = Json::array();
   for (Eigen::Index i = 0; i < r.rows(); ++i) {
@@ -560,6 +591,18 @@ nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections&
     matrix.push_back(row);
   }
   j["correlation"] = {{"names", names}, {"matrix", matrix}};
+}
+
+}  // namespace
+
+nlohmann::ordered_json ReportJson(const FitResult& result, const ReportSections& extra) {
+  Json j = Json::object();
+  j["parameters"] = ParametersJson(result);
+  j["experiments"] = ExperimentsJson(result);
+  AddCostAndStarts(result, &j);
+  AddFigures(result, &j);
+  AddPhasesAndChecks(result, &j);
+  AddCorrelation(result, &j);
   j["undetermined"] = result.undetermined;
   for (const auto& [key, value] : extra.json.items()) j[key] = value;
   return j;
