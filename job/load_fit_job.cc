@@ -7,6 +7,8 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -229,43 +231,52 @@ bool IsOutputName(const std::string& name) {
 
 namespace {
 
-FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
-                              const AxisConfig& model, double step,
-                              const std::string& base_dir) {
-  FitExperiment e;
-  e.role = role;
-  e.name = map.String("name");
-  if (!IsOutputName(e.name)) {
-    ThrowConfigError(map.file(), map.Optional("name"), map.KeyPath("name"),
-                     "a name of letters, digits, '_', '-', '.' (it names "
-                     "output files)",
-                     "'" + e.name + "'");
+// One experiment of a job (an entry of `experiments:` or `validate:`) as a
+// sequence of named steps over its keys, in the order its checks run: the
+// name, the data file and its window, the initial state, the sampling and
+// the simulation grid, the measured and fitted channels, the drive.
+class ExperimentParser {
+ public:
+  // `map` (the entry), `model` and `base_dir` must outlive the parser.
+  ExperimentParser(YamlMap& map, const std::string& role, const AxisConfig& model,
+                   double step, const std::string& base_dir)
+      : map_(map), model_(model), step_(step), base_dir_(base_dir) {
+    e_.role = role;
   }
-  e.data_path = ResolvePath(base_dir, map.String("data"));
-  const std::string time_column = map.String("time", "t");
-  const DataTable data = ReadDataTable(e.data_path, time_column);
-  if (!data.HasColumn(time_column)) {
-    ThrowConfigError(map.file(), map.node(), map.KeyPath("time"),
-                     "a time " + data.ColumnWord() + " of " + e.data_path,
-                     data.DescribeName(time_column));
-  }
-  CheckStrictlyIncreasing(data, time_column);
-  const std::vector<double>& time = data.Column(time_column);
+  ExperimentParser(const ExperimentParser&) = delete;
+  ExperimentParser& operator=(const ExperimentParser&) = delete;
 
-  double start = time.front(), end = time.back();
-  if (const YAML::Node w = map.Optional("window")) {
-    if (!w.IsSequence() || w.size() != 2) {
-      ThrowConfigError(map.file(), w, map.KeyPath("window"),
-                       "[start, end] in seconds", Describe(w));
-    }
-    start = map.NumberFrom(w[0], map.KeyPath("window"), Range::kAny);
-    end = map.NumberFrom(w[1], map.KeyPath("window"), Range::kAny);
-    if (!(end > start)) {
-      ThrowConfigError(map.file(), w, map.KeyPath("window"),
-                       "start < end", Num(start) + " and " + Num(end));
-    }
-  }
-  auto [first, count] = WindowRows(time, start, end);
+  FitExperiment Parse();
+
+ private:
+  void ParseName();
+  void ReadData();     // data:, time: (data_, time_)
+  void ParseWindow();  // window: (first_, count_)
+  void ParseInitialState();
+  void ParseDeclaredState(const YAML::Node& init_node);
+  void EstimateStateFromSamples(const YAML::Node& init_node);
+  void CheckSampling();    // at least 3 samples, period, uniform steps
+  void SetTimeGrid();      // e.t and the simulation options
+  void ParseChannels();    // channels:
+  void ParseFitted();      // fit:
+  void ParseStateChoice(); // initial_state: rest or estimate
+  void ParseDrive();       // input: or reference: (with controller:, injection:)
+  void ParseClosedLoop();
+  // A drive signal of `map` (ParseDriveSignal), its note kept.
+  InputSignal DriveSignal(YamlMap& map);
+  void Finish();           // unknown keys, recorded channels, the grid
+
+  YamlMap& map_;
+  const AxisConfig& model_;
+  const double step_;
+  const std::string& base_dir_;
+
+  FitExperiment e_;
+  DataTable data_;
+  const std::vector<double>* time_ = nullptr;  // the time column of data_
+  size_t first_ = 0;  // the window's rows
+  size_t count_ = 0;
+  double period_ = 0.0;  // s, the data's mean step over the window
   // initial_state: rest (default), estimate (y0, y1 fitted), or
   // {from_samples: N, degree: D}: position and velocity from the
   // least-squares polynomial of degree D (1 or 2, default 2) through the
@@ -276,10 +287,69 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
   // (N−1)/2: an axis accelerating at a starts ((N+1)/2)·h·a slower than it
   // is (EMPS: 0.95 m/s², 10.5 ms, 10 mm/s, held for the ≈0.5 s time
   // constant M/B_a ≈5 mm of open-loop drift).
-  std::string init = "rest";
-  long init_samples = 0;
-  int init_degree = 2;
-  const YAML::Node init_node = map.Optional("initial_state");
+  std::string init_ = "rest";
+  long init_samples_ = 0;
+  int init_degree_ = 2;
+};
+
+FitExperiment ExperimentParser::Parse() {
+  ParseName();
+  ReadData();
+  ParseWindow();
+  ParseInitialState();
+  CheckSampling();
+  SetTimeGrid();
+  ParseChannels();
+  if (e_.role == "fit") ParseFitted();
+  ParseStateChoice();
+  ParseDrive();
+  Finish();
+  return std::move(e_);
+}
+
+void ExperimentParser::ParseName() {
+  e_.name = map_.String("name");
+  if (!IsOutputName(e_.name)) {
+    ThrowConfigError(map_.file(), map_.Optional("name"), map_.KeyPath("name"),
+                     "a name of letters, digits, '_', '-', '.' (it names "
+                     "output files)",
+                     "'" + e_.name + "'");
+  }
+}
+
+void ExperimentParser::ReadData() {
+  e_.data_path = ResolvePath(base_dir_, map_.String("data"));
+  const std::string time_column = map_.String("time", "t");
+  data_ = ReadDataTable(e_.data_path, time_column);
+  if (!data_.HasColumn(time_column)) {
+    ThrowConfigError(map_.file(), map_.node(), map_.KeyPath("time"),
+                     "a time " + data_.ColumnWord() + " of " + e_.data_path,
+                     data_.DescribeName(time_column));
+  }
+  CheckStrictlyIncreasing(data_, time_column);
+  time_ = &data_.Column(time_column);
+}
+
+void ExperimentParser::ParseWindow() {
+  const std::vector<double>& time = *time_;
+  double start = time.front(), end = time.back();
+  if (const YAML::Node w = map_.Optional("window")) {
+    if (!w.IsSequence() || w.size() != 2) {
+      ThrowConfigError(map_.file(), w, map_.KeyPath("window"),
+                       "[start, end] in seconds", Describe(w));
+    }
+    start = map_.NumberFrom(w[0], map_.KeyPath("window"), Range::kAny);
+    end = map_.NumberFrom(w[1], map_.KeyPath("window"), Range::kAny);
+    if (!(end > start)) {
+      ThrowConfigError(map_.file(), w, map_.KeyPath("window"),
+                       "start < end", Num(start) + " and " + Num(end));
+    }
+  }
+  std::tie(first_, count_) = WindowRows(time, start, end);
+}
+
+void ExperimentParser::ParseInitialState() {
+  const YAML::Node init_node = map_.Optional("initial_state");
   bool declared_state = false;
   if (init_node && init_node.IsMap()) {
     for (const auto& entry : init_node) {
@@ -288,225 +358,253 @@ FitExperiment ParseExperiment(YamlMap& map, const std::string& role,
     }
   }
   if (declared_state) {
-    // A declared state y0..y6 (MODEL.md §1), as in an experiment file: the
-    // record starts from it (a record taken in motion, its state known).
-    YamlMap spec(init_node, map.file(), map.KeyPath("initial_state."));
-    for (int k = 0; k < kNumStates; ++k) {
-      e.initial_state[k] = spec.Number("y" + std::to_string(k), 0.0);
-    }
-    spec.Finish();
-    e.initial_state = ConsistentInitialState(model, e.initial_state);
-    init = "declared";
+    ParseDeclaredState(init_node);
   } else if (init_node && init_node.IsMap()) {
-    YamlMap spec(init_node, map.file(), map.KeyPath("initial_state."));
-    init_samples = spec.Integer("from_samples", 0, 2, 1000000);
-    if (!spec.Has("from_samples")) {
-      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
-                       "a number of samples (more than the polynomial's degree, 2 by "
-                       "default), or the states y0..y6",
-                       "none");
-    }
-    init_degree = static_cast<int>(spec.Integer("degree", 2, 1, 2));
-    if (init_samples <= init_degree) {
-      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
-                       "more samples than the degree " + std::to_string(init_degree) +
-                           " (a polynomial through them)",
-                       std::to_string(init_samples));
-    }
-    spec.Finish();
-    init = "from_samples";
-    YAML::Node channels_node = map.Required("channels");
-    YamlMap channels(channels_node, map.file(), map.KeyPath("channels."));
-    if (!channels.Has("x")) {
-      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state"),
-                       "a measured position channel 'x' under 'channels'",
-                       "none");
-    }
-    if (count < static_cast<size_t>(init_samples) + 3) {
-      ThrowConfigError(map.file(), init_node, map.KeyPath("initial_state.from_samples"),
-                       "at most the window's " + std::to_string(count) +
-                           " samples minus 3",
-                       std::to_string(init_samples));
-    }
-    const ChannelSpec x = ParseChannelSpec(channels, "x", data);
-    const std::vector<double>& raw = data.Column(x.column);
-    // Least squares x(t) = c0 + c1·t (+ c2·t²), t from the next sample:
-    // c0 is the position and c1 the velocity there (Eigen's QR).
-    const double t0 = time[first + init_samples];
-    Eigen::MatrixXd basis(init_samples, init_degree + 1);
-    Eigen::VectorXd xs(init_samples);
-    for (long k = 0; k < init_samples; ++k) {
-      const double tk = time[first + k] - t0;
-      for (int d = 0; d <= init_degree; ++d) basis(k, d) = std::pow(tk, d);
-      xs(k) = x.scale * raw[first + k] + x.offset;
-    }
-    const Eigen::VectorXd c = basis.colPivHouseholderQr().solve(xs);
-    const double intercept = c(0);
-    const double slope = c(1);
-    e.initial_state[0] = intercept;
-    e.initial_state[1] = slope;
-    // The motor with the load, in either coupling (in rigid coupling
-    // ConsistentInitialState's y2, y3; a motor encoder reads y2).
-    e.initial_state[2] = intercept / model.params.r_g;
-    e.initial_state[3] = slope / model.params.r_g;
-    first += init_samples;
-    count -= init_samples;
+    EstimateStateFromSamples(init_node);
   }
-  if (count < 3) {
-    ThrowConfigError(map.file(), map.node(), map.KeyPath("window"),
-                     "at least 3 samples of " + e.data_path + " in the window",
-                     std::to_string(count));
+}
+
+void ExperimentParser::ParseDeclaredState(const YAML::Node& init_node) {
+  // A declared state y0..y6 (MODEL.md §1), as in an experiment file: the
+  // record starts from it (a record taken in motion, its state known).
+  YamlMap spec(init_node, map_.file(), map_.KeyPath("initial_state."));
+  for (int k = 0; k < kNumStates; ++k) {
+    e_.initial_state[k] = spec.Number("y" + std::to_string(k), 0.0);
   }
-  e.t_offset = time[first];
-  const double period = (time[first + count - 1] - time[first]) / (count - 1);
+  spec.Finish();
+  e_.initial_state = ConsistentInitialState(model_, e_.initial_state);
+  init_ = "declared";
+}
+
+void ExperimentParser::EstimateStateFromSamples(const YAML::Node& init_node) {
+  YamlMap spec(init_node, map_.file(), map_.KeyPath("initial_state."));
+  init_samples_ = spec.Integer("from_samples", 0, 2, 1000000);
+  if (!spec.Has("from_samples")) {
+    ThrowConfigError(map_.file(), init_node, map_.KeyPath("initial_state.from_samples"),
+                     "a number of samples (more than the polynomial's degree, 2 by "
+                     "default), or the states y0..y6",
+                     "none");
+  }
+  init_degree_ = static_cast<int>(spec.Integer("degree", 2, 1, 2));
+  if (init_samples_ <= init_degree_) {
+    ThrowConfigError(map_.file(), init_node, map_.KeyPath("initial_state.from_samples"),
+                     "more samples than the degree " + std::to_string(init_degree_) +
+                         " (a polynomial through them)",
+                     std::to_string(init_samples_));
+  }
+  spec.Finish();
+  init_ = "from_samples";
+  YAML::Node channels_node = map_.Required("channels");
+  YamlMap channels(channels_node, map_.file(), map_.KeyPath("channels."));
+  if (!channels.Has("x")) {
+    ThrowConfigError(map_.file(), init_node, map_.KeyPath("initial_state"),
+                     "a measured position channel 'x' under 'channels'",
+                     "none");
+  }
+  if (count_ < static_cast<size_t>(init_samples_) + 3) {
+    ThrowConfigError(map_.file(), init_node, map_.KeyPath("initial_state.from_samples"),
+                     "at most the window's " + std::to_string(count_) +
+                         " samples minus 3",
+                     std::to_string(init_samples_));
+  }
+  const ChannelSpec x = ParseChannelSpec(channels, "x", data_);
+  const std::vector<double>& raw = data_.Column(x.column);
+  const std::vector<double>& time = *time_;
+  // Least squares x(t) = c0 + c1·t (+ c2·t²), t from the next sample:
+  // c0 is the position and c1 the velocity there (Eigen's QR).
+  const double t0 = time[first_ + init_samples_];
+  Eigen::MatrixXd basis(init_samples_, init_degree_ + 1);
+  Eigen::VectorXd xs(init_samples_);
+  for (long k = 0; k < init_samples_; ++k) {
+    const double tk = time[first_ + k] - t0;
+    for (int d = 0; d <= init_degree_; ++d) basis(k, d) = std::pow(tk, d);
+    xs(k) = x.scale * raw[first_ + k] + x.offset;
+  }
+  const Eigen::VectorXd c = basis.colPivHouseholderQr().solve(xs);
+  const double intercept = c(0);
+  const double slope = c(1);
+  e_.initial_state[0] = intercept;
+  e_.initial_state[1] = slope;
+  // The motor with the load, in either coupling (in rigid coupling
+  // ConsistentInitialState's y2, y3; a motor encoder reads y2).
+  e_.initial_state[2] = intercept / model_.params.r_g;
+  e_.initial_state[3] = slope / model_.params.r_g;
+  first_ += init_samples_;
+  count_ -= init_samples_;
+}
+
+void ExperimentParser::CheckSampling() {
+  const std::vector<double>& time = *time_;
+  if (count_ < 3) {
+    ThrowConfigError(map_.file(), map_.node(), map_.KeyPath("window"),
+                     "at least 3 samples of " + e_.data_path + " in the window",
+                     std::to_string(count_));
+  }
+  e_.t_offset = time[first_];
+  period_ = (time[first_ + count_ - 1] - time[first_]) / (count_ - 1);
   // A servo axis's dynamics (the 5 ms controller, the gear resonance, the
   // preamp's T_p) are milliseconds: a record sampled slower than 50 Hz sees
   // none of them, and is most likely one whose time column is not in
   // seconds (a 1 kHz record in ms reads as 1 s per sample, and its fit as
   // a horizon of minutes).
-  if (period > kMaxSamplePeriod) {
+  if (period_ > kMaxSamplePeriod) {
     throw std::invalid_argument(
-        data.RowLocation(first + 1) + ": expected time in seconds sampled at 50 Hz or faster " +
+        data_.RowLocation(first_ + 1) + ": expected time in seconds sampled at 50 Hz or faster " +
         "(a sample period of at most " + Num(kMaxSamplePeriod) + " s), got a period of " +
-        Num(period) + " (is the time column in ms? convert it to s)");
+        Num(period_) + " (is the time column in ms? convert it to s)");
   }
   // Each step against the median step, not the mean: one dropped sample
   // skews the mean, and every step then looked wrong but the gap's.
-  const double median_step = MedianStep(time, first, count);
-  for (size_t k = first + 1; k < first + count; ++k) {
+  const double median_step = MedianStep(time, first_, count_);
+  for (size_t k = first_ + 1; k < first_ + count_; ++k) {
     const double dt = time[k] - time[k - 1];
     if (std::abs(dt - median_step) > 1e-3 * median_step) {
       throw std::invalid_argument(
-          data.RowLocation(k) + ": expected uniform sampling (the median step " +
+          data_.RowLocation(k) + ": expected uniform sampling (the median step " +
           Num(median_step) + " s within 0.1 %), got a step of " + Num(dt) + " s from " +
           Num(time[k - 1]) + " to " + Num(time[k]) + " s" +
           (dt > 1.5 * median_step ? " (a gap: a dropped sample?)" : ""));
     }
   }
-  for (size_t k = first; k < first + count; ++k) e.t.push_back(time[k] - e.t_offset);
+}
+
+void ExperimentParser::SetTimeGrid() {
+  const std::vector<double>& time = *time_;
+  for (size_t k = first_; k < first_ + count_; ++k) e_.t.push_back(time[k] - e_.t_offset);
   // The simulation samples on the data grid: the period rounded to whole
   // integration steps (the EMPS clock jitters by 3e-8 s).
-  e.options.step = step;
-  e.options.output_period = std::max(1L, std::lround(period / step)) * step;
-  if (std::abs(e.options.output_period - period) > 1e-3 * period) {
-    ThrowConfigError(map.file(), map.node(), "simulation.step",
-                     "a step that divides the data period " + Num(period) + " s",
-                     Num(step) + " s");
+  e_.options.step = step_;
+  e_.options.output_period = std::max(1L, std::lround(period_ / step_)) * step_;
+  if (std::abs(e_.options.output_period - period_) > 1e-3 * period_) {
+    ThrowConfigError(map_.file(), map_.node(), "simulation.step",
+                     "a step that divides the data period " + Num(period_) + " s",
+                     Num(step_) + " s");
   }
-  e.options.duration = e.options.output_period * (count - 1);
-  for (size_t k = 0; k < e.t.size(); ++k) e.t[k] = k * e.options.output_period;
+  e_.options.duration = e_.options.output_period * (count_ - 1);
+  for (size_t k = 0; k < e_.t.size(); ++k) e_.t[k] = k * e_.options.output_period;
+}
 
+void ExperimentParser::ParseChannels() {
   // Measured channels: channel: column, or channel: {column, scale, offset}.
-  YamlMap channels(map.Required("channels"), map.file(), map.KeyPath("channels."));
+  YamlMap channels(map_.Required("channels"), map_.file(), map_.KeyPath("channels."));
   for (const auto& entry : channels.node()) {
     const std::string name = entry.first.Scalar();
     const Channel c = ChannelOrThrow(name, channels, entry.first,
                                      channels.KeyPath(name));
-    const ChannelSpec spec = ParseChannelSpec(channels, name, data);
-    const std::vector<double>& raw = data.Column(spec.column);
+    const ChannelSpec spec = ParseChannelSpec(channels, name, data_);
+    const std::vector<double>& raw = data_.Column(spec.column);
     std::vector<double> values;
-    for (size_t k = first; k < first + count; ++k) {
+    for (size_t k = first_; k < first_ + count_; ++k) {
       values.push_back(spec.scale * raw[k] + spec.offset);
     }
-    e.measured_channels.push_back(c);
-    e.measured.push_back(std::move(values));
+    e_.measured_channels.push_back(c);
+    e_.measured.push_back(std::move(values));
   }
   channels.Finish();
+}
 
-  if (role == "fit") {
-    YamlMap fit(map.Required("fit"), map.file(), map.KeyPath("fit."));
-    for (const auto& entry : fit.node()) {
-      const std::string name = entry.first.Scalar();
-      const Channel c = ChannelOrThrow(name, fit, entry.first, fit.KeyPath(name));
-      if (std::find(e.measured_channels.begin(), e.measured_channels.end(), c) ==
-          e.measured_channels.end()) {
-        ThrowConfigError(map.file(), entry.first, fit.KeyPath(name),
-                         "a channel listed under 'channels' (measured)",
-                         "'" + name + "'");
-      }
-      e.fitted.push_back({c, fit.Number(name, Range::kFinitePositive)});
+void ExperimentParser::ParseFitted() {
+  YamlMap fit(map_.Required("fit"), map_.file(), map_.KeyPath("fit."));
+  for (const auto& entry : fit.node()) {
+    const std::string name = entry.first.Scalar();
+    const Channel c = ChannelOrThrow(name, fit, entry.first, fit.KeyPath(name));
+    if (std::find(e_.measured_channels.begin(), e_.measured_channels.end(), c) ==
+        e_.measured_channels.end()) {
+      ThrowConfigError(map_.file(), entry.first, fit.KeyPath(name),
+                       "a channel listed under 'channels' (measured)",
+                       "'" + name + "'");
     }
-    fit.Finish();
-    if (e.fitted.empty()) {
-      ThrowConfigError(map.file(), map.Optional("fit"), map.KeyPath("fit"),
-                       "at least one channel: sigma", "none");
-    }
+    e_.fitted.push_back({c, fit.Number(name, Range::kFinitePositive)});
   }
+  fit.Finish();
+  if (e_.fitted.empty()) {
+    ThrowConfigError(map_.file(), map_.Optional("fit"), map_.KeyPath("fit"),
+                     "at least one channel: sigma", "none");
+  }
+}
 
-  if (init != "from_samples" && init != "declared") {
-    init = map.Choice("initial_state", {"rest", "estimate"}, "rest");
+void ExperimentParser::ParseStateChoice() {
+  if (init_ != "from_samples" && init_ != "declared") {
+    init_ = map_.Choice("initial_state", {"rest", "estimate"}, "rest");
   }
-  e.estimate_initial_state = init == "estimate";
-  if (e.estimate_initial_state && role != "fit") {
-    ThrowConfigError(map.file(), map.Optional("initial_state"), map.KeyPath("initial_state"),
+  e_.estimate_initial_state = init_ == "estimate";
+  if (e_.estimate_initial_state && e_.role != "fit") {
+    ThrowConfigError(map_.file(), map_.Optional("initial_state"), map_.KeyPath("initial_state"),
                      "rest or {from_samples: N} in a validation experiment (only "
                      "fitted experiments estimate their state)",
                      "estimate");
   }
+}
 
+InputSignal ExperimentParser::DriveSignal(YamlMap& map) {
+  std::string note;
+  InputSignal s = ParseDriveSignal(map, data_, e_.options.output_period, first_, count_,
+                                   base_dir_, e_.options.duration, &note);
+  if (!note.empty()) e_.input_notes.push_back(note);
+  return s;
+}
+
+void ExperimentParser::ParseDrive() {
   // What drives the axis: an input (open loop) or a reference (closed loop).
-  const bool has_input = map.Has("input");
-  const bool has_reference = map.Has("reference");
+  const bool has_input = map_.Has("input");
+  const bool has_reference = map_.Has("reference");
   if (has_input == has_reference) {
-    ThrowConfigError(map.file(), map.node(), map.KeyPath("input"),
+    ThrowConfigError(map_.file(), map_.node(), map_.KeyPath("input"),
                      "exactly one of 'input' (open loop) or 'reference' "
                      "(closed loop)",
                      has_input ? "both" : "neither");
   }
   if (has_input) {
-    YamlMap input(map.Required("input"), map.file(), map.KeyPath("input."));
-    std::string note;
-    e.drive.input = ParseDriveSignal(input, data, e.options.output_period, first, count,
-                                     base_dir, e.options.duration, &note);
-    if (!note.empty()) e.input_notes.push_back(note);
+    YamlMap input(map_.Required("input"), map_.file(), map_.KeyPath("input."));
+    e_.drive.input = DriveSignal(input);
   } else {
-    e.drive.closed_loop = true;
-    e.drive.controller = model.controller;
-    if (const YAML::Node node = map.Optional("controller")) {
-      YamlMap c(node, map.file(), map.KeyPath("controller."));
-      e.drive.controller = ParseController(c, model.controller);
-    } else if (!model.has_controller) {
-      ThrowConfigError(map.file(), map.node(), map.KeyPath("controller"),
-                       "a controller here or in the model config", "none");
-    }
-    YamlMap ref(map.Required("reference"), map.file(), map.KeyPath("reference."));
-    if (ref.Has("type")) {
-      e.drive.reference = ParseReference(ref, base_dir, 0.0);
-    } else {
-      e.drive.reference.kind = Reference::Kind::kTable;
-      std::string note;
-      e.drive.reference.table = ParseDriveSignal(
-          ref, data, e.options.output_period, first, count, base_dir, e.options.duration, &note);
-      if (!note.empty()) e.input_notes.push_back(note);
-    }
-    if (const YAML::Node node = map.Optional("injection")) {
-      YamlMap inj(node, map.file(), map.KeyPath("injection."));
-      std::string note;
-      e.drive.injection = ParseDriveSignal(inj, data, e.options.output_period, first, count,
-                                           base_dir, e.options.duration, &note);
-      if (!note.empty()) e.input_notes.push_back(note);
-      e.drive.has_injection = true;
-    }
+    ParseClosedLoop();
   }
-  if (has_input && map.Has("controller")) {
-    ThrowConfigError(map.file(), map.Optional("controller"), map.KeyPath("controller"),
+  if (has_input && map_.Has("controller")) {
+    ThrowConfigError(map_.file(), map_.Optional("controller"), map_.KeyPath("controller"),
                      "a controller only with 'reference' (closed loop)",
                      "a controller in an open-loop experiment ('input')");
   }
-  map.Finish();
+}
+
+void ExperimentParser::ParseClosedLoop() {
+  e_.drive.closed_loop = true;
+  e_.drive.controller = model_.controller;
+  if (const YAML::Node node = map_.Optional("controller")) {
+    YamlMap c(node, map_.file(), map_.KeyPath("controller."));
+    e_.drive.controller = ParseController(c, model_.controller);
+  } else if (!model_.has_controller) {
+    ThrowConfigError(map_.file(), map_.node(), map_.KeyPath("controller"),
+                     "a controller here or in the model config", "none");
+  }
+  YamlMap ref(map_.Required("reference"), map_.file(), map_.KeyPath("reference."));
+  if (ref.Has("type")) {
+    e_.drive.reference = ParseReference(ref, base_dir_, 0.0);
+  } else {
+    e_.drive.reference.kind = Reference::Kind::kTable;
+    e_.drive.reference.table = DriveSignal(ref);
+  }
+  if (const YAML::Node node = map_.Optional("injection")) {
+    YamlMap inj(node, map_.file(), map_.KeyPath("injection."));
+    e_.drive.injection = DriveSignal(inj);
+    e_.drive.has_injection = true;
+  }
+}
+
+void ExperimentParser::Finish() {
+  map_.Finish();
   // Record every measured channel and the input.
-  e.options.channels = e.measured_channels;
-  if (std::find(e.options.channels.begin(), e.options.channels.end(),
-                Channel::kU) == e.options.channels.end()) {
-    e.options.channels.push_back(Channel::kU);
+  e_.options.channels = e_.measured_channels;
+  if (std::find(e_.options.channels.begin(), e_.options.channels.end(),
+                Channel::kU) == e_.options.channels.end()) {
+    e_.options.channels.push_back(Channel::kU);
   }
   try {
-    MakeGrid(e.options, e.drive);
+    MakeGrid(e_.options, e_.drive);
   } catch (const std::invalid_argument& err) {
-    throw std::invalid_argument(map.file() + ": experiment '" + e.name +
+    throw std::invalid_argument(map_.file() + ": experiment '" + e_.name +
                                 "': " + err.what());
   }
-  return e;
 }
 
 std::vector<FitExperiment> ParseExperimentList(YamlMap& root,
@@ -527,7 +625,7 @@ std::vector<FitExperiment> ParseExperimentList(YamlMap& root,
   }
   for (size_t k = 0; k < list.size(); ++k) {
     YamlMap map(list[k], root.file(), key + "[" + std::to_string(k) + "].");
-    out.push_back(ParseExperiment(map, role, model, step, base_dir));
+    out.push_back(ExperimentParser(map, role, model, step, base_dir).Parse());
     // Names are unique over experiments: and validate: together: they name
     // the output files, and reports find a run by its name.
     const auto [first, inserted] = names->emplace(out.back().name, map.KeyPath("name"));
@@ -552,228 +650,306 @@ void CheckFreeParameter(const FreeParameter& f, const std::string& where) {
   }
 }
 
+// A job's keys as a sequence of named steps, one per key group, in the order
+// their checks run: the model, the simulation step, the free parameters
+// (before the experiments, so that a bad name is reported without reading
+// data), the solver, uncertainty, discovery, design and output settings, the
+// experiments, the fit's memory, the published reference and the benchmark.
+class FitJobParser {
+ public:
+  // `path` and `dir` must outlive the parser.
+  FitJobParser(const YAML::Node& node, const std::string& path, const std::string& dir)
+      : path_(path), dir_(dir), root_(node, path, "") {
+    job_.path = path;
+  }
+  FitJobParser(const FitJobParser&) = delete;
+  FitJobParser& operator=(const FitJobParser&) = delete;
+
+  FitJob Parse();
+
+ private:
+  void ParseModel();       // title, description, model, overrides, controller
+  void ParseSimulation();  // simulation: (step_), the RK4 step's check
+  void ParseFree();
+  FreeParameter ParseFreeParameter(YamlMap& free, const YAML::Node& key,
+                                   const std::string& name);
+  void ParseSolver();
+  void ParseUncertainty();
+  void ParseDiscover();
+  void ParseCandidates(YamlMap& map);  // discover.candidates
+  void ParseDesign();
+  void ParseOutput();
+  void ParseExperiments();  // experiments:, validate:
+  void CheckFitMemory();
+
+  const std::string& path_;
+  const std::string& dir_;
+  FitJob job_;
+  YamlMap root_;
+  double step_ = 1e-5;  // s, simulation.step
+};
+
+FitJob FitJobParser::Parse() {
+  ParseModel();
+  ParseSimulation();
+  ParseFree();
+  ParseSolver();
+  ParseUncertainty();
+  ParseDiscover();
+  ParseDesign();
+  ParseOutput();
+  ParseExperiments();
+  CheckFitMemory();
+  if (const YAML::Node node = root_.Optional("published")) {
+    ParsePublished(node, path_, job_.model, job_.experiments, job_.validate,
+                   &job_.published);
+  }
+  if (const YAML::Node node = root_.Optional("benchmark")) {
+    ParseBenchmark(node, path_, job_.experiments, job_.validate, &job_.benchmark);
+  }
+  root_.Finish();
+  return std::move(job_);
+}
+
+void FitJobParser::ParseModel() {
+  job_.title = root_.String("title", path_);
+  root_.String("description", "");
+  job_.model = LoadAxisConfig(ResolvePath(dir_, root_.String("model")));
+  ParseModelOverrides(root_, &job_.model);
+  if (const YAML::Node node = root_.Optional("controller")) {
+    YamlMap map(node, path_, "controller.");
+    job_.model.controller = ParseController(map, job_.model.controller);
+    job_.model.has_controller = true;
+  }
+}
+
+void FitJobParser::ParseSimulation() {
+  if (const YAML::Node node = root_.Optional("simulation")) {
+    YamlMap map(node, path_, "simulation.");
+    step_ = map.Number("step", step_, Range::kFinitePositive);
+    job_.full_loop_refit_above =
+        map.Number("full_loop_refit_above", job_.full_loop_refit_above, Range::kPositiveOrInfinite);
+    map.Finish();
+  }
+  const YAML::Node sim = root_.node()["simulation"];
+  const YAML::Node node = sim && sim.IsMap() ? sim["step"] : YAML::Node();
+  CheckRk4Step(job_.model.structure, job_.model.params, step_,
+               node ? path_ + ":" + std::to_string(node.Mark().line + 1) : path_,
+               "simulation.step");
+}
+
+void FitJobParser::ParseFree() {
+  YamlMap free(root_.Required("free"), path_, "free.");
+  for (const auto& entry : free.node()) {
+    const std::string name = entry.first.Scalar();
+    job_.free.push_back(ParseFreeParameter(free, entry.first, name));
+  }
+  free.Finish();
+  if (job_.free.empty()) {
+    ThrowConfigError(path_, free.node(), "free", "at least one free parameter",
+                     "none");
+  }
+}
+
+// The entry `name` (its key `key`) of `free`.
+FreeParameter FitJobParser::ParseFreeParameter(YamlMap& free, const YAML::Node& key,
+                                               const std::string& name) {
+  double* field = FindParam(&job_.model.params, name);
+  if (field == nullptr) {
+    ThrowConfigError(path_, key, "free." + name,
+                     "a parameter name of the model (MODEL.md sections 2 "
+                     "and 7, e.g. V_L, B_a, b_g, k_g, T_p)",
+                     "'" + name + "'");
+  }
+  YamlMap spec(free.Optional(name), path_, "free." + name + ".");
+  // The values a free parameter takes lie in its range, as a value of
+  // set: must (M > 0, B_a >= 0, ...), and are finite, V_L's too: the
+  // solver needs finite bounds.
+  const Range range = ParamRange(name) == Range::kPositiveOrInfinite ? Range::kPositive
+                                                                      : ParamRange(name);
+  const auto in_range = [&](const std::string& key, double x) {
+    if (!InRange(x, range)) {
+      ThrowConfigError(path_, spec.Optional(key), spec.KeyPath(key),
+                       std::string(RangeText(range)) + " (the range of " + name + ")",
+                       Describe(spec.Optional(key)));
+    }
+    return x;
+  };
+  FreeParameter f;
+  f.name = name;
+  f.unit = ParamUnit(name);
+  f.initial = spec.Has("initial") ? in_range("initial", spec.Number("initial")) : *field;
+  f.lower = in_range("lower", spec.Number("lower"));
+  f.upper = in_range("upper", spec.Number("upper"));
+  f.scale = spec.Number("scale", 1.0, Range::kFinitePositive);
+  f.log = f.lower > 0.0;
+  spec.Finish();
+  const int line = key.Mark().line + 1;
+  CheckFreeParameter(f, path_ + (line > 0 ? ":" + std::to_string(line) : "") +
+                            ": key 'free." + name + "'");
+  return f;
+}
+
+void FitJobParser::ParseSolver() {
+  const YAML::Node node = root_.Optional("solver");
+  if (!node) return;
+  YamlMap map(node, path_, "solver.");
+  SolverSettings& s = job_.solver;
+  s.max_iterations = static_cast<int>(map.Integer("max_iterations", s.max_iterations, 1, 100000));
+  s.function_tolerance = map.Number("function_tolerance", s.function_tolerance, Range::kNonNegative);
+  // The optimum check counts a point as lower only beyond this relative
+  // tolerance (estimation/fit.cc LowerThan): 1 or more would make it pass always.
+  if (!(s.function_tolerance <= 1e-2)) {
+    ThrowConfigError(path_, map.Optional("function_tolerance"), "solver.function_tolerance",
+                     "a relative tolerance in [0, 0.01]", Num(s.function_tolerance));
+  }
+  s.parameter_tolerance = map.Number("parameter_tolerance", s.parameter_tolerance, Range::kNonNegative);
+  s.gradient_tolerance = map.Number("gradient_tolerance", s.gradient_tolerance, Range::kNonNegative);
+  s.starts = static_cast<int>(map.Integer("starts", s.starts, 0, 10000));
+  s.auto_starts = static_cast<int>(map.Integer("auto_starts", s.auto_starts, 0, 10000));
+  s.finalists = static_cast<int>(map.Integer("finalists", s.finalists, 1, 10001));
+  s.first_horizon = map.Number("first_horizon", s.first_horizon,
+                               Range::kNonNegative);
+  s.initial_trust_region_radius = map.Number(
+      "initial_trust_region_radius", s.initial_trust_region_radius,
+      Range::kFinitePositive);
+  s.threads = static_cast<int>(map.Integer("threads", s.threads, 1, 256));
+  s.probe_rounds =
+      static_cast<int>(map.Integer("probe_rounds", s.probe_rounds, 0, 1000));
+  s.local_starts = map.Number("local_starts", s.local_starts, Range::kNonNegative);
+  s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
+  map.Finish();
+}
+
+void FitJobParser::ParseUncertainty() {
+  const YAML::Node node = root_.Optional("uncertainty");
+  if (!node) return;
+  YamlMap map(node, path_, "uncertainty.");
+  UncertaintySettings& u = job_.uncertainty;
+  const std::string method =
+      map.Choice("method", {"gauss_newton", "likelihood_ratio", "profile"}, "profile");
+  u.method = method == "gauss_newton"       ? UncertaintySettings::Method::kGaussNewton
+             : method == "likelihood_ratio" ? UncertaintySettings::Method::kLikelihoodRatio
+                                            : UncertaintySettings::Method::kProfile;
+  u.bootstrap = static_cast<int>(map.Integer("bootstrap", u.bootstrap, 0, 10000));
+  u.block = static_cast<int>(map.Integer("block", u.block, 1, 1000000));
+  u.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
+  map.Finish();
+}
+
+void FitJobParser::ParseDiscover() {
+  const YAML::Node node = root_.Optional("discover");
+  if (!node) return;
+  job_.discover.enabled = true;
+  if (node.IsNull()) return;
+  YamlMap map(node, path_, "discover.");
+  job_.discover.max_effects = static_cast<int>(
+      map.Integer("max_effects", job_.discover.max_effects, 1, 20));
+  job_.discover.alpha = map.Number("alpha", job_.discover.alpha,
+                                   Range::kFinitePositive);
+  if (job_.discover.alpha >= 1.0) {  // a level: 1 or more makes every candidate significant
+    ThrowConfigError(path_, map.Optional("alpha"), "discover.alpha", "a level in (0, 1)",
+                     Describe(map.Optional("alpha")));
+  }
+  job_.discover.tries = static_cast<int>(
+      map.Integer("tries", job_.discover.tries, 1, 20));
+  job_.discover.misspecified_tries = static_cast<int>(
+      map.Integer("misspecified_tries", job_.discover.misspecified_tries, 1, 40));
+  job_.discover.force_map =
+      map.Choice("force_map", {"false", "true"}, job_.discover.force_map ? "true" : "false") ==
+      "true";
+  job_.discover.force_map_knots = static_cast<int>(map.Integer(
+      "force_map_knots", job_.discover.force_map_knots, 8, kMaxForceMapKnots));
+  ParseCandidates(map);
+  map.Finish();
+}
+
+void FitJobParser::ParseCandidates(YamlMap& map) {
+  const YAML::Node list = map.Optional("candidates");
+  if (!list) return;
+  if (!list.IsSequence()) {
+    ThrowConfigError(path_, list, "discover.candidates",
+                     "a list of effect names", Describe(list));
+  }
+  for (const YAML::Node& c : list) {
+    const std::string name = c.IsScalar() ? c.Scalar() : "";
+    if (!IsEffectName(name, true)) {
+      ThrowConfigError(path_, c, "discover.candidates",
+                       "an effect of MODEL.md section 7 (" + EffectNameList() + ")",
+                       Describe(c));
+    }
+    job_.discover.candidates.push_back(name);
+  }
+}
+
+void FitJobParser::ParseDesign() {
+  const YAML::Node node = root_.Optional("design");
+  if (!node) return;
+  YamlMap map(node, path_, "design.");
+  DesignSettings& d = job_.design;
+  d.enabled = true;
+  d.duration = map.Number("duration", d.duration, Range::kFinitePositive);
+  if (!(d.duration >= 0.5 && d.duration <= 60.0)) {
+    ThrowConfigError(path_, map.Optional("duration"), "design.duration",
+                     "a record length in [0.5, 60] s", Num(d.duration));
+  }
+  d.max_voltage = map.Number("max_voltage", d.max_voltage, Range::kFinitePositive);
+  if (!(d.max_voltage <= 10.0)) {
+    ThrowConfigError(path_, map.Optional("max_voltage"), "design.max_voltage",
+                     "a voltage in (0, 10] V (the drive's range)", Num(d.max_voltage));
+  }
+  const YAML::Node travel = map.Required("travel");
+  if (!travel.IsSequence() || travel.size() != 2) {
+    ThrowConfigError(path_, travel, "design.travel", "[low, high] in m", Describe(travel));
+  }
+  d.travel_low = map.NumberFrom(travel[0], "design.travel", Range::kAny);
+  d.travel_high = map.NumberFrom(travel[1], "design.travel", Range::kAny);
+  if (!(std::isfinite(d.travel_low) && std::isfinite(d.travel_high) &&
+        d.travel_low < d.travel_high)) {
+    ThrowConfigError(path_, travel, "design.travel", "finite low < high",
+                     Num(d.travel_low) + " and " + Num(d.travel_high));
+  }
+  d.rel_se = map.Number("rel_se", d.rel_se, Range::kNonNegative);
+  map.Finish();
+}
+
+void FitJobParser::ParseOutput() {
+  if (const YAML::Node node = root_.Optional("output")) {
+    YamlMap map(node, path_, "output.");
+    job_.out_dir = OutputDirectory(&map, dir_);
+    map.Finish();
+  }
+}
+
+void FitJobParser::ParseExperiments() {
+  std::map<std::string, std::string> names;  // experiment name -> its key
+  job_.experiments = ParseExperimentList(root_, "experiments", "fit", job_.model,
+                                         step_, dir_, true, &names);
+  job_.validate = ParseExperimentList(root_, "validate", "validate", job_.model,
+                                      step_, dir_, false, &names);
+}
+
+void FitJobParser::CheckFitMemory() {
+  // Per fitted experiment, a Jacobian evaluation holds the simulated
+  // channels and the residuals as Jets of 1 + |θ| doubles, and Ceres the
+  // dense Jacobian (residuals × |θ|, twice for the QR factorisation).
+  const double theta = static_cast<double>(job_.free.size() + EstimatedStateCount(job_));
+  double bytes = 0.0;
+  for (const FitExperiment& e : job_.experiments) {
+    const double samples = static_cast<double>(e.t.size());
+    bytes += 8.0 * samples *
+             ((e.measured_channels.size() + e.fitted.size()) * (1.0 + theta) +
+              2.0 * e.fitted.size() * theta);
+  }
+  CheckMemory(bytes, path_, "the fit",
+              "fit a shorter 'window' of the experiments or resample the data");
+}
+
 }  // namespace
 
 FitJob ParseFitJob(const YAML::Node& node, const std::string& path,
                    const std::string& dir) {
-  FitJob job;
-  job.path = path;
-  YamlMap root(node, path, "");
-  job.title = root.String("title", path);
-  root.String("description", "");
-  job.model = LoadAxisConfig(ResolvePath(dir, root.String("model")));
-  ParseModelOverrides(root, &job.model);
-  if (const YAML::Node node = root.Optional("controller")) {
-    YamlMap map(node, path, "controller.");
-    job.model.controller = ParseController(map, job.model.controller);
-    job.model.has_controller = true;
-  }
-  double step = 1e-5;
-  if (const YAML::Node node = root.Optional("simulation")) {
-    YamlMap map(node, path, "simulation.");
-    step = map.Number("step", step, Range::kFinitePositive);
-    job.full_loop_refit_above =
-        map.Number("full_loop_refit_above", job.full_loop_refit_above, Range::kPositiveOrInfinite);
-    map.Finish();
-  }
-  {
-    const YAML::Node sim = root.node()["simulation"];
-    const YAML::Node node = sim && sim.IsMap() ? sim["step"] : YAML::Node();
-    CheckRk4Step(job.model.structure, job.model.params, step,
-                 node ? path + ":" + std::to_string(node.Mark().line + 1) : path,
-                 "simulation.step");
-  }
-
-  // Free parameters, before the experiments so that a bad name is reported
-  // without reading data.
-  {
-    YamlMap free(root.Required("free"), path, "free.");
-    for (const auto& entry : free.node()) {
-      const std::string name = entry.first.Scalar();
-      double* field = FindParam(&job.model.params, name);
-      if (field == nullptr) {
-        ThrowConfigError(path, entry.first, "free." + name,
-                         "a parameter name of the model (MODEL.md sections 2 "
-                         "and 7, e.g. V_L, B_a, b_g, k_g, T_p)",
-                         "'" + name + "'");
-      }
-      YamlMap spec(free.Optional(name), path, "free." + name + ".");
-      // The values a free parameter takes lie in its range, as a value of
-      // set: must (M > 0, B_a >= 0, ...), and are finite, V_L's too: the
-      // solver needs finite bounds.
-      const Range range = ParamRange(name) == Range::kPositiveOrInfinite ? Range::kPositive
-                                                                          : ParamRange(name);
-      const auto in_range = [&](const std::string& key, double x) {
-        if (!InRange(x, range)) {
-          ThrowConfigError(path, spec.Optional(key), spec.KeyPath(key),
-                           std::string(RangeText(range)) + " (the range of " + name + ")",
-                           Describe(spec.Optional(key)));
-        }
-        return x;
-      };
-      FreeParameter f;
-      f.name = name;
-      f.unit = ParamUnit(name);
-      f.initial = spec.Has("initial") ? in_range("initial", spec.Number("initial")) : *field;
-      f.lower = in_range("lower", spec.Number("lower"));
-      f.upper = in_range("upper", spec.Number("upper"));
-      f.scale = spec.Number("scale", 1.0, Range::kFinitePositive);
-      f.log = f.lower > 0.0;
-      spec.Finish();
-      const int line = entry.first.Mark().line + 1;
-      CheckFreeParameter(f, path + (line > 0 ? ":" + std::to_string(line) : "") +
-                                ": key 'free." + name + "'");
-      job.free.push_back(f);
-    }
-    free.Finish();
-    if (job.free.empty()) {
-      ThrowConfigError(path, free.node(), "free", "at least one free parameter",
-                       "none");
-    }
-  }
-
-  if (const YAML::Node node = root.Optional("solver")) {
-    YamlMap map(node, path, "solver.");
-    SolverSettings& s = job.solver;
-    s.max_iterations = static_cast<int>(map.Integer("max_iterations", s.max_iterations, 1, 100000));
-    s.function_tolerance = map.Number("function_tolerance", s.function_tolerance, Range::kNonNegative);
-    // The optimum check counts a point as lower only beyond this relative
-    // tolerance (estimation/fit.cc LowerThan): 1 or more would make it pass always.
-    if (!(s.function_tolerance <= 1e-2)) {
-      ThrowConfigError(path, map.Optional("function_tolerance"), "solver.function_tolerance",
-                       "a relative tolerance in [0, 0.01]", Num(s.function_tolerance));
-    }
-    s.parameter_tolerance = map.Number("parameter_tolerance", s.parameter_tolerance, Range::kNonNegative);
-    s.gradient_tolerance = map.Number("gradient_tolerance", s.gradient_tolerance, Range::kNonNegative);
-    s.starts = static_cast<int>(map.Integer("starts", s.starts, 0, 10000));
-    s.auto_starts = static_cast<int>(map.Integer("auto_starts", s.auto_starts, 0, 10000));
-    s.finalists = static_cast<int>(map.Integer("finalists", s.finalists, 1, 10001));
-    s.first_horizon = map.Number("first_horizon", s.first_horizon,
-                                 Range::kNonNegative);
-    s.initial_trust_region_radius = map.Number(
-        "initial_trust_region_radius", s.initial_trust_region_radius,
-        Range::kFinitePositive);
-    s.threads = static_cast<int>(map.Integer("threads", s.threads, 1, 256));
-    s.probe_rounds =
-        static_cast<int>(map.Integer("probe_rounds", s.probe_rounds, 0, 1000));
-    s.local_starts = map.Number("local_starts", s.local_starts, Range::kNonNegative);
-    s.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
-    map.Finish();
-  }
-  if (const YAML::Node node = root.Optional("uncertainty")) {
-    YamlMap map(node, path, "uncertainty.");
-    UncertaintySettings& u = job.uncertainty;
-    const std::string method =
-        map.Choice("method", {"gauss_newton", "likelihood_ratio", "profile"}, "profile");
-    u.method = method == "gauss_newton"       ? UncertaintySettings::Method::kGaussNewton
-               : method == "likelihood_ratio" ? UncertaintySettings::Method::kLikelihoodRatio
-                                              : UncertaintySettings::Method::kProfile;
-    u.bootstrap = static_cast<int>(map.Integer("bootstrap", u.bootstrap, 0, 10000));
-    u.block = static_cast<int>(map.Integer("block", u.block, 1, 1000000));
-    u.seed = static_cast<std::uint64_t>(map.Integer("seed", 1, 0, 1L << 62));
-    map.Finish();
-  }
-  if (const YAML::Node node = root.Optional("discover")) {
-    job.discover.enabled = true;
-    if (!node.IsNull()) {
-      YamlMap map(node, path, "discover.");
-      job.discover.max_effects = static_cast<int>(
-          map.Integer("max_effects", job.discover.max_effects, 1, 20));
-      job.discover.alpha = map.Number("alpha", job.discover.alpha,
-                                      Range::kFinitePositive);
-      if (job.discover.alpha >= 1.0) {  // a level: 1 or more makes every candidate significant
-        ThrowConfigError(path, map.Optional("alpha"), "discover.alpha", "a level in (0, 1)",
-                         Describe(map.Optional("alpha")));
-      }
-      job.discover.tries = static_cast<int>(
-          map.Integer("tries", job.discover.tries, 1, 20));
-      job.discover.misspecified_tries = static_cast<int>(
-          map.Integer("misspecified_tries", job.discover.misspecified_tries, 1, 40));
-      job.discover.force_map =
-          map.Choice("force_map", {"false", "true"}, job.discover.force_map ? "true" : "false") ==
-          "true";
-      job.discover.force_map_knots = static_cast<int>(map.Integer(
-          "force_map_knots", job.discover.force_map_knots, 8, kMaxForceMapKnots));
-      if (const YAML::Node list = map.Optional("candidates")) {
-        if (!list.IsSequence()) {
-          ThrowConfigError(path, list, "discover.candidates",
-                           "a list of effect names", Describe(list));
-        }
-        for (const YAML::Node& c : list) {
-          const std::string name = c.IsScalar() ? c.Scalar() : "";
-          if (!IsEffectName(name, true)) {
-            ThrowConfigError(path, c, "discover.candidates",
-                             "an effect of MODEL.md section 7 (" + EffectNameList() + ")",
-                             Describe(c));
-          }
-          job.discover.candidates.push_back(name);
-        }
-      }
-      map.Finish();
-    }
-  }
-  if (const YAML::Node node = root.Optional("design")) {
-    YamlMap map(node, path, "design.");
-    DesignSettings& d = job.design;
-    d.enabled = true;
-    d.duration = map.Number("duration", d.duration, Range::kFinitePositive);
-    if (!(d.duration >= 0.5 && d.duration <= 60.0)) {
-      ThrowConfigError(path, map.Optional("duration"), "design.duration",
-                       "a record length in [0.5, 60] s", Num(d.duration));
-    }
-    d.max_voltage = map.Number("max_voltage", d.max_voltage, Range::kFinitePositive);
-    if (!(d.max_voltage <= 10.0)) {
-      ThrowConfigError(path, map.Optional("max_voltage"), "design.max_voltage",
-                       "a voltage in (0, 10] V (the drive's range)", Num(d.max_voltage));
-    }
-    const YAML::Node travel = map.Required("travel");
-    if (!travel.IsSequence() || travel.size() != 2) {
-      ThrowConfigError(path, travel, "design.travel", "[low, high] in m", Describe(travel));
-    }
-    d.travel_low = map.NumberFrom(travel[0], "design.travel", Range::kAny);
-    d.travel_high = map.NumberFrom(travel[1], "design.travel", Range::kAny);
-    if (!(std::isfinite(d.travel_low) && std::isfinite(d.travel_high) &&
-          d.travel_low < d.travel_high)) {
-      ThrowConfigError(path, travel, "design.travel", "finite low < high",
-                       Num(d.travel_low) + " and " + Num(d.travel_high));
-    }
-    d.rel_se = map.Number("rel_se", d.rel_se, Range::kNonNegative);
-    map.Finish();
-  }
-  if (const YAML::Node node = root.Optional("output")) {
-    YamlMap map(node, path, "output.");
-    job.out_dir = OutputDirectory(&map, dir);
-    map.Finish();
-  }
-  std::map<std::string, std::string> names;  // experiment name -> its key
-  job.experiments = ParseExperimentList(root, "experiments", "fit", job.model,
-                                        step, dir, true, &names);
-  job.validate = ParseExperimentList(root, "validate", "validate", job.model,
-                                     step, dir, false, &names);
-  {
-    // Per fitted experiment, a Jacobian evaluation holds the simulated
-    // channels and the residuals as Jets of 1 + |θ| doubles, and Ceres the
-    // dense Jacobian (residuals × |θ|, twice for the QR factorisation).
-    const double theta = static_cast<double>(job.free.size() + EstimatedStateCount(job));
-    double bytes = 0.0;
-    for (const FitExperiment& e : job.experiments) {
-      const double samples = static_cast<double>(e.t.size());
-      bytes += 8.0 * samples *
-               ((e.measured_channels.size() + e.fitted.size()) * (1.0 + theta) +
-                2.0 * e.fitted.size() * theta);
-    }
-    CheckMemory(bytes, path, "the fit",
-                "fit a shorter 'window' of the experiments or resample the data");
-  }
-  if (const YAML::Node node = root.Optional("published")) {
-    ParsePublished(node, path, job.model, job.experiments, job.validate,
-                   &job.published);
-  }
-  if (const YAML::Node node = root.Optional("benchmark")) {
-    ParseBenchmark(node, path, job.experiments, job.validate, &job.benchmark);
-  }
-  root.Finish();
-  return job;
+  return FitJobParser(node, path, dir).Parse();
 }
 
 // The quick form's σ at least this fraction of the signal's standard

@@ -23,6 +23,8 @@
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
 #include "estimation/fit_result.h"
+#include "job/campaign_settings.h"
+#include "job/discovery_settings.h"
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
 #include "run/job_run.h"
@@ -34,7 +36,6 @@
 namespace axis {
 namespace {
 
-using Range = YamlMap::Range;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A folder of its own under the system's temporary directory, removed with
@@ -54,19 +55,6 @@ struct ScopedTempDir {
   ScopedTempDir& operator=(const ScopedTempDir&) = delete;
   const std::string path;
 };
-
-// The names of the job's experiments (fitted and validation) in its YAML.
-std::vector<std::pair<std::string, YAML::Node>> JobExperiments(YAML::Node root) {
-  std::vector<std::pair<std::string, YAML::Node>> out;
-  for (const char* key : {"experiments", "validate"}) {
-    const YAML::Node list = root[key];
-    if (!list || !list.IsSequence()) continue;
-    for (YAML::Node e : list) {
-      if (e.IsMap() && e["name"] && e["name"].IsScalar()) out.emplace_back(e["name"].Scalar(), e);
-    }
-  }
-  return out;
-}
 
 std::string FormatRate(const Rate& r) {
   if (r.n == 0) return "—";
@@ -204,156 +192,8 @@ SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& wher
 }
 
 CampaignConfig LoadCampaign(const std::string& path) {
-  const YAML::Node root = LoadYamlFile(path);
-  const std::string dir = DirectoryOf(path);
-  CampaignConfig c;
-  c.path = path;
-  YamlMap map(root, path, "");
-  c.title = map.String("title", path);
-  c.job_path = ResolvePath(dir, map.String("job"));
-  const YAML::Node generate = map.Required("generate");
-  if (!generate.IsMap() || generate.size() == 0) {
-    ThrowConfigError(path, generate, "generate",
-                     "a mapping of experiment name to generating config", Describe(generate));
-  }
-  for (const auto& entry : generate) {
-    const std::string name = entry.first.Scalar();
-    if (!entry.second.IsScalar()) {
-      ThrowConfigError(path, entry.second, "generate." + name,
-                       "the path of an experiment config", Describe(entry.second));
-    }
-    c.generate.emplace_back(name, ResolvePath(dir, entry.second.Scalar()));
-  }
-  {
-    YamlMap seeds(map.Required("seeds"), path, "seeds.");
-    c.first_seed = static_cast<int>(seeds.Integer("first", 1, 0, kMaxCampaignSeed));
-    c.last_seed = static_cast<int>(seeds.Integer("last", c.first_seed, 0, kMaxCampaignSeed));
-    if (c.last_seed < c.first_seed) {
-      ThrowConfigError(path, seeds.Optional("last"), "seeds.last",
-                       "a seed at or above seeds.first = " + std::to_string(c.first_seed),
-                       std::to_string(c.last_seed));
-    }
-    seeds.Finish();
-  }
-  if (const YAML::Node d = map.Optional("discover")) {
-    if (!d.IsScalar() || (d.Scalar() != "true" && d.Scalar() != "false")) {
-      ThrowConfigError(path, d, "discover", "true or false", Describe(d));
-    }
-    c.discover = d.Scalar() == "true";
-  }
-  std::vector<std::pair<const EffectInfo*, YAML::Node>> outside_nodes;
   std::vector<YAML::Node> truth_value_keys;  // of c.truth_values, for messages
-  if (const YAML::Node truth = map.Optional("truth")) {
-    YamlMap t(truth, path, "truth.");
-    if (const YAML::Node effects = t.Optional("effects")) {
-      if (!effects.IsSequence()) {
-        ThrowConfigError(path, effects, "truth.effects", "a list of effect names",
-                         Describe(effects));
-      }
-      for (const YAML::Node& e : effects) {
-        const std::string name = e.IsScalar() ? e.Scalar() : "";
-        if (!IsEffectName(name)) {
-          ThrowConfigError(path, e, "truth.effects",
-                           "an effect of MODEL.md section 7 (" + EffectNameList() + ")",
-                           Describe(e));
-        }
-        c.truth_effects.push_back(name);
-      }
-      std::sort(c.truth_effects.begin(), c.truth_effects.end());
-    }
-    if (const YAML::Node values = t.Optional("values")) {
-      if (!values.IsMap()) {
-        ThrowConfigError(path, values, "truth.values",
-                         "a mapping of parameter name to true value", Describe(values));
-      }
-      YamlMap v(values, path, "truth.values.");
-      for (const auto& entry : values) {
-        const std::string name = entry.first.Scalar();
-        c.truth_values.emplace_back(name, v.Number(name, Range::kAny));
-        truth_value_keys.push_back(entry.first);
-      }
-      v.Finish();
-    }
-    if (t.Has("verdict")) c.truth_verdict = t.Choice("verdict", {"explained", "incomplete"});
-    if (const YAML::Node outside = t.Optional("outside_library")) {
-      const std::string names = GeneratorOnlyEffectNameList();
-      if (!outside.IsSequence()) {
-        ThrowConfigError(path, outside, "truth.outside_library",
-                         "a list of generator-only forces (" + names + ")", Describe(outside));
-      }
-      for (const YAML::Node& e : outside) {
-        const std::string name = e.IsScalar() ? e.Scalar() : "";
-        const auto known =
-            std::find_if(GeneratorOnlyEffectTable().begin(), GeneratorOnlyEffectTable().end(),
-                         [&](const EffectInfo& g) { return name == g.name; });
-        if (known == GeneratorOnlyEffectTable().end()) {
-          ThrowConfigError(path, e, "truth.outside_library",
-                           "a generator-only force (" + names + ")", Describe(e));
-        }
-        outside_nodes.emplace_back(&*known, e);
-        c.truth_outside.push_back(name);
-      }
-      std::sort(c.truth_outside.begin(), c.truth_outside.end());
-    }
-    t.Finish();
-  }
-  if (const YAML::Node output = map.Optional("output")) {  // else fit-campaign --out
-    YamlMap out(output, path, "output.");
-    c.out_dir = OutputDirectory(&out, dir);
-    out.Finish();
-  }
-  map.Finish();
-  // The job and the generating configs load now, so that a campaign cannot
-  // fail on input after hours of fitting.
-  YAML::Node job_root = LoadYamlFile(c.job_path);
-  if (const YAML::Node benchmark = job_root["benchmark"]) {
-    ThrowConfigError(c.job_path, benchmark, "benchmark",
-                     "a job without 'benchmark:' (its criteria are run by fit-params, not by "
-                     "a campaign)",
-                     "one");
-  }
-  const auto experiments = JobExperiments(job_root);
-  for (const auto& experiment : experiments) {
-    const std::string& name = experiment.first;
-    const bool has = std::any_of(c.generate.begin(), c.generate.end(),
-                                 [&](const auto& g) { return g.first == name; });
-    if (!has) {
-      ThrowConfigError(path, generate, "generate",
-                       "a generating config for experiment '" + name + "' of " + c.job_path,
-                       "none");
-    }
-  }
-  for (const auto& generating : c.generate) {
-    const std::string& name = generating.first;
-    const bool in_job = std::any_of(experiments.begin(), experiments.end(),
-                                    [&](const auto& e) { return e.first == name; });
-    if (!in_job) {
-      ThrowConfigError(path, generate[name], "generate." + name,
-                       "the name of an experiment of " + c.job_path, "'" + name + "'");
-    }
-  }
-  // A force outside the library that no generating config switches on
-  // would make the campaign measure something else.
-  // Each generating config is read once here (JobForSeed below reads them
-  // again, as every seed does).
-  EffectSwitches switched_on;
-  if (!outside_nodes.empty()) {
-    for (const auto& generating : c.generate) {
-      const EffectSwitches e = LoadExperiment(generating.second).model.structure.effects;
-      for (const EffectInfo& g : GeneratorOnlyEffectTable()) {
-        switched_on.*(g.flag) = switched_on.*(g.flag) || e.*(g.flag);
-      }
-    }
-  }
-  for (const auto& outside : outside_nodes) {
-    const std::string name = outside.first->name;
-    const YAML::Node& node = outside.second;
-    if (!(switched_on.*(outside.first->flag))) {
-      ThrowConfigError(path, node, "truth.outside_library",
-                       "a force that a generating config switches on (effects." + name + ")",
-                       "'" + name + "', in none of them");
-    }
-  }
+  CampaignConfig c = LoadCampaignSettings(path, &truth_value_keys);
   // Every generating config and the job with the first seed's data (its
   // `data:` paths are replaced, so they need not exist).
   const ScopedTempDir check("check");
@@ -369,19 +209,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
       for (const std::string& p : FreedParameters(e)) effect_names.push_back(p);
     }
   }
-  for (size_t k = 0; k < c.truth_values.size(); ++k) {
-    const std::string& name = c.truth_values[k].first;
-    const auto has = [&](const std::vector<std::string>& list) {
-      return std::find(list.begin(), list.end(), name) != list.end();
-    };
-    if (has(free_names) || has(effect_names)) continue;
-    std::string expected = "a free parameter of " + c.job_path + " (" + Join(free_names, ", ") + ")";
-    if (!effect_names.empty()) {
-      expected += " or of an effect of truth.effects (" + Join(effect_names, ", ") + ")";
-    }
-    ThrowConfigError(path, truth_value_keys[k], "truth.values." + name, expected,
-                     "'" + name + "'");
-  }
+  CheckTruthValues(c, free_names, effect_names, truth_value_keys);
   return c;
 }
 

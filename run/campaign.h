@@ -14,49 +14,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "job/campaign_settings.h"
 #include "job/fit_job.h"
 
-
 namespace axis {
-
-// The largest seed of a campaign (seeds.first, seeds.last, fit-campaign
-// --first and --last).
-constexpr int kMaxCampaignSeed = 1000000;
-
-// A campaign file (configs/campaigns/*.yaml; paths relative to it):
-//   title: "..."
-//   job: ../jobs/discover/none.yaml     # the fitting job
-//   generate:                           # experiment name → generating config
-//     step_p4V: ../../testdata/generate/discover/none_step_p4V.yaml
-//   seeds: {first: 1, last: 100}
-//   discover: true                      # run the discovery loop (default)
-//   truth:
-//     effects: [coulomb]                # undeclared effects in the data
-//     values: {F_c: 30}                 # true values, for interval coverage
-//     verdict: explained                # expected verdict (optional)
-//     outside_library: [friction_patch] # generator-only forces in the data
-//   output: {dir: ../../build/campaigns/none}   # optional with fit-campaign --out
-// Every experiment of the job (fitted and validation) needs a generating
-// config; seed s simulates each noise-free and adds noise with seed
-// config.seed + 1000·s (AddNoise), the input as the config defines it.
-struct CampaignConfig {
-  std::string path;
-  std::string title;
-  std::string job_path;
-  std::vector<std::pair<std::string, std::string>> generate;
-  int first_seed = 1;  // both 0..kMaxCampaignSeed
-  int last_seed = 10;
-  bool discover = true;
-  std::vector<std::string> truth_effects;  // Candidate names, sorted
-  std::vector<std::pair<std::string, double>> truth_values;  // MODEL.md name, SI unit
-  std::string truth_verdict;  // "", "explained" or "incomplete"
-  // Forces outside MODEL.md §7 in the data (GeneratorOnlyEffectTable names,
-  // sorted; each switched on in a generating config). With any, no final
-  // set is exact and an effect selected is a stand-in, not a false
-  // discovery: the measure is the verdict (`incomplete`).
-  std::vector<std::string> truth_outside;
-  std::string out_dir;  // output.dir resolved; "" if the file has no output block
-};
 
 // Loads and checks a campaign file: every generating config is loaded and
 // the job is loaded with the first seed's simulated data (errors name their
@@ -65,7 +26,10 @@ struct CampaignConfig {
 // experiment. Throws std::invalid_argument naming the file, line and key
 // ("expected …, got …"): unknown keys, first > last, an unknown effect name,
 // a verdict other than explained / incomplete, an outside_library force that
-// is not a generator-only one or that no generating config switches on.
+// is not a generator-only one or that no generating config switches on, a
+// truth value that no fit estimates. The file's own checks are
+// LoadCampaignSettings's (job/campaign_settings.h); the job on the first
+// seed's data and the truth values are checked here (CheckTruthValues).
 CampaignConfig LoadCampaign(const std::string& path);
 
 // What one seed gave.

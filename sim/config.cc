@@ -277,6 +277,83 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
   }
 }
 
+namespace {
+
+// The `effects:` block of AxisConfigToYaml (none if nothing is switched
+// on): each switched effect with its parameters, the force map, the sensor
+// delays and biases. `params`: a copy of config.params (FindParam reads
+// through a mutable pointer).
+void EmitEffects(const AxisConfig& config, AxisParams<double>& params, YAML::Emitter& out) {
+  const EffectSwitches& sw = config.structure.effects;
+  const SensorSwitches& sensors = config.structure.sensors;
+  bool any_sensor = false;
+  for (int c = 0; c < kNumChannels; ++c) any_sensor = any_sensor || sensors.delay[c] || sensors.bias[c];
+  bool any = any_sensor || config.structure.force_map.enabled;
+  std::vector<const EffectInfo*> switched;
+  for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
+    for (const EffectInfo& e : *table) {
+      if (sw.*(e.flag)) switched.push_back(&e);
+    }
+  }
+  any = any || !switched.empty();
+  if (!any) return;
+  out << YAML::Key << "effects" << YAML::Value << YAML::BeginMap;
+  for (const EffectInfo* effect : switched) {
+    const EffectInfo& e = *effect;
+    out << YAML::Key << e.name << YAML::Value << YAML::BeginMap;
+    for (const char* p : e.params) {
+      out << YAML::Key << p << YAML::Value << *FindParam(&params, p);
+    }
+    if (std::string(e.name) == "cogging") {
+      out << YAML::Key << "N_cog" << YAML::Value << config.structure.N_cog;
+    }
+    out << YAML::EndMap;
+  }
+  if (config.structure.force_map.enabled) {
+    const ForceMap& f = config.structure.force_map;
+    out << YAML::Key << "force_map" << YAML::Value << YAML::BeginMap << YAML::Key
+        << "variable" << YAML::Value << (f.variable == ForceMapVariable::kV ? "v" : "x")
+        << YAML::Key << "friction" << YAML::Value << (f.friction ? "true" : "false")
+        << YAML::Key << "knots" << YAML::Value << YAML::Flow << f.knots << YAML::Key
+        << "values" << YAML::Value << YAML::Flow
+        << std::vector<double>(params.f_map.begin(), params.f_map.begin() + f.knots.size())
+        << YAML::EndMap;
+  }
+  for (const char* kind : {"sensor_delay", "sensor_bias"}) {
+    const bool delay = std::string(kind) == "sensor_delay";
+    bool has = false;
+    for (int c = 0; c < kNumChannels; ++c) has = has || (delay ? sensors.delay[c] : sensors.bias[c]);
+    if (!has) continue;
+    out << YAML::Key << kind << YAML::Value << YAML::BeginMap;
+    for (int c = 0; c < kNumChannels; ++c) {
+      if (!(delay ? sensors.delay[c] : sensors.bias[c])) continue;
+      out << YAML::Key << ChannelName(static_cast<Channel>(c)) << YAML::Value
+          << (delay ? params.tau_d[c] : params.b[c]);
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+}
+
+// The `controller:` block of AxisConfigToYaml.
+void EmitController(const ControllerConfig& c, YAML::Emitter& out) {
+  out << YAML::Key << "controller" << YAML::Value << YAML::BeginMap
+      << YAML::Key << "T_s" << YAML::Value << c.T_s
+      << YAML::Key << "T_track" << YAML::Value << c.T_track
+      << YAML::Key << "G_ff" << YAML::Value << c.G_ff
+      << YAML::Key << "G_p" << YAML::Value << c.G_p
+      << YAML::Key << "G_i" << YAML::Value << c.G_i
+      << YAML::Key << "G_v" << YAML::Value << c.G_v
+      << YAML::Key << "alpha" << YAML::Value << c.alpha
+      << YAML::Key << "U_max" << YAML::Value << c.U_max
+      << YAML::Key << "delay_samples" << YAML::Value << c.delay_samples
+      << YAML::Key << "counts_per_rev" << YAML::Value << c.counts_per_rev
+      << YAML::Key << "load_quantum" << YAML::Value << c.load_quantum
+      << YAML::EndMap;
+}
+
+}  // namespace
+
 std::string AxisConfigToYaml(const AxisConfig& config) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
@@ -310,72 +387,8 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
     out << YAML::Key << n << YAML::Value << value;
   }, params);
   out << YAML::EndMap;
-  const EffectSwitches& sw = config.structure.effects;
-  const SensorSwitches& sensors = config.structure.sensors;
-  bool any_sensor = false;
-  for (int c = 0; c < kNumChannels; ++c) any_sensor = any_sensor || sensors.delay[c] || sensors.bias[c];
-  bool any = any_sensor || config.structure.force_map.enabled;
-  std::vector<const EffectInfo*> switched;
-  for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
-    for (const EffectInfo& e : *table) {
-      if (sw.*(e.flag)) switched.push_back(&e);
-    }
-  }
-  any = any || !switched.empty();
-  if (any) {
-    out << YAML::Key << "effects" << YAML::Value << YAML::BeginMap;
-    for (const EffectInfo* effect : switched) {
-      const EffectInfo& e = *effect;
-      out << YAML::Key << e.name << YAML::Value << YAML::BeginMap;
-      for (const char* p : e.params) {
-        out << YAML::Key << p << YAML::Value << *FindParam(&params, p);
-      }
-      if (std::string(e.name) == "cogging") {
-        out << YAML::Key << "N_cog" << YAML::Value << config.structure.N_cog;
-      }
-      out << YAML::EndMap;
-    }
-    if (config.structure.force_map.enabled) {
-      const ForceMap& f = config.structure.force_map;
-      out << YAML::Key << "force_map" << YAML::Value << YAML::BeginMap << YAML::Key
-          << "variable" << YAML::Value << (f.variable == ForceMapVariable::kV ? "v" : "x")
-          << YAML::Key << "friction" << YAML::Value << (f.friction ? "true" : "false")
-          << YAML::Key << "knots" << YAML::Value << YAML::Flow << f.knots << YAML::Key
-          << "values" << YAML::Value << YAML::Flow
-          << std::vector<double>(params.f_map.begin(), params.f_map.begin() + f.knots.size())
-          << YAML::EndMap;
-    }
-    for (const char* kind : {"sensor_delay", "sensor_bias"}) {
-      const bool delay = std::string(kind) == "sensor_delay";
-      bool has = false;
-      for (int c = 0; c < kNumChannels; ++c) has = has || (delay ? sensors.delay[c] : sensors.bias[c]);
-      if (!has) continue;
-      out << YAML::Key << kind << YAML::Value << YAML::BeginMap;
-      for (int c = 0; c < kNumChannels; ++c) {
-        if (!(delay ? sensors.delay[c] : sensors.bias[c])) continue;
-        out << YAML::Key << ChannelName(static_cast<Channel>(c)) << YAML::Value
-            << (delay ? params.tau_d[c] : params.b[c]);
-      }
-      out << YAML::EndMap;
-    }
-    out << YAML::EndMap;
-  }
-  if (config.has_controller) {
-    const ControllerConfig& c = config.controller;
-    out << YAML::Key << "controller" << YAML::Value << YAML::BeginMap
-        << YAML::Key << "T_s" << YAML::Value << c.T_s
-        << YAML::Key << "T_track" << YAML::Value << c.T_track
-        << YAML::Key << "G_ff" << YAML::Value << c.G_ff
-        << YAML::Key << "G_p" << YAML::Value << c.G_p
-        << YAML::Key << "G_i" << YAML::Value << c.G_i
-        << YAML::Key << "G_v" << YAML::Value << c.G_v
-        << YAML::Key << "alpha" << YAML::Value << c.alpha
-        << YAML::Key << "U_max" << YAML::Value << c.U_max
-        << YAML::Key << "delay_samples" << YAML::Value << c.delay_samples
-        << YAML::Key << "counts_per_rev" << YAML::Value << c.counts_per_rev
-        << YAML::Key << "load_quantum" << YAML::Value << c.load_quantum
-        << YAML::EndMap;
-  }
+  EmitEffects(config, params, out);
+  if (config.has_controller) EmitController(config.controller, out);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -684,6 +697,115 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
   ValidateAxisConfig(*model, path);
 }
 
+namespace {
+
+// The experiment's `channels:` (required): the trace's columns, each once;
+// t is always recorded.
+void ParseTraceChannels(YamlMap& root, const std::string& path, ExperimentConfig* e) {
+  const YAML::Node channels = root.Required("channels");
+  if (!channels.IsSequence() || channels.size() == 0) {
+    ThrowConfigError(path, channels, "channels",
+                     "a list of channel names (" + ChannelNameList() + ")",
+                     Describe(channels));
+  }
+  std::set<Channel> listed;
+  for (const YAML::Node& c : channels) {
+    const auto channel = c.IsScalar() ? ParseChannel(c.Scalar()) : std::nullopt;
+    if (!channel) {
+      ThrowConfigError(path, c, "channels",
+                       "a channel name (" + ChannelNameList() + ")", Describe(c));
+    }
+    // Each names a column of the trace; a CSV reader refuses a repeated one.
+    if (!listed.insert(*channel).second) {
+      ThrowConfigError(path, c, "channels", "each channel once (each names a column)",
+                       Describe(c) + " again");
+    }
+    if (*channel != Channel::kT) e->options.channels.push_back(*channel);
+  }
+}
+
+// The experiment's `noise:` (optional): σ per channel name, not t.
+void ParseNoise(YamlMap& root, const std::string& path, ExperimentConfig* e) {
+  const YAML::Node node = root.Optional("noise");
+  if (!node) return;
+  YamlMap map(node, path, "noise.");
+  for (const auto& entry : node) {
+    const std::string name = entry.first.Scalar();
+    const auto channel = ParseChannel(name);
+    if (!channel || *channel == Channel::kT) {
+      ThrowConfigError(path, entry.first, "noise." + name,
+                       "a channel name (" + ChannelNameList() + ", not t)",
+                       "'" + name + "'");
+    }
+    e->noise_sigma[static_cast<int>(*channel)] =
+        map.Number(name, Range::kNonNegative);
+  }
+  map.Finish();
+}
+
+// CheckMemory on the trace of `e`, sampled at `rate` Hz.
+void CheckTraceMemory(const ExperimentConfig& e, double rate, const std::string& path) {
+  // The trace: one double per output sample and channel (and time); a
+  // delayed channel also keeps one value per RK4 step.
+  const double outputs = std::floor(e.options.duration / e.options.output_period) + 1.0;
+  const double steps = e.options.duration / e.options.step;
+  double delayed = 0.0;
+  for (bool d : e.model.structure.sensors.delay) delayed += d ? 1.0 : 0.0;
+  const double bytes =
+      8.0 * (outputs * (e.options.channels.size() + 1.0) * 2.0 + steps * delayed);
+  std::ostringstream advice;
+  advice << "shorten 'duration' (" << e.options.duration << " s) or lower 'output_rate' ("
+         << rate << " Hz)";
+  CheckMemory(bytes, path, "the simulation", advice.str());
+}
+
+// The experiment's drive: `input:` (open loop) or `reference:` with the
+// controller and an optional `injection:` (closed loop).
+void ParseExperimentDrive(YamlMap& root, const std::string& path, const std::string& dir,
+                          ExperimentConfig* e) {
+  const bool has_input = root.Has("input");
+  const bool has_reference = root.Has("reference");
+  if (has_input == has_reference) {
+    ThrowConfigError(path, root.node(), has_input ? "reference" : "input",
+                     "exactly one of 'input' (open loop) or 'reference' "
+                     "(closed loop through the controller)",
+                     has_input ? "both" : "neither");
+  }
+  if (has_input) {
+    for (const char* key : {"controller", "injection"}) {
+      if (root.Has(key)) {
+        ThrowConfigError(path, root.node()[key], key,
+                         std::string(key) + " only with a 'reference' (closed loop)",
+                         "an open-loop experiment with 'input'");
+      }
+    }
+    YamlMap map(root.Required("input"), path, "input.");
+    e->drive.input = ParseInputSignal(map, dir, e->options.duration);
+    return;
+  }
+  e->drive.closed_loop = true;
+  ControllerConfig base = e->model.controller;
+  if (const YAML::Node node = root.Optional("controller")) {
+    YamlMap map(node, path, "controller.");
+    base = ParseController(map, base);
+  } else if (!e->model.has_controller) {
+    ThrowConfigError(path, root.node(), "controller",
+                     "a controller section here or in the model config " +
+                         e->model.path,
+                     "none");
+  }
+  e->drive.controller = base;
+  YamlMap map(root.Required("reference"), path, "reference.");
+  e->drive.reference = ParseReference(map, dir, e->initial_state[0]);
+  if (const YAML::Node node = root.Optional("injection")) {
+    YamlMap inj(node, path, "injection.");
+    e->drive.injection = ParseInputSignal(inj, dir, e->options.duration);
+    e->drive.has_injection = true;
+  }
+}
+
+}  // namespace
+
 ExperimentConfig LoadExperiment(const std::string& path) {
   return ParseExperiment(LoadYamlFile(path), path, DirectoryOf(path));
 }
@@ -706,57 +828,9 @@ ExperimentConfig ParseExperiment(const YAML::Node& document, const std::string& 
   }
   const double rate = root.Number("output_rate", 1000.0, Range::kFinitePositive);
   e.options.output_period = 1.0 / rate;
-  {
-    const YAML::Node channels = root.Required("channels");
-    if (!channels.IsSequence() || channels.size() == 0) {
-      ThrowConfigError(path, channels, "channels",
-                       "a list of channel names (" + ChannelNameList() + ")",
-                       Describe(channels));
-    }
-    std::set<Channel> listed;
-    for (const YAML::Node& c : channels) {
-      const auto channel = c.IsScalar() ? ParseChannel(c.Scalar()) : std::nullopt;
-      if (!channel) {
-        ThrowConfigError(path, c, "channels",
-                         "a channel name (" + ChannelNameList() + ")", Describe(c));
-      }
-      // Each names a column of the trace; a CSV reader refuses a repeated one.
-      if (!listed.insert(*channel).second) {
-        ThrowConfigError(path, c, "channels", "each channel once (each names a column)",
-                         Describe(c) + " again");
-      }
-      if (*channel != Channel::kT) e.options.channels.push_back(*channel);
-    }
-  }
-  if (const YAML::Node node = root.Optional("noise")) {
-    YamlMap map(node, path, "noise.");
-    for (const auto& entry : node) {
-      const std::string name = entry.first.Scalar();
-      const auto channel = ParseChannel(name);
-      if (!channel || *channel == Channel::kT) {
-        ThrowConfigError(path, entry.first, "noise." + name,
-                         "a channel name (" + ChannelNameList() + ", not t)",
-                         "'" + name + "'");
-      }
-      e.noise_sigma[static_cast<int>(*channel)] =
-          map.Number(name, Range::kNonNegative);
-    }
-    map.Finish();
-  }
-  {
-    // The trace: one double per output sample and channel (and time); a
-    // delayed channel also keeps one value per RK4 step.
-    const double outputs = std::floor(e.options.duration / e.options.output_period) + 1.0;
-    const double steps = e.options.duration / e.options.step;
-    double delayed = 0.0;
-    for (bool d : e.model.structure.sensors.delay) delayed += d ? 1.0 : 0.0;
-    const double bytes =
-        8.0 * (outputs * (e.options.channels.size() + 1.0) * 2.0 + steps * delayed);
-    std::ostringstream advice;
-    advice << "shorten 'duration' (" << e.options.duration << " s) or lower 'output_rate' ("
-           << rate << " Hz)";
-    CheckMemory(bytes, path, "the simulation", advice.str());
-  }
+  ParseTraceChannels(root, path, &e);
+  ParseNoise(root, path, &e);
+  CheckTraceMemory(e, rate, path);
   e.seed = static_cast<std::uint64_t>(root.Integer("seed", 0, 0, kMaxExperimentSeed));
   if (const YAML::Node node = root.Optional("initial_state")) {
     YamlMap map(node, path, "initial_state.");
@@ -766,46 +840,7 @@ ExperimentConfig ParseExperiment(const YAML::Node& document, const std::string& 
     map.Finish();
   }
   e.initial_state = ConsistentInitialState(e.model, e.initial_state);
-
-  const bool has_input = root.Has("input");
-  const bool has_reference = root.Has("reference");
-  if (has_input == has_reference) {
-    ThrowConfigError(path, root.node(), has_input ? "reference" : "input",
-                     "exactly one of 'input' (open loop) or 'reference' "
-                     "(closed loop through the controller)",
-                     has_input ? "both" : "neither");
-  }
-  if (has_input) {
-    for (const char* key : {"controller", "injection"}) {
-      if (root.Has(key)) {
-        ThrowConfigError(path, root.node()[key], key,
-                         std::string(key) + " only with a 'reference' (closed loop)",
-                         "an open-loop experiment with 'input'");
-      }
-    }
-    YamlMap map(root.Required("input"), path, "input.");
-    e.drive.input = ParseInputSignal(map, dir, e.options.duration);
-  } else {
-    e.drive.closed_loop = true;
-    ControllerConfig base = e.model.controller;
-    if (const YAML::Node node = root.Optional("controller")) {
-      YamlMap map(node, path, "controller.");
-      base = ParseController(map, base);
-    } else if (!e.model.has_controller) {
-      ThrowConfigError(path, root.node(), "controller",
-                       "a controller section here or in the model config " +
-                           e.model.path,
-                       "none");
-    }
-    e.drive.controller = base;
-    YamlMap map(root.Required("reference"), path, "reference.");
-    e.drive.reference = ParseReference(map, dir, e.initial_state[0]);
-    if (const YAML::Node node = root.Optional("injection")) {
-      YamlMap inj(node, path, "injection.");
-      e.drive.injection = ParseInputSignal(inj, dir, e.options.duration);
-      e.drive.has_injection = true;
-    }
-  }
+  ParseExperimentDrive(root, path, dir, &e);
   root.Finish();
   try {
     MakeGrid(e.options, e.drive);
