@@ -25,8 +25,10 @@
 #include <ceres/ceres.h>
 #include <nlohmann/json.hpp>
 
+#include "discovery/channel_changes.h"
 #include "discovery/diagnostics.h"
-#include "discovery/discovery.h"
+#include "discovery/discovery_report.h"
+#include "discovery/score_test.h"
 #include "estimation/fit_result.h"
 #include "job/discovery_settings.h"
 #include "job/fit_job.h"

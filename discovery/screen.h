@@ -1,10 +1,10 @@
 // Competing refits under a level (issue 11): the rule that stops a refit
 // once it can no longer end below the lowest BIC a competing refit has
 // reached, the screen that runs every refit over the first horizons of its
-// continuation only (the discovery loop's candidates, discovery/discovery.cc),
-// and the level one fit publishes for others running beside it (the force
-// map's forms, discovery/force_map.cc). Both are several refits of which only
-// the lowest BIC matters.
+// continuation only (the discovery loop's candidates,
+// discovery/discovery_loop.cc), and the level one fit publishes for others
+// running beside it (the force map's forms, discovery/force_map_step.cc).
+// Both are several refits of which only the lowest BIC matters.
 #ifndef DISCOVERY_SCREEN_H_
 #define DISCOVERY_SCREEN_H_
 

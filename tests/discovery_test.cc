@@ -17,6 +17,7 @@
 #include "common/statistics.h"
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
+#include "discovery/removal.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
 #include "job/discovery_settings.h"

@@ -1,0 +1,111 @@
+#include "discovery/removal.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/progress.h"
+#include "discovery/channel_changes.h"
+#include "discovery/screen.h"
+#include "discovery/significance.h"
+#include "estimation/at_estimate.h"
+#include "estimation/fit.h"
+#include "estimation/fit_control.h"
+
+namespace axis {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Wall time since `start`, s.
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
+                                                 const std::vector<std::string>& params,
+                                                 FitJob* job, const FitResult& result,
+                                                 FitJob* without) {
+  ApplyEstimates(result, job);
+  *without = *job;
+  RemoveEffect(c, params, without);
+  // Without a large effect the optimum can be far from this start: the
+  // removal keeps the horizon continuation (there is no bound on its cost
+  // to check a warm refit against, as there is for an added effect).
+  const double first_horizon = without->solver.first_horizon;
+  AsWarmRefit(without);
+  without->solver.first_horizon = first_horizon;
+  // Removed only if BIC falls: a refit that can no longer fall below the
+  // BIC with the effect stops early (FitControl::abandon_above_bic).
+  FitControl control;
+  control.abandon_above_bic = kStopFactor * result.bic;
+  const Clock::time_point start = Clock::now();
+  FitResult refit = FitParameters(*without, nullptr, control);
+  DiscoveryStep record;
+  record.seconds = SecondsSince(start);
+  record.effect = c.name;
+  record.removal = true;
+  record.bic_before = result.bic;
+  record.bic_after = refit.bic;
+  record.stopped = StoppedText(refit, result.bic, "the BIC with the effect");
+  record.kept = refit.bic < result.bic && record.stopped.empty();
+  record.channels = ChannelChanges(result, refit);
+  return {record, refit};
+}
+
+void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, FitJob* job,
+                FitResult* result, DiscoveryReport* report) {
+  report->removed.push_back(name);
+  report->selected.erase(std::find(report->selected.begin(), report->selected.end(), name));
+  *job = std::move(without);
+  *result = std::move(refit);
+}
+
+void DropInsignificant(double level, FitJob* job, FitResult* result,
+                       DiscoveryReport* report, std::ostream* progress) {
+  if (!(level > 0.0)) {
+    throw std::invalid_argument("DropInsignificant: expected a level > 0, got " +
+                                std::to_string(level));
+  }
+  report->level = level;
+  // The last added first (Stribeck before the Coulomb it refines).
+  const std::vector<std::string> effects = report->selected;
+  for (size_t k = effects.size(); k-- > 0;) {
+    const Candidate candidate = CandidateNamed(effects[k]);
+    if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
+    ApplyEstimates(*result, job);
+    const EffectSignificance w = EffectWald(candidate.name, *result);
+    if (w.p_value < level) continue;
+    if (ProgressStream* status = AsProgressStream(progress)) {
+      status->Status("discovery significance: refit without " + candidate.name +
+                         " (not significant)",
+                     std::numeric_limits<double>::quiet_NaN());
+    }
+    FitJob without;
+    auto [record, refit] =
+        RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);
+    std::ostringstream why;
+    why << "Wald chi2 " << w.chi2 << " (dof " << w.dof << "), p " << w.p_value
+        << " not below " << level << ": not distinguishable from off";
+    record.insignificant = why.str();
+    record.kept = true;  // removed whatever BIC says
+    report->steps.push_back(record);
+    if (progress) {
+      *progress << "  refit without " << candidate.name << ": " << record.insignificant
+                << "; BIC " << record.bic_before << " -> " << record.bic_after
+                << " (removed)\n";
+    }
+    DropEffect(candidate.name, std::move(without), std::move(refit), job, result, report);
+  }
+  ApplyEstimates(*result, job);
+  report->significance.clear();
+  for (const std::string& name : report->selected) {
+    report->significance.push_back(EffectWald(name, *result));
+  }
+}
+
+}  // namespace axis

@@ -1,0 +1,53 @@
+// Taking an effect back out of a model the discovery loop built: the refit
+// without it (warm-started at the optimum with the effect off), the report's
+// bookkeeping when it goes, and the rule that drops every effect that is
+// not significantly different from off (issue 10).
+#ifndef DISCOVERY_REMOVAL_H_
+#define DISCOVERY_REMOVAL_H_
+
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "discovery/candidates.h"
+#include "discovery/discovery_report.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+
+namespace axis {
+
+// Refits `job` without `c` (its parameters `params` fixed), warm-started at
+// the optimum `result` with the effect switched off (ApplyEstimates writes
+// `result` into `job` first); `without` receives the job. The removal step
+// records BIC with and without (bic_before, bic_after) and the refit's
+// wall time; kept = BIC improved. A refit that can no longer fall below
+// the BIC with the effect stops early (DiscoveryStep::stopped, not kept).
+// Throws as FitParameters does.
+std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
+                                                 const std::vector<std::string>& params,
+                                                 FitJob* job, const FitResult& result,
+                                                 FitJob* without);
+
+// Drops `name` (which must be in report->selected) from the selected
+// effects (to report->removed) and adopts the model without it (`without`,
+// fitted as `refit`) as `job` and `result`.
+void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, FitJob* job,
+                FitResult* result, DiscoveryReport* report);
+
+// The stand-in rule of Discover (issue 10), on its own: each effect of
+// report->selected (Candidate names, the last first; Coulomb skipped while
+// Stribeck is in) whose EffectWald p-value at the fit `result` is not below
+// `level` is refitted away (warm-started at the optimum with the effect
+// off, its parameters fixed) and dropped whatever BIC says: a removal step
+// with `insignificant` set is appended, the name moves to report->removed,
+// and `job`/`result` become the model without it. Sets report->level and
+// report->significance (the effects left); a level above 1 keeps every
+// effect. Throws std::invalid_argument for a level ≤ 0 or an unknown effect
+// name.
+void DropInsignificant(double level, FitJob* job, FitResult* result,
+                       DiscoveryReport* report, std::ostream* progress);
+
+}  // namespace axis
+
+#endif  // DISCOVERY_REMOVAL_H_
