@@ -409,7 +409,7 @@ void ExperimentDesigner::FindPair() {
   candidates_ = ListCandidates(job_, job_.discover.candidates);
   ranking_ = RankCandidates(job_, candidates_, job_.discover.alpha);
   level_ = job_.discover.alpha / std::max<size_t>(1, candidates_.size());
-  // The pair the loop stops on (discovery/discovery.cc Discover): the most
+  // The pair the loop stops on (discovery/discovery_loop.cc DiscoveryLoop): the most
   // significant candidate with an indistinguishable twin of at most its
   // size, and that twin.
   for (const Score& s : ranking_.scores) {

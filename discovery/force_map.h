@@ -99,7 +99,7 @@ struct ForceMapReport {
   double s2 = 0.0;      // data Σr²/(m − edf)
   // BIC of the library model (Σr² + n·ln(m)) and of the model with the map
   // (Σr² + edf·ln(m)), both from the residuals at the experiments' declared
-  // initial states (StackedJacobian, discovery/discovery.h).
+  // initial states (StackedJacobian, estimation/stacked_jacobian.h).
   double bic_before = 0.0, bic_after = 0.0;
   std::vector<ChannelChange> channels;
   // The verdict with the map in the model (JudgeResiduals of its

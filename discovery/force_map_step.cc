@@ -51,7 +51,7 @@ constexpr double kAnchorFactor = 1e3;
 
 // How far above the BIC with an effect (`bic`) the backward pass's refit
 // without it may end and still remove it: the solver's accuracy
-// (CostResolution, estimation/fit.h, in χ² = 2·cost units). The effect goes into
+// (CostResolution, estimation/optimum_check.h, in χ² = 2·cost units). The effect goes into
 // the map whole where the map can carry it (TransferToMap: a load offset is
 // a constant of f(v)), and the two models are then one function whose
 // BICs differ by round-off and the solver's stop: on the velocity bump case

@@ -18,7 +18,7 @@ namespace axis {
 struct FitControl {
   // A refit that can no longer reach a BIC below this is stopped on a
   // shorter horizon (FitResult::abandoned_horizon); +inf never stops. Set
-  // by the discovery loop (discovery/discovery.cc).
+  // by the discovery loop (discovery/discovery_loop.cc).
   double abandon_above_bic = std::numeric_limits<double>::infinity();
   // If > 0, every start stops after the shorter horizon of this length (s)
   // as if it had passed abandon_above_bic there, the result carrying that

@@ -114,7 +114,7 @@ struct FitResult {
   // (y0 m, y1 m/s) of each of the job's `experiments` (its order) at the
   // estimate: fitted for an experiment with `initial_state: estimate`, the
   // declared state otherwise (MODEL.md §1). Empty for a fit that ended
-  // without an estimate. ApplyEstimates (discovery/discovery.h) writes the fitted
+  // without an estimate. ApplyEstimates (estimation/at_estimate.h) writes the fitted
   // ones back into a job.
   std::vector<std::array<double, 2>> initial_states;
   // A fit stopped by control.abandon_above_bic (estimation/fit.h FitParameters):

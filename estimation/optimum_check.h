@@ -34,7 +34,7 @@ constexpr double kStageParameterTolerance = 1e-4;
 // own stop); a χ² difference of 2e-6 means nothing statistically, and on
 // noise-free records (cost ~1e-8 at the optimum) smaller differences are
 // round-off that would otherwise restart the solver again and again
-// (CostResolution, estimation/fit.h).
+// (CostResolution, below).
 constexpr double kLowerRelative = 1e-9;
 constexpr double kLowerAbsolute = 1e-6;
 

@@ -15,7 +15,7 @@ struct DiscoverySettings {
   int tries = 3;               // refits per step: significant candidates in
                                // rank order until one improves BIC
   // Refits per step when the model is far from the data (s² above
-  // kMisspecifiedS2, discovery/discovery.h): the top `misspecified_tries`
+  // kMisspecifiedS2, discovery/discovery_loop.cc): the top `misspecified_tries`
   // significant candidates, all refitted (concurrently), the lowest BIC
   // wins. The default exceeds the number of candidates: all significant
   // ones. On power_payload (20 seeds) with the top 3 only the payload was
