@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <yaml-cpp/eventhandler.h>
+
 #include "sim/utf8_text.h"
 
 namespace axis {
@@ -80,6 +82,36 @@ void CheckOwnKeys(const YAML::Node& node, const std::string& file, const std::st
 // the line of the second document's start marker ("---" at the start of a
 // line after some content), or with no line if there is none (a bare
 // document after "...").
+// An event handler that builds nothing: HasSecondDocument only asks whether
+// the parser finds a document.
+class IgnoreEvents : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+// Whether the text holds a second YAML document. The parser is asked for two
+// documents at most: yaml-cpp 0.7's LoadAll never ends on a stray flow
+// indicator at the top level (the text "," yields an empty document forever
+// without consuming the ','; found by fuzz/model_config_fuzz.cc).
+// Throws YAML::Exception on a syntax error.
+bool HasSecondDocument(const std::string& text) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  IgnoreEvents ignore;
+  return parser.HandleNextDocument(ignore) && parser.HandleNextDocument(ignore);
+}
+
 [[noreturn]] void ThrowSecondDocument(const std::string& text, const std::string& name) {
   size_t line = 0;
   bool content = false;  // the first document has begun
@@ -97,7 +129,14 @@ void CheckOwnKeys(const YAML::Node& node, const std::string& file, const std::st
     }
     begin = end + 1;
   }
-  throw std::invalid_argument(name + (line > 0 ? ":" + std::to_string(line) : std::string()) +
+  if (line == 0) {
+    // No '---' after content: the parser split the text itself, as it does
+    // at a ',', ']' or '}' outside a flow collection.
+    throw std::invalid_argument(name + ": invalid YAML: expected one document, but the parser "
+                                "ends the first one early (a ',', ']' or '}' outside [ ] or "
+                                "{ }?)");
+  }
+  throw std::invalid_argument(name + ":" + std::to_string(line) +
                               ": expected one YAML document, got a second one (a '---' line; "
                               "only one document per file is read)");
 }
@@ -139,15 +178,16 @@ YAML::Node LoadYamlFile(const std::string& file) {
 
 YAML::Node ParseYamlText(const std::string& text, const std::string& name) {
   CheckUtf8Text(text, name);  // before the parser quotes any of it
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
+  bool second = false;
   try {
-    documents = YAML::LoadAll(text);
+    root = YAML::Load(text);
+    second = HasSecondDocument(text);
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(name + ":" + std::to_string(e.mark.line + 1) +
                                 ": invalid YAML: " + e.msg);
   }
-  if (documents.size() > 1) ThrowSecondDocument(text, name);
-  YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
+  if (second) ThrowSecondDocument(text, name);
   CheckUniqueKeys(root, name, "");
   return root;
 }

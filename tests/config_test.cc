@@ -14,6 +14,7 @@
 
 #include "sim/config.h"
 #include "sim/preflight.h"
+#include "sim/yaml_util.h"
 #include "tests/test_files.h"
 
 namespace axis {
@@ -154,6 +155,19 @@ TEST(ConfigTest, SecondDocumentMergeKeyAndNonUtf8AreRefused) {
   EXPECT_NE(msg.find(path + ":5: expected UTF-8 text, got byte 0xE9 at byte offset"),
             std::string::npos)
       << msg;
+}
+
+// Found by fuzz/model_config_fuzz.cc (a CI run): yaml-cpp 0.7's LoadAll
+// never returns on a stray ',' at the top level (an empty document forever,
+// the ',' never consumed). ParseYamlText asks for two documents at most and
+// refuses the text as invalid YAML, without naming a '---' that is not there.
+TEST(ConfigTest, StrayFlowIndicatorIsRefusedWithoutHanging) {
+  for (const char* text : {",", ",,name: x", "name: x\n,\n"}) {
+    const std::string msg = ErrorOf([&] { ParseYamlText(text, "stray.yaml"); });
+    EXPECT_EQ(msg.rfind("stray.yaml", 0), 0u) << msg;
+    EXPECT_NE(msg.find("invalid YAML"), std::string::npos) << text << ": " << msg;
+  }
+  EXPECT_NO_THROW(ParseYamlText("name: x\n...\n", "end.yaml"));
 }
 
 // The memory check: nothing below half the physical memory, a clear
@@ -372,6 +386,8 @@ TEST(ConfigTest, InfiniteNumbersAreRefusedNamingTheKey) {
        "a finite number >= 0, got '.inf'"},
       {"", "noise: {v: .inf}\n", "noise.v", "a finite number >= 0, got '.inf'"},
       {"", "effects: {sensor_delay: {v: .inf}}\n", "effects.sensor_delay.v",
+       "a finite number, got '.inf'"},
+      {"", "effects: {sensor_lowpass: {v: .inf}}\n", "effects.sensor_lowpass.v",
        "a finite number >= 0, got '.inf'"},
       {"", "effects: {coulomb: {F_c: -.inf}}\n", "effects.coulomb.F_c",
        "a finite number, got '-.inf'"},
