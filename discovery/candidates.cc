@@ -16,6 +16,7 @@ namespace axis {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kButterworthDamping = 0.70710678118654752;  // 1/√2
 
 // The Stribeck velocities tried (m/s): its shape has no effect at
 // F_st = F_c, so the test spans this small grid of shapes.
@@ -39,6 +40,12 @@ std::vector<CandidateColumn> ColumnsOf(const std::string& effect,
   }
   if (effect == "sensor_delay") return {{"tau_d." + channel, {}}};
   if (effect == "sensor_bias") return {{"b." + channel, {}}};
+  if (effect == "sensor_lowpass") return {{"tau_lp." + channel, {}}};
+  // At τ = 0 the damping has no effect: the column is at the Butterworth
+  // damping the refit starts from.
+  if (effect == "sensor_lowpass2") {
+    return {{"tau_lp2." + channel, {{"zeta_lp2." + channel, kButterworthDamping}}}};
+  }
   return {};
 }
 
@@ -48,8 +55,9 @@ AxisStructure WithEffect(AxisStructure s, const Candidate& c, bool on = true) {
     if (c.effect == e.name) s.effects.*(e.flag) = on;
   }
   const int ch = static_cast<int>(c.channel);
-  if (c.effect == "sensor_delay") s.sensors.delay[ch] = on;
-  if (c.effect == "sensor_bias") s.sensors.bias[ch] = on;
+  for (const SensorEffectInfo& e : SensorEffectTable()) {
+    if (c.effect == e.name) (s.sensors.*(e.flag))[ch] = on;
+  }
   if (c.effect == "force_map") {
     s.force_map = c.force_map;
     s.force_map.enabled = on;
@@ -158,10 +166,26 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, FitJob* job) {
     added.push_back(Linear("F_st", p.F_st));
     added.push_back(Positive("v_st", p.v_st, 1e-4, 1.0));
   } else if (c.effect == "sensor_delay") {
+    // Either sign (a skew between channels), any length: a search interval
+    // of ±0.1 s, widened if the refit ends on it.
+    const std::string name = c.columns[0].param;
+    const double tau = std::clamp(s.step[0], -0.05, 0.05);
+    *FindParam(&p, name) = tau;
+    added.push_back(Linear(name, tau));
+    added.back().lower = -0.1;
+    added.back().upper = 0.1;
+  } else if (c.effect == "sensor_lowpass" || c.effect == "sensor_lowpass2") {
+    // A time constant ≥ 0; the score step of a lag (an advance, step < 0,
+    // is no filter's: the refit starts from 10 µs and finds nothing).
     const std::string name = c.columns[0].param;
     const double tau = std::clamp(s.step[0], 1e-5, 0.05);
     *FindParam(&p, name) = tau;
-    added.push_back(Positive(name, tau, 1e-6, 0.1));
+    added.push_back(Positive(name, tau, 1e-7, 0.1));
+    if (c.effect == "sensor_lowpass2") {
+      const std::string zeta = "zeta_lp2." + std::string(ChannelName(c.channel));
+      *FindParam(&p, zeta) = kButterworthDamping;
+      added.push_back(Positive(zeta, kButterworthDamping, 0.05, 5.0));
+    }
   } else {
     const std::string name = c.columns[0].param;
     const double value = *FindParam(&p, name) + s.step[0];
@@ -227,6 +251,9 @@ Candidate CandidateNamed(const std::string& name) {
 std::vector<std::string> EffectParameters(const Candidate& c) {
   if (c.effect == "cogging") return {"A_cog", "phi_cog"};
   if (c.effect == "stribeck") return {"F_st", "v_st"};
+  if (c.effect == "sensor_lowpass2") {
+    return {c.columns[0].param, "zeta_lp2." + std::string(ChannelName(c.channel))};
+  }
   return {c.columns[0].param};
 }
 
@@ -286,15 +313,11 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
       }
     }
   }
-  for (const char* effect : {"sensor_delay", "sensor_bias"}) {
+  for (const SensorEffectInfo& effect : SensorEffectTable()) {
     for (Channel ch : fitted) {
-      const int c = static_cast<int>(ch);
-      const bool has = std::string(effect) == "sensor_delay"
-                           ? job.model.structure.sensors.delay[c]
-                           : job.model.structure.sensors.bias[c];
-      if (has) continue;
-      const std::string name = std::string(effect) + "." + ChannelName(ch);
-      all.push_back({name, effect, ch, ColumnsOf(effect, ChannelName(ch)), {}});
+      if ((job.model.structure.sensors.*(effect.flag))[static_cast<int>(ch)]) continue;
+      const std::string name = std::string(effect.name) + "." + ChannelName(ch);
+      all.push_back({name, effect.name, ch, ColumnsOf(effect.name, ChannelName(ch)), {}});
     }
   }
   if (only.empty()) return all;
@@ -303,12 +326,12 @@ std::vector<Candidate> ListCandidates(const FitJob& job,
     bool known = false;
     for (const EffectInfo& e : DynamicEffectTable()) known = known || name == e.name;
     for (const Candidate& c : all) known = known || c.name == name || c.effect == name;
-    if (!known && name != "sensor_delay" && name != "sensor_bias") {
-      std::string list;
-      for (const EffectInfo& e : DynamicEffectTable()) list += std::string(e.name) + ", ";
+    // A bare sensor effect ("sensor_lowpass") names every fitted channel's.
+    const bool bare_sensor = name.find('.') == std::string::npos && IsEffectName(name, true);
+    if (!known && !bare_sensor) {
       throw std::invalid_argument(
           "discover candidates: expected an effect of MODEL.md section 7 (" +
-          list + "sensor_delay[.channel], sensor_bias[.channel]), got '" + name + "'");
+          EffectNameList() + "), got '" + name + "'");
     }
     for (const Candidate& c : all) {
       if (c.name == name || c.effect == name) out.push_back(c);

@@ -16,6 +16,7 @@
 #include "discovery/removal.h"
 #include "discovery/screen.h"
 #include "discovery/significance.h"
+#include "sim/config.h"
 #include "estimation/at_estimate.h"
 #include "estimation/fit.h"
 #include "estimation/fit_control.h"
@@ -155,6 +156,7 @@ void DiscoveryLoop::ChooseRule() {
 
 void DiscoveryLoop::RefitCandidates() {
   improved_.clear();
+  queued_.clear();
   tries_ = 0;
   rejected_.clear();
   batch_.clear();
@@ -169,6 +171,22 @@ void DiscoveryLoop::RefitCandidates() {
     // parameters is a richer alternative (Stribeck contains a
     // Coulomb-like shape): parsimony keeps this one. A twin of the same
     // size is a rival explanation: the loop stops and says so.
+    if (queued_.count(score.name) > 0) continue;  // refitted with its family
+    // The front end's terms on one channel — a delay, a first- and a
+    // second-order low-pass — have one score column to first order (a lag
+    // of the channel's slope): the score test cannot tell them apart, their
+    // refits can (they differ at second order). They are refitted together
+    // and the lowest BIC decides, never a stop.
+    const std::vector<std::string> family = FrontEndFamily(score);
+    if (!family.empty()) {
+      for (const std::string& name : family) {
+        for (const Score& member : ranking_.scores) {
+          if (member.name == name && member.p_value < threshold_) QueueRefit(member);
+        }
+      }
+      if (!by_refit_) RunBatch();
+      continue;
+    }
     const std::string twin = TwinOf(score);
     // Beyond the top `tries` (misspecified rule only) a candidate with a
     // twin is passed over: the loop's stop is decided by the top ones.
@@ -184,6 +202,22 @@ void DiscoveryLoop::RefitCandidates() {
     if (!by_refit_) RunBatch();
   }
   RunBatch();
+}
+
+std::vector<std::string> DiscoveryLoop::FrontEndFamily(const Score& score) const {
+  if (!IsFrontEndEffect(score.name)) return {};
+  const std::string channel = score.name.substr(score.name.find('.'));
+  std::vector<std::string> family;
+  for (const auto& [a, b] : ranking_.indistinguishable) {
+    const std::string other = a == score.name ? b : (b == score.name ? a : "");
+    if (other.empty() || !IsFrontEndEffect(other) || other.find('.') == std::string::npos ||
+        other.substr(other.find('.')) != channel) {
+      continue;
+    }
+    if (family.empty()) family.push_back(score.name);
+    if (std::find(family.begin(), family.end(), other) == family.end()) family.push_back(other);
+  }
+  return family;
 }
 
 std::string DiscoveryLoop::TwinOf(const Score& score) const {
@@ -206,6 +240,7 @@ void DiscoveryLoop::QueueRefit(const Score& score) {
   const Candidate& chosen = *std::find_if(
       candidates_.begin(), candidates_.end(),
       [&](const Candidate& c) { return c.name == score.name; });
+  queued_.insert(score.name);
   Pending q{&score, chosen, RefitJobs(chosen, score), {}};
   for (size_t k = job_->free.size(); k < q.starts[0].free.size(); ++k) {
     q.names.push_back(q.starts[0].free[k].name);

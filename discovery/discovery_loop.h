@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <memory>
 #include <ostream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,10 @@ class DiscoveryLoop {
   // The candidate the data cannot tell from `score`'s with no more
   // parameters than it, or "".
   std::string TwinOf(const Score& score) const;
+  // `score` and the front-end candidates on its channel the score test
+  // cannot tell from it (RefitCandidates), or nothing if it is not a
+  // front-end term or has no such twin.
+  std::vector<std::string> FrontEndFamily(const Score& score) const;
   int DofOf(const std::string& name) const;
   void QueueRefit(const Score& score);
   // The jobs of a candidate's refit: the effect added at `score`'s step,
@@ -136,6 +141,7 @@ class DiscoveryLoop {
   int tries_ = 0;
   std::string rejected_;
   std::vector<Pending> batch_;
+  std::set<std::string> queued_;  // the step's candidates queued so far
   Level level_;
 
   // ---- the batch's state

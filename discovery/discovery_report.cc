@@ -1,5 +1,7 @@
 #include "discovery/discovery_report.h"
 
+#include "sim/config.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -7,6 +9,7 @@
 #include <sstream>
 
 #include "common/format.h"
+#include "sim/config.h"
 
 namespace axis {
 
@@ -76,12 +79,25 @@ void FormatStep(size_t k, const DiscoveryStep& s, std::ostream& out) {
   }
 }
 
+std::string JoinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 // The selected and removed effects, the stop, the times, the significance
 // of the effects left and the final model's verdict.
 void FormatOutcome(const DiscoveryReport& report, std::ostream& out) {
   out << "\nSelected: ";
   for (const std::string& s : report.selected) out << s << " ";
   if (report.selected.empty()) out << "none";
+  // The plant's effects and the sensor front end's apart (MODEL.md §6–§7):
+  // a front-end term explains how the record was made, not the axis.
+  const SelectedParts parts = SplitSelected(report.selected);
+  if (!parts.front_end.empty()) {
+    out << "\n  plant: " << (parts.plant.empty() ? "none" : JoinNames(parts.plant))
+        << "\n  front end: " << JoinNames(parts.front_end);
+  }
   if (!report.removed.empty()) {
     out << "\nRemoved by the backward pass: ";
     for (const std::string& r : report.removed) out << r << " ";
@@ -111,6 +127,14 @@ void FormatOutcome(const DiscoveryReport& report, std::ostream& out) {
 
 }  // namespace
 
+SelectedParts SplitSelected(const std::vector<std::string>& selected) {
+  SelectedParts parts;
+  for (const std::string& name : selected) {
+    (IsFrontEndEffect(name) ? parts.front_end : parts.plant).push_back(name);
+  }
+  return parts;
+}
+
 std::string FormatDiscovery(const DiscoveryReport& report) {
   std::ostringstream out;
   FormatRanking(report, out);
@@ -122,6 +146,9 @@ std::string FormatDiscovery(const DiscoveryReport& report) {
 nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
   nlohmann::json out;
   out["selected"] = report.selected;
+  const SelectedParts parts = SplitSelected(report.selected);
+  out["selected_plant"] = parts.plant;
+  out["selected_front_end"] = parts.front_end;
   out["removed"] = report.removed;
   out["base_fit_seconds"] = JsonNumber(report.base_fit_seconds);
   out["score_seconds"] = JsonNumber(report.score_seconds);

@@ -93,11 +93,19 @@ struct DiscoveryReport {
   int score_rankings = 0;
 };
 
+// The selected effects split into the plant's and the sensor front end's
+// (IsFrontEndEffect, sim/config.h), each in the order given. Never throws.
+struct SelectedParts {
+  std::vector<std::string> plant;
+  std::vector<std::string> front_end;
+};
+SelectedParts SplitSelected(const std::vector<std::string>& selected);
 
 // The discovery table for the terminal and params.md.
 std::string FormatDiscovery(const DiscoveryReport& report);
 
-// report.json's "discovery" block: {"selected", "steps": [{"effect",
+// report.json's "discovery" block: {"selected", "selected_plant",
+// "selected_front_end", "steps": [{"effect",
 // "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
 // "bic_before", "bic_after", "kept", "removal", "implausible", "insignificant", "rule", "outranked", "starts", "stopped" (if any), "channels": [...]}],
 // "removed": [names], "level", "significance": [{"effect", "chi2", "dof",

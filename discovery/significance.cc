@@ -72,19 +72,22 @@ std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
       why << "payload Delta_M = " << dm << " kg is below zero: the declared mass M is too "
           << "large (free M instead)";
     }
-  } else if (effect.rfind("sensor_delay.", 0) == 0) {
-    double period = std::numeric_limits<double>::infinity();
-    for (const FitExperiment& e : job.experiments) {
-      period = std::min(period, e.options.output_period);
-    }
-    const std::string name = "tau_d." + effect.substr(std::string("sensor_delay.").size());
-    const double tau = value(name);
-    if (tau < period) {
-      why << name << " = " << tau << " s is shorter than the sample period " << period
-          << " s: a sub-sample timing error (e.g. of an input read by linear interpolation "
-          << "between samples), not a sensor delay";
+  } else if (effect == "coulomb" || effect == "motor_coulomb" || effect == "stribeck") {
+    // Friction opposes the motion: a negative Coulomb (or static) level
+    // pushes the axis along, which no friction does — a stand-in for
+    // something else (a misfit of the sensor front end, a drive offset).
+    const char* name = effect == "coulomb" ? "F_c" : effect == "stribeck" ? "F_st" : "T_c";
+    const char* unit = effect == "motor_coulomb" ? " N*m" : " N";
+    const double level = value(name);
+    if (level < 0.0) {
+      why << effect << " " << name << " = " << level << unit
+          << " is below zero: friction opposes the motion, a negative level does not";
     }
   }
+  // A front-end term is physical at any fitted value within its bounds: a
+  // delay or a filter's time constant shorter than a sample is what an
+  // anti-alias filter, a sensor's bandwidth or a skew between channels is.
+  (void)job;
   return why.str();
 }
 

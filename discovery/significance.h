@@ -32,11 +32,11 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit);
 
 // Why the value of `effect` (a Candidate::name) fitted in `fit` has no
 // physical meaning, or "" if it has one: a payload below zero (the declared
-// mass is too large: a stand-in for M), a sensor delay shorter than the
-// shortest sample period of the job's fitted experiments (a sub-sample
-// timing error, e.g. of a smooth input read by linear interpolation between
-// samples, that a delay absorbs). Effects without such a rule are physical
-// at any value within their bounds.
+// mass is too large: a stand-in for M); a Coulomb friction level below zero
+// (coulomb F_c, stribeck F_st, motor_coulomb T_c: friction opposes the
+// motion). Effects without such a rule — the sensor front end's among them,
+// at any length, sub-sample included — are physical at any value within
+// their bounds. `job` is not read (kept for rules that need the record).
 std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
                              const FitJob& job);
 

@@ -595,11 +595,15 @@ std::string DiscoveryHtml(const DiscoveryReport& d, Plotter* plotter) {
   }
   out += "<h3>Steps (before → after each refit)</h3>\n";
   for (size_t k = 0; k < d.steps.size(); ++k) out += StepHtml(k, d.steps[k]);
-  std::string selected, removed;
-  for (const std::string& s : d.selected) selected += (selected.empty() ? "" : ", ") + s;
+  const SelectedParts parts = SplitSelected(d.selected);
+  std::string plant, front_end, removed;
+  for (const std::string& s : parts.plant) plant += (plant.empty() ? "" : ", ") + s;
+  for (const std::string& s : parts.front_end) front_end += (front_end.empty() ? "" : ", ") + s;
   for (const std::string& s : d.removed) removed += (removed.empty() ? "" : ", ") + s;
   out += "<h3>Result</h3>\n<ul>\n";
-  out += Tag("li", "selected: " + (selected.empty() ? std::string("none") : selected));
+  out += Tag("li", "selected, plant: " + (plant.empty() ? std::string("none") : plant));
+  out += Tag("li", "selected, sensor front end: " +
+                       (front_end.empty() ? std::string("none") : front_end));
   if (!removed.empty()) out += Tag("li", "removed again: " + removed);
   out += Tag("li", "stopped: " + d.stop_reason);
   double refits = 0.0;

@@ -22,6 +22,7 @@
 #include "common/json_fields.h"
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
+#include "discovery/discovery_report.h"
 #include "estimation/fit_result.h"
 #include "job/campaign_settings.h"
 #include "job/discovery_settings.h"
@@ -257,7 +258,7 @@ Rate RateOf(int k, int n) {
 CampaignSummary Summarize(const CampaignConfig& config,
                           const std::vector<SeedOutcome>& outcomes) {
   CampaignSummary s;
-  int false_discoveries = 0, right_first = 0, exact = 0, as_expected = 0, ok = 0;
+  int false_discoveries = 0, front_end = 0, right_first = 0, exact = 0, as_expected = 0, ok = 0;
   std::vector<int> covered(config.truth_values.size(), 0);
   for (const SeedOutcome& o : outcomes) {
     ++s.seeds;
@@ -266,7 +267,9 @@ CampaignSummary Summarize(const CampaignConfig& config,
       continue;
     }
     ++ok;
-    false_discoveries += !o.selected.empty();
+    const SelectedParts parts = SplitSelected(o.selected);
+    false_discoveries += !parts.plant.empty();
+    front_end += !parts.front_end.empty();
     right_first += std::find(config.truth_effects.begin(), config.truth_effects.end(),
                              o.first_added) != config.truth_effects.end();
     exact += o.selected == config.truth_effects;
@@ -286,6 +289,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
       s.right_first = RateOf(right_first, ok);
     } else if (config.truth_outside.empty()) {
       s.false_discovery = RateOf(false_discoveries, ok);
+      s.front_end_selected = RateOf(front_end, ok);
     }
     if (config.truth_outside.empty()) s.exact_set = RateOf(exact, ok);
   }
@@ -314,7 +318,9 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
       << (config.discover ? "" : ", no discovery") << ".\n\n"
       << "| measure | rate (95 % Clopper–Pearson interval, %) |\n|---|---|\n";
   if (s.false_discovery.n) {
-    out << "| false discovery (an effect selected) | " << FormatRate(s.false_discovery) << " |\n";
+    out << "| false discovery (a plant effect selected) | " << FormatRate(s.false_discovery)
+        << " |\n";
+    out << "| a sensor front-end term selected | " << FormatRate(s.front_end_selected) << " |\n";
   }
   if (s.right_first.n) {
     out << "| right effect first | " << FormatRate(s.right_first) << " |\n";
@@ -394,6 +400,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
   j["truth_effects"] = config.truth_effects;
   j["truth_outside_library"] = config.truth_outside;
   if (s.false_discovery.n) j["false_discovery"] = RateJson(s.false_discovery);
+  if (s.front_end_selected.n) j["front_end_selected"] = RateJson(s.front_end_selected);
   if (s.right_first.n) j["right_first"] = RateJson(s.right_first);
   if (s.exact_set.n) j["exact_set"] = RateJson(s.exact_set);
   j["coverage"] = nlohmann::json::object();

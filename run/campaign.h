@@ -108,7 +108,10 @@ Rate RateOf(int k, int n);
 struct CampaignSummary {
   int seeds = 0;
   int failed = 0;
-  Rate false_discovery;  // selected not empty; only if truth_effects is empty
+  // A plant effect selected (sensor front-end terms apart: they say how the
+  // record was made, MODEL.md §6); only if truth_effects is empty.
+  Rate false_discovery;
+  Rate front_end_selected;  // a front-end term selected; likewise
   Rate right_first;      // first added in truth_effects; only if not empty
   Rate exact_set;        // selected == truth_effects
   std::vector<Rate> covered;  // per truth value: inside the 95 % interval

@@ -44,6 +44,7 @@ class JobPipeline {
     CollectInputNotes();
     if (discover_) run_.job.discover.enabled = true;
     FitDeclaredModel();
+    CheckTheAccelerometerSampling();
     if (run_.discovered) DiscoverEffects();
     CheckTheCurrentLoop();
     // The fit's s² settled (the force map's, the full loop's): the warning.
@@ -94,6 +95,20 @@ class JobPipeline {
     base_fit_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     run_.discovered = run_.job.discover.enabled;
+  }
+
+  // The declared model's fit under the other accelerometer convention
+  // (estimation/sampling_check.h): said at once, before discovery would
+  // explain a sampling misfit by plant effects.
+  void CheckTheAccelerometerSampling() {
+    if (result_.abandoned_horizon != 0.0) return;
+    Stage("checking the accelerometer's sampling convention");
+    try {
+      run_.sampling_check = CheckAccelerometerSampling(run_.job, result_);
+    } catch (const std::runtime_error&) {
+      run_.sampling_check = SamplingCheck{};  // the estimate does not simulate: no check
+    }
+    if (!run_.sampling_check.note.empty()) out_ << "note: " << run_.sampling_check.note << "\n";
   }
 
   // The residual diagnostics of the model as declared, before adding
@@ -246,6 +261,7 @@ class JobPipeline {
     out_ << "integration: " << result.integration << "\n";
     if (!result.model_note.empty()) out_ << "note: " << result.model_note << "\n";
     if (!result.auto_starts_note.empty()) out_ << "starts: " << result.auto_starts_note << "\n";
+    if (!run_.sampling_check.note.empty()) out_ << "note: " << run_.sampling_check.note << "\n";
     if (!result.residual_note.empty()) out_ << "warning: " << result.residual_note << "\n";
     out_ << result.optimum_check << "\n";
     out_ << "uncertainty: " << result.uncertainty_note << "\n";
@@ -260,6 +276,17 @@ class JobPipeline {
       extra.json["input_notes"] = input_notes_;
     }
     if (run_.loop_check.ran) AddCurrentLoopSection();
+    if (run_.sampling_check.ran) {
+      const SamplingCheck& c = run_.sampling_check;
+      extra.json["accelerometer_check"] = {
+          {"declared", c.declared},
+          {"other", c.other},
+          {"chi2_declared", JsonNumber<nlohmann::json>(c.chi2_declared)},
+          {"chi2_other", JsonNumber<nlohmann::json>(c.chi2_other)},
+          {"samples", c.samples},
+          {"note", c.note}};
+      if (!c.note.empty()) extra.markdown += "\n## Accelerometer sampling\n\n" + c.note + "\n";
+    }
     if (run_.job.published.present) AddPublishedSection();
     if (run_.discovered) AddDiscoverySections();
     if (run_.job.design.enabled) {

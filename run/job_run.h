@@ -16,6 +16,7 @@
 #include "discovery/discovery.h"
 #include "discovery/force_map.h"
 #include "estimation/current_loop_check.h"
+#include "estimation/sampling_check.h"
 #include "estimation/fit_result.h"
 #include "job/fit_job.h"
 #include "report/published.h"
@@ -45,6 +46,10 @@ struct JobRun {
   // With current_loop: quasi_steady, what the approximation costs the final
   // estimate (estimation/current_loop_check.h); ran = false otherwise.
   CurrentLoopCheck loop_check;
+  // Channel `a` at the declared model's estimate under the other
+  // accelerometer convention (estimation/sampling_check.h); ran = false
+  // when no fitted experiment fits `a`.
+  SamplingCheck sampling_check;
   bool has_published = false;     // the job has `published:`
   PublishedComparison published;  // if has_published
   // What params.md and report.json add to the fit's own tables: how input

@@ -2,6 +2,16 @@
 
 namespace axis {
 
+const std::vector<SensorEffectInfo>& SensorEffectTable() {
+  static const std::vector<SensorEffectInfo> effects = {
+      {"sensor_delay", {"tau_d"}, &SensorSwitches::delay},
+      {"sensor_bias", {"b"}, &SensorSwitches::bias},
+      {"sensor_lowpass", {"tau_lp"}, &SensorSwitches::lowpass},
+      {"sensor_lowpass2", {"tau_lp2", "zeta_lp2"}, &SensorSwitches::lowpass2},
+  };
+  return effects;
+}
+
 std::vector<ParamInfo> ListParams() {
   std::vector<ParamInfo> out;
   AxisParams<double> p;

@@ -53,11 +53,25 @@ struct EffectSwitches {
   bool velocity_bump = false;  // F_vb·exp(−((|v| − v_vb)/w_vb)²)·sgn_ε(v)
 };
 
-// Per-channel sensor effects of MODEL.md §7, indexed by Channel.
+// Per-channel sensor effects of MODEL.md §7 — the sensor front end of §6 —
+// indexed by Channel (sim/sensor_front_end.h).
 struct SensorSwitches {
-  std::array<bool, kNumChannels> delay{};  // sensor_delay on this channel
-  std::array<bool, kNumChannels> bias{};   // sensor_bias on this channel
+  std::array<bool, kNumChannels> delay{};     // sensor_delay: tau_d.<channel>
+  std::array<bool, kNumChannels> bias{};      // sensor_bias: b.<channel>
+  std::array<bool, kNumChannels> lowpass{};   // sensor_lowpass: tau_lp.<channel>
+  std::array<bool, kNumChannels> lowpass2{};  // sensor_lowpass2: tau_lp2, zeta_lp2
 };
+
+// The sensor effects of MODEL.md §7 as a table: the effect's name, the
+// prefixes of its per-channel parameters ("tau_d" → "tau_d.a") and its
+// switch. The only list of them; the config, the candidates and the
+// reports read it.
+struct SensorEffectInfo {
+  const char* name;
+  std::vector<const char*> params;
+  std::array<bool, kNumChannels> SensorSwitches::*flag;
+};
+const std::vector<SensorEffectInfo>& SensorEffectTable();
 
 // How a recorded sample of the accelerometer channel `a` relates to the arm
 // acceleration y1' (MODEL.md §6). y1' jumps by b_g·(r_g·ω − v)/M at every
@@ -155,9 +169,16 @@ struct AxisParams {
   T F_vb{0.0};    // velocity bump's peak friction (N)
   T v_vb{0.1};    // the speed of its peak (m/s), non-negative
   T w_vb{0.05};   // its width in speed (m/s), positive
-  // Sensor effects, per channel (index Channel): tau_d.<channel>, b.<channel>.
+  // Sensor effects, per channel (index Channel), MODEL.md §6–§7:
+  // tau_d.<channel> (s, either sign: a delay or an advance), b.<channel>,
+  // tau_lp.<channel> (s, ≥ 0: first-order low-pass 1/(τ·s + 1)),
+  // tau_lp2.<channel> (s, ≥ 0) and zeta_lp2.<channel> (> 0): second-order
+  // low-pass 1/(τ²·s² + 2ζ·τ·s + 1), Butterworth (ζ = 1/√2) by default.
   std::array<T, kNumChannels> tau_d{};
   std::array<T, kNumChannels> b{};
+  std::array<T, kNumChannels> tau_lp{};
+  std::array<T, kNumChannels> tau_lp2{};
+  std::array<T, kNumChannels> zeta_lp2 = Filled(0.70710678118654752);
   // MODEL.md §7 force_map: the force at knot k (N), "f_map.<k>"; entries at
   // and past AxisStructure::force_map.knots.size() are unused.
   std::array<T, kMaxForceMapKnots> f_map{};
@@ -165,13 +186,21 @@ struct AxisParams {
   // Element-wise conversion, e.g. AxisParams<double> → AxisParams<Jet>.
   template <typename U>
   AxisParams<U> cast() const;
+
+ private:
+  static std::array<T, kNumChannels> Filled(double value) {
+    std::array<T, kNumChannels> a;
+    a.fill(T(value));
+    return a;
+  }
 };
 
 // Calls visit(name, unit, field...) once for every parameter, passing the
 // same field of each of the structs `params...` (all AxisParams of any
 // scalar). Names are the config names of MODEL.md §2/§7; per-channel sensor
-// parameters are named "tau_d.<channel>" and "b.<channel>" (unit of the
-// channel for b), the force map's values "f_map.<k>" (N). This is the only list of parameter names in the project.
+// parameters are named "tau_d.<channel>", "b.<channel>" (unit of the
+// channel for b), "tau_lp.<channel>", "tau_lp2.<channel>" and
+// "zeta_lp2.<channel>", the force map's values "f_map.<k>" (N). This is the only list of parameter names in the project.
 template <typename Visitor, typename... Params>
 void VisitParams(Visitor&& visit, Params&... params) {
   visit("R", "Ohm", params.R...);
@@ -229,6 +258,9 @@ void VisitParams(Visitor&& visit, Params&... params) {
     const std::string name = ChannelName(ch);
     visit(("tau_d." + name).c_str(), "s", params.tau_d[c]...);
     visit(("b." + name).c_str(), ChannelUnit(ch), params.b[c]...);
+    visit(("tau_lp." + name).c_str(), "s", params.tau_lp[c]...);
+    visit(("tau_lp2." + name).c_str(), "s", params.tau_lp2[c]...);
+    visit(("zeta_lp2." + name).c_str(), "1", params.zeta_lp2[c]...);
   }
   for (int k = 0; k < kMaxForceMapKnots; ++k) {
     visit(("f_map." + std::to_string(k)).c_str(), "N", params.f_map[k]...);

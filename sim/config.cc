@@ -1,5 +1,6 @@
 #include "sim/config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -127,7 +128,10 @@ void ParseForceMap(YamlMap& map, AxisConfig* config) {
   map.Finish();
 }
 
-void ParseSensorEffect(YamlMap& map, bool delay, AxisConfig* config) {
+// `sensor_<kind>: {<channel>: value, ...}` (MODEL.md §7): the effect's
+// parameter on each named channel; sensor_lowpass2 takes τ alone (ζ = 1/√2)
+// or `{tau: τ, zeta: ζ}`.
+void ParseSensorEffect(YamlMap& map, const SensorEffectInfo& effect, AxisConfig* config) {
   for (const auto& entry : map.node()) {
     const std::string channel_name = entry.first.Scalar();
     const auto channel = ParseChannel(channel_name);
@@ -136,14 +140,25 @@ void ParseSensorEffect(YamlMap& map, bool delay, AxisConfig* config) {
                        "a channel name (" + ChannelNameList() + ", not t)",
                        "'" + channel_name + "'");
     }
-    const int c = static_cast<int>(*channel);
-    if (delay) {
-      config->structure.sensors.delay[c] = true;
-      config->params.tau_d[c] = map.Number(channel_name, Range::kNonNegative);
-    } else {
-      config->structure.sensors.bias[c] = true;
-      config->params.b[c] = map.Number(channel_name, Range::kAny);
+    (config->structure.sensors.*(effect.flag))[static_cast<int>(*channel)] = true;
+    const std::string suffix = "." + channel_name;
+    if (effect.params.size() == 1) {
+      const std::string name = effect.params[0] + suffix;
+      *FindParam(&config->params, name) = map.Number(channel_name, ParamRange(name));
+      continue;
     }
+    // sensor_lowpass2: τ, or {tau, zeta}.
+    const std::string tau = effect.params[0] + suffix;
+    const std::string zeta = effect.params[1] + suffix;
+    if (!map.node()[channel_name].IsMap()) {
+      *FindParam(&config->params, tau) = map.Number(channel_name, ParamRange(tau));
+      continue;
+    }
+    YamlMap body(map.Optional(channel_name), map.file(), map.KeyPath(channel_name) + ".");
+    *FindParam(&config->params, tau) = body.Number("tau", ParamRange(tau));
+    *FindParam(&config->params, zeta) =
+        body.Number("zeta", *FindParam(&config->params, zeta), ParamRange(zeta));
+    body.Finish();
   }
   map.Finish();
 }
@@ -161,7 +176,12 @@ Range ParamRange(const std::string& name) {
   if (name == "V_L") return Range::kPositiveOrInfinite;  // .inf: no preamp limit
   if (positive.count(name)) return Range::kPositive;
   if (non_negative.count(name)) return Range::kNonNegative;
-  if (name.rfind("tau_d.", 0) == 0) return Range::kNonNegative;
+  // tau_d: either sign (a skew between channels); the filters' time
+  // constants ≥ 0 (0: off); their damping > 0.
+  if (name.rfind("tau_lp.", 0) == 0 || name.rfind("tau_lp2.", 0) == 0) {
+    return Range::kNonNegative;
+  }
+  if (name.rfind("zeta_lp2.", 0) == 0) return Range::kFinitePositive;
   return Range::kAny;
 }
 
@@ -192,12 +212,21 @@ const std::vector<EffectInfo>& GeneratorOnlyEffectTable() {
 bool IsEffectName(const std::string& name, bool allow_bare_sensor) {
   const size_t dot = name.find('.');
   const std::string effect = name.substr(0, dot);
-  if (effect == "sensor_delay" || effect == "sensor_bias") {
+  for (const SensorEffectInfo& e : SensorEffectTable()) {
+    if (effect != e.name) continue;
     if (dot == std::string::npos) return allow_bare_sensor;
     return ParseChannel(name.substr(dot + 1)).has_value();
   }
   if (dot != std::string::npos) return false;
   for (const EffectInfo& e : DynamicEffectTable()) {
+    if (effect == e.name) return true;
+  }
+  return false;
+}
+
+bool IsFrontEndEffect(const std::string& name) {
+  const std::string effect = name.substr(0, name.find('.'));
+  for (const SensorEffectInfo& e : SensorEffectTable()) {
     if (effect == e.name) return true;
   }
   return false;
@@ -218,8 +247,9 @@ std::vector<std::string> EnabledEffectNames(const AxisStructure& s) {
   }
   for (int c = 0; c < kNumChannels; ++c) {
     const std::string channel = ChannelName(static_cast<Channel>(c));
-    if (s.sensors.delay[static_cast<size_t>(c)]) out.push_back("sensor_delay." + channel);
-    if (s.sensors.bias[static_cast<size_t>(c)]) out.push_back("sensor_bias." + channel);
+    for (const SensorEffectInfo& e : SensorEffectTable()) {
+      if ((s.sensors.*(e.flag))[static_cast<size_t>(c)]) out.push_back(e.name + ("." + channel));
+    }
   }
   if (s.force_map.enabled) out.push_back("force_map." + ForceMapKind(s.force_map));
   return out;
@@ -228,7 +258,10 @@ std::vector<std::string> EnabledEffectNames(const AxisStructure& s) {
 std::string EffectNameList() {
   std::string list;
   for (const EffectInfo& e : DynamicEffectTable()) list += std::string(e.name) + ", ";
-  return list + "sensor_delay[.channel], sensor_bias[.channel]";
+  for (const SensorEffectInfo& e : SensorEffectTable()) {
+    list += e.name + std::string("[.channel]") + (&e == &SensorEffectTable().back() ? "" : ", ");
+  }
+  return list;
 }
 
 void ParseEffects(YamlMap& effects, AxisConfig* config) {
@@ -236,8 +269,12 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
     const std::string name = entry.first.Scalar();
     YamlMap body(effects.Optional(name), effects.file(),
                  effects.KeyPath(name) + ".");
-    if (name == "sensor_delay" || name == "sensor_bias") {
-      ParseSensorEffect(body, name == "sensor_delay", config);
+    const SensorEffectInfo* sensor = nullptr;
+    for (const SensorEffectInfo& e : SensorEffectTable()) {
+      if (name == e.name) sensor = &e;
+    }
+    if (sensor != nullptr) {
+      ParseSensorEffect(body, *sensor, config);
       continue;
     }
     if (name == "force_map") {
@@ -253,7 +290,8 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
     if (spec == nullptr) {
       std::string known;
       for (const EffectInfo& e : DynamicEffectTable()) known += std::string(e.name) + ", ";
-      known += "sensor_delay, sensor_bias, force_map; or, to generate data, " +
+      for (const SensorEffectInfo& e : SensorEffectTable()) known += std::string(e.name) + ", ";
+      known += "force_map; or, to generate data, " +
                GeneratorOnlyEffectNameList();
       ThrowConfigError(effects.file(), entry.first, effects.KeyPath(name),
                        "an effect of MODEL.md section 7 (" + known + ")",
@@ -287,7 +325,9 @@ void EmitEffects(const AxisConfig& config, AxisParams<double>& params, YAML::Emi
   const EffectSwitches& sw = config.structure.effects;
   const SensorSwitches& sensors = config.structure.sensors;
   bool any_sensor = false;
-  for (int c = 0; c < kNumChannels; ++c) any_sensor = any_sensor || sensors.delay[c] || sensors.bias[c];
+  for (const SensorEffectInfo& e : SensorEffectTable()) {
+    for (bool on : sensors.*(e.flag)) any_sensor = any_sensor || on;
+  }
   bool any = any_sensor || config.structure.force_map.enabled;
   std::vector<const EffectInfo*> switched;
   for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
@@ -319,16 +359,21 @@ void EmitEffects(const AxisConfig& config, AxisParams<double>& params, YAML::Emi
         << std::vector<double>(params.f_map.begin(), params.f_map.begin() + f.knots.size())
         << YAML::EndMap;
   }
-  for (const char* kind : {"sensor_delay", "sensor_bias"}) {
-    const bool delay = std::string(kind) == "sensor_delay";
-    bool has = false;
-    for (int c = 0; c < kNumChannels; ++c) has = has || (delay ? sensors.delay[c] : sensors.bias[c]);
-    if (!has) continue;
-    out << YAML::Key << kind << YAML::Value << YAML::BeginMap;
+  for (const SensorEffectInfo& e : SensorEffectTable()) {
+    const std::array<bool, kNumChannels>& on = sensors.*(e.flag);
+    if (std::find(on.begin(), on.end(), true) == on.end()) continue;
+    out << YAML::Key << e.name << YAML::Value << YAML::BeginMap;
     for (int c = 0; c < kNumChannels; ++c) {
-      if (!(delay ? sensors.delay[c] : sensors.bias[c])) continue;
-      out << YAML::Key << ChannelName(static_cast<Channel>(c)) << YAML::Value
-          << (delay ? params.tau_d[c] : params.b[c]);
+      if (!on[c]) continue;
+      const std::string suffix = std::string(".") + ChannelName(static_cast<Channel>(c));
+      out << YAML::Key << ChannelName(static_cast<Channel>(c)) << YAML::Value;
+      if (e.params.size() == 1) {
+        out << *FindParam(&params, e.params[0] + suffix);
+      } else {
+        out << YAML::Flow << YAML::BeginMap << YAML::Key << "tau" << YAML::Value
+            << *FindParam(&params, e.params[0] + suffix) << YAML::Key << "zeta" << YAML::Value
+            << *FindParam(&params, e.params[1] + suffix) << YAML::EndMap;
+      }
     }
     out << YAML::EndMap;
   }
@@ -750,7 +795,9 @@ void CheckTraceMemory(const ExperimentConfig& e, double rate, const std::string&
   const double outputs = std::floor(e.options.duration / e.options.output_period) + 1.0;
   const double steps = e.options.duration / e.options.step;
   double delayed = 0.0;
-  for (bool d : e.model.structure.sensors.delay) delayed += d ? 1.0 : 0.0;
+  for (int c = 0; c < kNumChannels; ++c) {
+    delayed += HasGridFrontEnd(e.model.structure, static_cast<Channel>(c)) ? 1.0 : 0.0;
+  }
   const double bytes =
       8.0 * (outputs * (e.options.channels.size() + 1.0) * 2.0 + steps * delayed);
   std::ostringstream advice;

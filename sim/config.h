@@ -77,19 +77,25 @@ std::string GeneratorOnlyEffectNameList();
 std::vector<std::string> EnabledEffectNames(const AxisStructure& s);
 
 // Whether `name` names one effect the way the discovery loop does: a
-// DynamicEffectTable name ("coulomb"), or sensor_delay / sensor_bias with a
+// DynamicEffectTable name ("coulomb"), or a SensorEffectTable name with a
 // MODEL.md §6 channel ("sensor_delay.a"); with `allow_bare_sensor` also
-// "sensor_delay" / "sensor_bias" alone (every channel).
+// the sensor effect's name alone ("sensor_delay": every channel).
 bool IsEffectName(const std::string& name, bool allow_bare_sensor = false);
 
+// Whether an effect name (IsEffectName, or "force_map.x" style) belongs to
+// the sensor front end (MODEL.md §6: sensor_delay, sensor_bias,
+// sensor_lowpass, sensor_lowpass2, with or without a channel) rather than to
+// the plant. The discovery report lists the two apart. Never throws.
+bool IsFrontEndEffect(const std::string& name);
+
 // The list of effect names for messages: "coulomb, stribeck, …,
-// sensor_delay[.channel], sensor_bias[.channel]".
+// sensor_delay[.channel], sensor_bias[.channel], …".
 std::string EffectNameList();
 
 // Parses the `effects:` mapping of a model config or experiment into
 // `config` (switches on the named effects and sets their parameters).
-// Effect names are those of MODEL.md §7; sensor_delay and sensor_bias take a
-// mapping of channel name to value; force_map a mapping {variable, friction,
+// Effect names are those of MODEL.md §7; the sensor effects take a mapping
+// of channel name to value (sensor_lowpass2: τ, or {tau, zeta}); force_map a mapping {variable, friction,
 // knots, values} (sim/force_map.h).
 void ParseEffects(YamlMap& effects, AxisConfig* config);
 

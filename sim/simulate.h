@@ -19,6 +19,7 @@
 #include "sim/input_signal.h"
 #include "sim/rk4.h"
 #include "sim/scalar.h"
+#include "sim/sensor_front_end.h"
 #include "sim/switched_rk4.h"
 
 namespace axis {
@@ -101,6 +102,17 @@ struct Trace {
     return values[static_cast<int>(c)];
   }
 };
+
+// Whether channel c's recorded samples are read off its values at every RK4
+// step (sim/sensor_front_end.h): a delay or a low-pass on it, or the
+// instant accelerometer (the mean of y1' over ±h, from v). A bias alone,
+// and the period-mean accelerometer alone, work on the output samples.
+inline bool HasGridFrontEnd(const AxisStructure& structure, Channel c) {
+  const int k = static_cast<int>(c);
+  const SensorSwitches& s = structure.sensors;
+  return s.delay[k] || s.lowpass[k] || s.lowpass2[k] ||
+         (c == Channel::kA && structure.accelerometer == AccelerometerSampling::kInstant);
+}
 
 // True if Simulate holds `input` over each RK4 step at its value at the
 // step's start (open loop): zero, a step, or a table read with hold.
@@ -272,25 +284,29 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
   const double h = grid.step;
   Trace<T> trace;
   trace.t.reserve(grid.num_outputs);
+  constexpr int kA = static_cast<int>(Channel::kA);
+  const bool a_mean =
+      structure.accelerometer == AccelerometerSampling::kPeriodMean;
+  // A channel with a front end other than a bias is recorded at every RK4
+  // step (sim/sensor_front_end.h; for `a` its source, v): a delay, a
+  // low-pass, or the instant accelerometer, read between output samples.
   std::array<bool, kNumChannels> wanted{};
-  std::array<bool, kNumChannels> delayed{};
-  bool any_delay = false;
+  std::array<bool, kNumChannels> on_grid{};
+  bool any_on_grid = false;      // some channel is recorded at every step
+  bool aux_every_step = false;   // one other than `a` (needs the derivative)
   for (Channel c : options.channels) {
     const int k = static_cast<int>(c);
     wanted[k] = true;
     trace.values[k].reserve(grid.num_outputs);
-    if (structure.sensors.delay[k]) delayed[k] = any_delay = true;
-  }
-  std::array<std::vector<T>, kNumChannels> fine;  // per-step history
-  if (any_delay) {
-    for (int k = 0; k < kNumChannels; ++k) {
-      if (delayed[k]) fine[k].reserve(grid.num_steps + 1);
+    if (HasGridFrontEnd(structure, c)) {
+      on_grid[k] = any_on_grid = true;
+      aux_every_step = aux_every_step || k != kA;
     }
   }
-
-  constexpr int kA = static_cast<int>(Channel::kA);
-  const bool a_mean =
-      structure.accelerometer == AccelerometerSampling::kPeriodMean;
+  std::array<std::vector<T>, kNumChannels> fine;  // per-step history
+  for (int k = 0; k < kNumChannels; ++k) {
+    if (on_grid[k]) fine[k].reserve(grid.num_steps + 1);
+  }
   T a_initial(0.0);  // y1'(0)
 
   AxisState<T> y = y_init;
@@ -380,7 +396,7 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
       if (drive.has_injection) u_held += T(drive.injection.Evaluate(t));
     }
     const bool record = n % grid.steps_per_output == 0;
-    if (record || any_delay) {
+    if (record || aux_every_step) {
       if (record && !internal::StateIsFinite(y)) {
         trace.finite = false;
         break;
@@ -390,19 +406,21 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
       const T u = input_at(t);
       AxisDerivative(structure, params, coeffs, y, u, &dy, &aux);
       for (int c = 0; c < kNumChannels; ++c) {
-        if (!wanted[c] || !(record || delayed[c])) continue;
-        // A period-mean accelerometer records v here and differences it
-        // below.
+        if (!wanted[c] || !(record || on_grid[c])) continue;
+        // The accelerometer records v here (its source: AccelerationOnGrid
+        // below).
         const T value =
-            c == kA && a_mean
+            c == kA && (a_mean || on_grid[c])
                 ? y[1]
                 : internal::ChannelValue(static_cast<Channel>(c), structure,
                                          params, y, aux, u, ref, t);
         if (c == kA && n == 0) a_initial = aux.a;
-        if (delayed[c]) fine[c].push_back(value);
+        if (on_grid[c]) fine[c].push_back(value);
         if (record) trace.values[c].push_back(value);
       }
       if (record) trace.t.push_back(t);
+    } else if (any_on_grid) {
+      fine[kA].push_back(y[1]);  // `a` alone on the grid: v, no derivative
     }
     if (n == grid.num_steps) break;
     if (switched) {
@@ -426,40 +444,32 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
     return trace;
   }
 
-  // Sampling of `a` (AccelerometerSampling) and the sensor effects of
-  // MODEL.md §7. V(t) is the recorded quantity at time t: linear between RK4
-  // steps for a delayed channel, the value at t = 0 before the start (for v,
-  // continued back as v(0) + y1'(0)·t so that the mean at t = 0 is y1'(0)).
+  // The sensor front end of MODEL.md §6 (sim/sensor_front_end.h): the
+  // accelerometer's convention, the low-pass filters and the delay on the
+  // grid, then the bias.
   const double period = grid.steps_per_output * h;
   for (int c = 0; c < kNumChannels; ++c) {
     if (!wanted[c]) continue;
     std::vector<T>& out = trace.values[c];
-    const bool differenced = c == kA && a_mean;
-    const std::vector<T>& hist = delayed[c] ? fine[c] : out;
-    const double hist_step = delayed[c] ? h : period;
-    const auto value_at = [&](const T& time) -> T {
-      const T pos = time / T(hist_step);
-      const double pv = ScalarValue(pos);
-      const long last = static_cast<long>(hist.size()) - 1;
-      if (pv <= 0.0 || last < 1) {
-        return differenced ? T(hist[0] + a_initial * time) : hist[0];
+    if (on_grid[c]) {
+      std::vector<T> s =
+          c == kA ? AccelerationOnGrid(fine[c], h, a_mean ? grid.steps_per_output : 0, a_initial)
+                  : std::move(fine[c]);
+      if (structure.sensors.lowpass[c]) {
+        s = LowPassOnGrid(s, h, 1, params.tau_lp[c], T(1.0));
       }
-      long n0 = static_cast<long>(std::floor(pv));
-      if (n0 >= last) n0 = last - 1;
-      const T frac = pos - T(double(n0));
-      return hist[n0] + frac * (hist[n0 + 1] - hist[n0]);
-    };
-    if (delayed[c] || differenced) {
-      std::vector<T> sampled(out.size());
+      if (structure.sensors.lowpass2[c]) {
+        s = LowPassOnGrid(s, h, 2, params.tau_lp2[c], params.zeta_lp2[c]);
+      }
       for (size_t j = 0; j < out.size(); ++j) {
         T time(trace.t[j]);
-        if (delayed[c]) time -= params.tau_d[c];
-        sampled[j] = differenced
-                         ? T((value_at(time) - value_at(time - T(period))) /
-                             period)
-                         : value_at(time);
+        if (structure.sensors.delay[c]) time -= params.tau_d[c];
+        out[j] = ValueOnGrid(s, h, time);
       }
-      out = std::move(sampled);
+    } else if (c == kA && a_mean) {
+      // The period mean from v at the output samples; y1'(0) at t = 0.
+      for (size_t j = out.size(); j-- > 1;) out[j] = (out[j] - out[j - 1]) / T(period);
+      if (!out.empty()) out[0] = a_initial;
     }
     if (structure.sensors.bias[c]) {
       for (T& value : out) value += params.b[c];
