@@ -260,6 +260,10 @@ CampaignSummary Summarize(const CampaignConfig& config,
   CampaignSummary s;
   int false_discoveries = 0, front_end = 0, right_first = 0, exact = 0, as_expected = 0, ok = 0;
   std::vector<int> covered(config.truth_values.size(), 0);
+  bool truth_names_front_end = false;
+  for (const std::string& e : config.truth_effects) {
+    truth_names_front_end = truth_names_front_end || IsFrontEndEffect(e);
+  }
   for (const SeedOutcome& o : outcomes) {
     ++s.seeds;
     if (!o.error.empty()) {
@@ -272,7 +276,10 @@ CampaignSummary Summarize(const CampaignConfig& config,
     front_end += !parts.front_end.empty();
     right_first += std::find(config.truth_effects.begin(), config.truth_effects.end(),
                              o.first_added) != config.truth_effects.end();
-    exact += o.selected == config.truth_effects;
+    // A truth that names no front-end term (records behind an undeclared
+    // front end, MODEL.md §6): the plant's effects must be exact, the front
+    // end is counted apart (front_end_selected).
+    exact += (truth_names_front_end ? o.selected : parts.plant) == config.truth_effects;
     as_expected += o.verdict == config.truth_verdict;
     s.explained += o.verdict == "explained";
     if (!o.force_map.empty()) ++s.force_maps[o.force_map];
@@ -289,6 +296,8 @@ CampaignSummary Summarize(const CampaignConfig& config,
       s.right_first = RateOf(right_first, ok);
     } else if (config.truth_outside.empty()) {
       s.false_discovery = RateOf(false_discoveries, ok);
+    }
+    if (!truth_names_front_end && config.truth_outside.empty()) {
       s.front_end_selected = RateOf(front_end, ok);
     }
     if (config.truth_outside.empty()) s.exact_set = RateOf(exact, ok);
@@ -320,6 +329,8 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
   if (s.false_discovery.n) {
     out << "| false discovery (a plant effect selected) | " << FormatRate(s.false_discovery)
         << " |\n";
+  }
+  if (s.front_end_selected.n) {
     out << "| a sensor front-end term selected | " << FormatRate(s.front_end_selected) << " |\n";
   }
   if (s.right_first.n) {

@@ -111,7 +111,9 @@ struct CampaignSummary {
   // A plant effect selected (sensor front-end terms apart: they say how the
   // record was made, MODEL.md §6); only if truth_effects is empty.
   Rate false_discovery;
-  Rate front_end_selected;  // a front-end term selected; likewise
+  // A front-end term selected; when the truth names none (records behind
+  // an undeclared front end: found, or explained otherwise).
+  Rate front_end_selected;
   Rate right_first;      // first added in truth_effects; only if not empty
   Rate exact_set;        // selected == truth_effects
   std::vector<Rate> covered;  // per truth value: inside the 95 % interval
