@@ -1,0 +1,24 @@
+#include "estimation/start_agreement.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace axis {
+
+double SameMinimumTolerance(double s2, double resolution) {
+  const double tol = 0.5 * kSameMinimumChi2 * s2;
+  return std::isfinite(tol) ? std::max(tol, resolution) : resolution;
+}
+
+StartVerdict JudgeStarts(double job_cost, const std::vector<double>& start_costs,
+                         double tolerance) {
+  bool same = false;
+  for (double c : start_costs) {
+    if (!std::isfinite(c)) continue;
+    if (c < job_cost - tolerance) return StartVerdict::kLower;
+    if (std::abs(c - job_cost) <= tolerance) same = true;
+  }
+  return same ? StartVerdict::kSame : StartVerdict::kUndecided;
+}
+
+}  // namespace axis
