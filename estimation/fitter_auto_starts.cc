@@ -97,9 +97,11 @@ std::vector<double> Fitter::RunRandomBatch(const std::vector<std::vector<double>
 // s² = 575; 8 random starts reached s² = 1.0); a misfit (an accelerometer
 // sampled at the instant fitted with the period mean, issue 42: s² = 9.6)
 // is not left by any start, and 8 starts there cost minutes for nothing.
-// The first kMisfitProbeStarts tell them apart: if one lands at the job's
-// cost (SameMinimumTolerance) and none lower, the misfit is the model's and
-// the rest do not run.
+// The first kMisfitProbeStarts tell them apart: if every one lands at the
+// job's cost (SameMinimumTolerance; a start that joins the job's path does),
+// the cost has one minimum as far as they see and the misfit is the
+// model's, and the rest do not run; one clearly higher (several minima) or
+// lower and the rest run, as before.
 void Fitter::AutoStarts() {
   const double s2 = 2.0 * best_cost_ / dof_;
   const double job_cost = best_cost_;
@@ -121,8 +123,8 @@ void Fitter::AutoStarts() {
   note << "the job's start ended the continuation at s^2 = " << FormatNumber(s2, 4)
        << " (above " << kAutoStartsAbove << ")";
   if (verdict == StartVerdict::kSame) {
-    note << "; " << first << " random starts ended at the same s^2 (within chi^2 "
-         << kSameMinimumChi2 << "·s^2) and none lower: the misfit is the model's, not a "
+    note << "; " << first << " random starts all ended at the same s^2 (within chi^2 "
+         << kSameMinimumChi2 << "·s^2): the misfit is the model's, not a "
          << "wrong minimum, so the other " << random.size() - first
          << " (solver.auto_starts) did not run; check the sensor front end (the "
             "accelerometer's sampling, instant or period_mean; filters; delays) or run "
@@ -133,7 +135,7 @@ void Fitter::AutoStarts() {
   note << ", so " << total << " random starts were added (solver.auto_starts): " << first
        << " first, "
        << (verdict == StartVerdict::kLower ? "one of which ended clearly lower"
-                                           : "none of which ended at the same s^2")
+                                           : "which found more than one minimum")
        << ", then the other " << random.size() - first;
   if (first < random.size()) {
     RunRandomBatch(std::vector<std::vector<double>>(random.begin() + first, random.end()),

@@ -12,13 +12,18 @@ double SameMinimumTolerance(double s2, double resolution) {
 
 StartVerdict JudgeStarts(double job_cost, const std::vector<double>& start_costs,
                          double tolerance) {
-  bool same = false;
+  int same = 0;
+  bool higher = false;
   for (double c : start_costs) {
     if (!std::isfinite(c)) continue;
     if (c < job_cost - tolerance) return StartVerdict::kLower;
-    if (std::abs(c - job_cost) <= tolerance) same = true;
+    if (c > job_cost + tolerance) {
+      higher = true;
+    } else {
+      ++same;
+    }
   }
-  return same ? StartVerdict::kSame : StartVerdict::kUndecided;
+  return same > 0 && !higher ? StartVerdict::kSame : StartVerdict::kUndecided;
 }
 
 }  // namespace axis

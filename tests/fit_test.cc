@@ -241,7 +241,7 @@ TEST(FitTest, AStartFarAboveTheNoiseAddsRandomStarts) {
   RecordProperty("s2_alone", std::to_string(alone.residual_variance));
   RecordProperty("s2_with_starts", std::to_string(r.residual_variance));
   EXPECT_NE(r.auto_starts_note, "");
-  EXPECT_EQ(r.residual_note, "");
+  EXPECT_EQ(r.residual_note, "") << r.auto_starts_note;
   EXPECT_NEAR(r.residual_variance, 1.0, 5.0 * std::sqrt(2.0 / (r.num_residuals - 5)));
   const std::map<std::string, double> truth = {
       {"V_L", 1.8}, {"B_a", 320}, {"b_g", 2600}, {"k_g", 2.8e6}, {"T_p", 0.07}};
@@ -257,7 +257,7 @@ TEST(FitTest, AStartFarAboveTheNoiseAddsRandomStarts) {
 // noise seeds fixed) fitted with x_axis.yaml, which assumes the period mean,
 // from the paper job's factor-2 start: the job's start ends far above the
 // noise (s² ≈ 15), and the first kMisfitProbeStarts random starts land at
-// its cost (or join its path), so the other six do not run and the note
+// its cost (or join its path), so the other five do not run and the note
 // says the misfit is the model's. The estimate is the job-start-alone fit's
 // or a probe's at most SameMinimumTolerance lower (never higher: 1e-9
 // relative, the solver's round-off).
@@ -284,7 +284,7 @@ TEST(FitTest, AMisfitOfTheModelStopsAfterTheFirstRandomStarts) {
       << "  k_g: {initial: 2.5e6, lower: 5.0e5, upper: 5.0e7}\n"
       << "  T_p: {initial: 0.08, lower: 0.005, upper: 1.0}\n"
       << "experiments:\n" << experiments.str()
-      << "solver: {probe_rounds: 0, progress: false, auto_starts: " << auto_starts << "}\n"
+      << "solver: {probe_rounds: 0, auto_starts: " << auto_starts << "}\n"
       << "uncertainty: {method: gauss_newton}\n";
     const FitJob job =
         ParseFitJob(YAML::Load(y.str()), "misfit.yaml", testing_files::TestTempDir());
@@ -296,7 +296,7 @@ TEST(FitTest, AMisfitOfTheModelStopsAfterTheFirstRandomStarts) {
   EXPECT_GT(alone.residual_variance, kAutoStartsAbove);
   EXPECT_NE(r.auto_starts_note.find("the misfit is the model's"), std::string::npos)
       << r.auto_starts_note;
-  // The job's start and the two probes only.
+  // The job's start and the probes only.
   EXPECT_EQ(r.start_costs.size(), 1u + kMisfitProbeStarts);
   EXPECT_LE(r.final_cost, alone.final_cost * (1.0 + 1e-9));
   EXPECT_GE(r.final_cost,

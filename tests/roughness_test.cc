@@ -29,13 +29,16 @@ TEST(StartAgreementTest, JudgesStartsAgainstTheJobsCost) {
   EXPECT_DOUBLE_EQ(SameMinimumTolerance(kNaN, 1e-3), 1e-3);
   EXPECT_DOUBLE_EQ(SameMinimumTolerance(1e-9, 1e-3), 1e-3);
   const double job = 77000.0;
-  // Within the tolerance either side: the same minimum.
-  EXPECT_EQ(JudgeStarts(job, {job + 18.0, job + 500.0}, tol), StartVerdict::kSame);
-  EXPECT_EQ(JudgeStarts(job, {job - 18.0}, tol), StartVerdict::kSame);
-  // One clearly lower wins over one at the same cost.
-  EXPECT_EQ(JudgeStarts(job, {job, job - 19.0}, tol), StartVerdict::kLower);
-  // Only higher, failed or not continued: no evidence either way.
-  EXPECT_EQ(JudgeStarts(job, {job + 19.0, kInf, kNaN}, tol), StartVerdict::kUndecided);
+  // Every start within the tolerance either side (failed ones aside): one
+  // minimum.
+  EXPECT_EQ(JudgeStarts(job, {job + 18.0, job - 18.0, kInf, kNaN}, tol), StartVerdict::kSame);
+  // One clearly lower wins over the rest.
+  EXPECT_EQ(JudgeStarts(job, {job, job - 19.0, job + 500.0}, tol), StartVerdict::kLower);
+  // One clearly higher: several minima (FitTest.AStartFarAboveTheNoise...'s
+  // starts 1 and 2: 143224 and 349678 against the job's 143231), no verdict.
+  EXPECT_EQ(JudgeStarts(job, {job, job + 19.0}, tol), StartVerdict::kUndecided);
+  // Nothing ended: no evidence either way.
+  EXPECT_EQ(JudgeStarts(job, {kInf, kNaN}, tol), StartVerdict::kUndecided);
   EXPECT_EQ(JudgeStarts(job, {}, tol), StartVerdict::kUndecided);
 }
 

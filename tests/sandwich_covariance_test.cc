@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 #include "estimation/sandwich_covariance.h"
