@@ -63,8 +63,9 @@ void Fitter::SmoothScaleIntervals(const std::vector<RatioInterval>& ratio) {
   result_.uncertainty_method = "gauss_newton_smooth_scale";
   note << "Gauss-Newton at the smooth scale: s^2·(JᵀJ)⁻¹ with J by central differences at "
           "about one standard error (" << smooth_.passes << " pass(es)), because the "
-       << (profile_method_ ? "profile-likelihood" : "Gauss-Newton") << " intervals are "
-       << "artifacts of roughness here (" << why.str() << "); intervals θ ± t·SD in the "
+       << (profile_method_ ? "profile-likelihood" : ratio_method_ ? "likelihood-ratio" : "Gauss-Newton")
+       << " intervals are artifacts of roughness here (" << why.str()
+       << "); intervals θ ± t·SD in the "
        << "internal coordinates, std error = half-width / t; compare the bootstrap "
           "(uncertainty.bootstrap)";
   result_.uncertainty_note = note.str();

@@ -59,9 +59,9 @@ struct SmoothScale {
 // `cov0` (n×n, θ units, scaled by s²; a step that is not finite and
 // positive is 1e-6·(1 + |θ_k|)), the Jacobian by CentralDifferenceJacobian,
 // cov = s2·(JᵀJ)⁺ (eigenvalues below 1e-14 of the largest dropped), and
-// again with steps of the new standard deviations until every step is
-// within a factor 2 of its standard deviation, at most 4 passes (a fixed
-// point: the scale of the differences is the scale of the interval).
+// again with each step that is below half its new standard deviation
+// raised to it (steps never shrink), until no step is, at most 4 passes
+// (the scale of the differences reaches the scale of the interval).
 // ok false if an evaluation fails. Leaves *theta at `centre`.
 SmoothScale SmoothScaleCovariance(ceres::Problem* problem, const std::vector<double>& centre,
                                   const Eigen::MatrixXd& cov0, const std::vector<double>& lower,
