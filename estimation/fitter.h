@@ -149,8 +149,9 @@ class Fitter {
   std::vector<bool> Determined(const Eigen::MatrixXd& cov);
   void FinishIntervalNote(const std::vector<RatioInterval>& ratio);
   // Intervals that are artifacts of roughness (the estimate at an end of
-  // its own profile interval, profile refits below the estimate, a rough
-  // optimum check): the covariance at the smooth scale replaces them
+  // its own profile interval, profile refits below the estimate by less
+  // than ½t²s², a rough optimum check): the covariance at the smooth scale
+  // replaces them
   // (smooth_), and the note says why. Not with discovery on.
   void SmoothScaleIntervals(const std::vector<RatioInterval>& ratio);
   // s² above kMisspecifiedS2 with structured residuals (Ljung–Box): the

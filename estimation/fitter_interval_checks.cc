@@ -31,11 +31,15 @@ void Fitter::SmoothScaleIntervals(const std::vector<RatioInterval>& ratio) {
       }
     }
   }
-  // Profile refits that ended below the estimate by less than a restart
-  // needs: the profile is rough where it starts.
+  // Profile refits that still ended below the estimate, by less than the
+  // profile's own threshold ½t²s²: lower points within the interval's
+  // scale, the cost rough where the profile starts (a larger gain is a
+  // lower minimum, which FinishIntervalNote reports).
+  const double gain = best_cost_ - profile_.lowest_cost;
   const bool profile_lower =
       profile_method_ && !ratio.empty() &&
-      profile_.lowest_cost < best_cost_ - CostResolution(best_cost_, job_.solver.function_tolerance);
+      gain > CostResolution(best_cost_, job_.solver.function_tolerance) &&
+      gain < 0.5 * t975_ * t975_ * result_.residual_variance;
   if (at_end.empty() && !profile_lower && !rough_.rough()) return;
   PhaseTimer timer("intervals", p_.counter, &result_);
   smooth_ = SmoothScaleCovariance(full_problem_, p_.theta, cov_theta_ * result_.residual_variance,
