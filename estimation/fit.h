@@ -27,11 +27,18 @@ namespace axis {
 // cost wins. A start that meets an earlier start's point after a shorter
 // horizon (within its parameter tolerance) stops (FitResult::start_joined).
 // With solver.starts 0 and the job's start ending at s² above
-// kAutoStartsAbove, the fit runs again with solver.auto_starts random
-// starts (FitResult::auto_starts_note). Then the optimum check
-// (solver.probe_rounds), the covariance, the local restarts
-// (solver.local_starts) and the intervals (uncertainty.method), any of
-// which restarts the solver at a lower cost it meets.
+// kAutoStartsAbove, random starts are added (FitResult::auto_starts_note):
+// kMisfitProbeStarts first, the rest of solver.auto_starts only unless all
+// of those end at the job's cost (a misfit of the model, not a wrong
+// minimum: estimation/start_agreement.h). Then the optimum check
+// (solver.probe_rounds; on a cost rough below the standard-error scale
+// lower points count only past χ² = s², estimation/rough_optimum.h), the
+// covariance, the local restarts (solver.local_starts) and the intervals
+// (uncertainty.method), any of which restarts the solver at a lower cost it
+// meets. Intervals that are artifacts of roughness are replaced by the
+// covariance at the smooth scale (estimation/smooth_scale.h;
+// ParameterEstimate::interval_method); s² above 2 with structured
+// residuals adds sandwich standard errors (FitResult::misspecification_note).
 //
 // `control` (estimation/fit_control.h) steers the fit from inside the tool:
 // with a finite control.abandon_above_bic (the discovery loop's refits), a

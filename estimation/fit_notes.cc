@@ -107,4 +107,34 @@ std::string ResidualNote(double s2) {
   return note.str();
 }
 
+std::vector<std::string> StructuredChannels(const FitResult& result) {
+  std::vector<std::string> out;
+  for (const ExperimentFit& e : result.experiments) {
+    if (e.role != "fit") continue;
+    for (const ChannelFit& c : e.channels) {
+      if (c.fitted && c.ljung_box_p < kStructuredResidualP) out.push_back(e.name + "/" + c.channel);
+    }
+  }
+  return out;
+}
+
+std::string MisspecificationNote(const FitResult& result, double s2,
+                                 const std::vector<std::string>& structured, int lags) {
+  std::ostringstream note;
+  note << "s^2 = " << FormatNumber(s2, 4) << " (above " << kMisspecifiedS2
+       << ") with structured residuals (Ljung-Box p < " << kStructuredResidualP << ":";
+  for (size_t i = 0; i < structured.size(); ++i) note << (i == 0 ? " " : ", ") << structured[i];
+  note << "): the intervals are conditional on the model (they take its misfit for noise); "
+          "sandwich standard errors (Newey-West, "
+       << lags << " lags), which allow for the misfit:";
+  bool first = true;
+  for (const ParameterEstimate& p : result.parameters) {
+    if (!p.free) continue;
+    note << (first ? " " : ", ") << p.name << " " << FormatNumber(p.std_error_sandwich, 3)
+         << (p.unit.empty() ? "" : " " + p.unit);
+    first = false;
+  }
+  return note.str();
+}
+
 }  // namespace axis

@@ -7,6 +7,7 @@
 #define ESTIMATION_FIT_NOTES_H_
 
 #include <string>
+#include <vector>
 
 #include <ceres/ceres.h>
 
@@ -40,6 +41,22 @@ std::string QuasiSteadyDelayNote(const FitJob& job, const FitResult& result);
 // FitResult::residual_note for a fit that ends at s² = `s2` (empty at or
 // below kAutoStartsAbove, or for NaN).
 std::string ResidualNote(double s2);
+
+// Misspecification (FitResult::misspecification_note): s² above this (the
+// residual RMS 1.4 times σ; the discovery loop's kMisspecifiedS2 alike)
+// with a fitted channel whose Ljung–Box p is below kStructuredResidualP.
+constexpr double kMisspecifiedS2 = 2.0;
+constexpr double kStructuredResidualP = 0.01;
+
+// The fitted channels ("experiment/channel") of `result` with Ljung–Box p
+// below kStructuredResidualP. Never throws.
+std::vector<std::string> StructuredChannels(const FitResult& result);
+
+// FitResult::misspecification_note: s² = `s2`, the `structured` channels,
+// the Newey–West lags, and the sandwich standard errors of the free
+// parameters of `result` (their std_error_sandwich). Never throws.
+std::string MisspecificationNote(const FitResult& result, double s2,
+                                 const std::vector<std::string>& structured, int lags);
 
 }  // namespace axis
 

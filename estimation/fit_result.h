@@ -5,6 +5,7 @@
 #define ESTIMATION_FIT_RESULT_H_
 
 #include <array>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,6 +39,16 @@ struct ParameterEstimate {
   double bootstrap_high = 0.0;
   double ci95_low = 0.0;
   double ci95_high = 0.0;
+  // Where ci95_low/high and std_error come from (free parameters; "" for
+  // fixed): "profile likelihood", "likelihood ratio", "Gauss–Newton", or
+  // "Gauss–Newton at the smooth scale" (a Jacobian by central differences
+  // at about one standard error, where the profile's intervals were
+  // artifacts of a rough cost: estimation/smooth_scale.h).
+  std::string interval_method;
+  // The sandwich (Newey–West) standard error, which allows for the model's
+  // misfit (estimation/sandwich_covariance.h); NaN unless
+  // FitResult::misspecification_note is set.
+  double std_error_sandwich = std::numeric_limits<double>::quiet_NaN();
   // False if the data cannot determine it: the Jacobian is rank deficient
   // in its direction, or |correlation| > 0.99 with another free parameter.
   bool determined = true;
@@ -152,6 +163,12 @@ struct FitResult {
   // declared σ, i.e. a local minimum the starts did not leave, an effect
   // the model lacks, or σ understated. Empty otherwise.
   std::string residual_note;
+  // Set when s² is above kMisspecifiedS2 (estimation/fit_notes.h) and a
+  // fitted channel's residual is structured (Ljung–Box p below
+  // kStructuredResidualP): the intervals are conditional on the model, and
+  // the sandwich standard errors (ParameterEstimate::std_error_sandwich)
+  // that allow for the misfit, in words. Empty otherwise.
+  std::string misspecification_note;
   // How the model was integrated (FitParameters): RK4's step(s) and, with
   // an analog_velocity_loop, the current loop (sim/axis_params.h
   // CurrentLoop), e.g. "RK4, step 5e-05 s; current loop quasi_steady".

@@ -9,6 +9,7 @@
 #ifndef ESTIMATION_FITTER_H_
 #define ESTIMATION_FITTER_H_
 
+#include <limits>
 #include <memory>
 #include <ostream>
 #include <utility>
@@ -22,7 +23,9 @@
 #include "estimation/fit_problem.h"
 #include "estimation/fit_result.h"
 #include "estimation/horizon_checkpoint.h"
+#include "estimation/rough_optimum.h"
 #include "estimation/shared_level.h"
+#include "estimation/smooth_scale.h"
 #include "estimation/uncertainty.h"
 #include "job/fit_job.h"
 
@@ -38,6 +41,30 @@ class Fitter {
   // Runs the fit once (FitParameters without publishing to
   // control.publish_level). Throws std::invalid_argument as FitParameters.
   FitResult Run();
+
+  // What RunStarts leaves: the lowest whole-record end of the given starts.
+  struct StartsOutcome {
+    std::vector<double> best;  // θ at the lowest end (the first start's
+                               // point if none ended)
+    double cost = 0.0;         // its cost, +inf if no start ended
+    ceres::Solver::Summary summary;
+    std::vector<double> step;  // the last stage's step to it
+    // start_costs, start_screen_costs, start_joined(_horizon), phases.
+    FitResult result;
+    int simulations = 0;
+    int jacobians = 0;
+  };
+
+  // Runs only the starts: every one of `starts` (θ, internal coordinates)
+  // over the shorter horizons and the whole record (each a finalist if
+  // job.solver.finalists allows), no optimum check nor uncertainty. The
+  // automatic random starts of another fit of the same job (AutoStarts).
+  // `prior_path`: the job's start's point after each stage, run by the
+  // calling fitter; a start that joins it stops there (reported as joining
+  // kJoinedPrior).
+  StartsOutcome RunStarts(const std::vector<std::vector<double>>& starts,
+                          const std::vector<std::vector<double>>& prior_path);
+  static constexpr int kJoinedPrior = std::numeric_limits<int>::max();
 
  private:
   // Where each start is between its stages.
@@ -70,6 +97,11 @@ class Fitter {
   void BuildStages();    // the horizon continuation's problems
   void SetSolverOptions();
   void DrawStarts();     // the job's start, then random ones
+  // `count` random starts about `origin` (uniform in the bounds in internal
+  // coordinates, job.solver.seed), the entries past the free ones
+  // (initial states) as in `origin`.
+  std::vector<std::vector<double>> RandomStarts(const std::vector<double>& origin,
+                                                int count) const;
   void CheckControl();   // a resume of this job; pending_level's rules
 
   // ---- the starts
@@ -90,7 +122,16 @@ class Fitter {
 
   // ---- far above the noise: more starts
   bool NeedsAutoStarts() const;
-  FitResult FitWithAutoStarts();
+  // The random starts: kMisfitProbeStarts first (estimation/start_agreement.h),
+  // the rest of solver.auto_starts only unless those landed at the job's
+  // cost; the lowest end becomes the estimate (FitResult::auto_starts_note).
+  void AutoStarts();
+  // A batch of random starts in another fitter of the same job; merges its
+  // start costs and phases into result_ (the starts numbered from `first`)
+  // and takes its end if lower. Returns the cost each start ended at (a
+  // start that joined a path: that path's end; NaN if not continued).
+  std::vector<double> RunRandomBatch(const std::vector<std::vector<double>>& starts,
+                                     size_t first);
 
   // ---- the optimum check and the uncertainty
   void ChooseChecks();         // what they run (discovery: less)
@@ -107,6 +148,16 @@ class Fitter {
   Eigen::MatrixXd PhysicalCovariance() const;
   std::vector<bool> Determined(const Eigen::MatrixXd& cov);
   void FinishIntervalNote(const std::vector<RatioInterval>& ratio);
+  // Intervals that are artifacts of roughness (the estimate at an end of
+  // its own profile interval, profile refits below the estimate by less
+  // than ½t²s², a rough optimum check): the covariance at the smooth scale
+  // replaces them
+  // (smooth_), and the note says why. Not with discovery on.
+  void SmoothScaleIntervals(const std::vector<RatioInterval>& ratio);
+  // s² above kMisspecifiedS2 with structured residuals (Ljung–Box): the
+  // intervals are conditional on the model; the sandwich standard errors
+  // (FitResult::misspecification_note, ParameterEstimate::std_error_sandwich).
+  void MisspecificationCheck();
   void AppendFreeEstimates(const Eigen::MatrixXd& cov, const std::vector<bool>& determined,
                            const std::vector<RatioInterval>& ratio);
   void EvaluateExperiments(const AxisParams<double>& fitted);
@@ -135,6 +186,7 @@ class Fitter {
   FitResult result_;
   std::vector<StartRun> runs_;
   std::vector<std::vector<std::vector<double>>> ends_;  // [start][stage] point
+  std::vector<std::vector<double>> prior_path_;        // RunStarts' prior_path
   std::shared_ptr<HorizonCheckpoint> checkpoint_;      // the screen's record
   size_t finals_total_ = 0;
   size_t finals_done_ = 0;
@@ -170,6 +222,16 @@ class Fitter {
   std::vector<double> jtj_point_;
   int ratio_restarts_ = 0;
   int local_passes_ = 0;
+
+  // Issue 42: the probe rounds' gains (a rough cost), the covariance at the
+  // smooth scale where it replaces the intervals, the start that ended
+  // lowest (0: the job's) and the evaluations of the random starts' fitters.
+  RoughRounds rough_;
+  SmoothScale smooth_;
+  bool smooth_used_ = false;
+  size_t winner_ = 0;
+  int extra_simulations_ = 0;
+  int extra_jacobians_ = 0;
 };
 
 }  // namespace axis

@@ -44,11 +44,12 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
                 const std::vector<double>& last_step, double cost,
                 EvaluationCounter* counter, int threads,
                 std::vector<double>* theta, std::vector<double>* best,
-                double* best_cost, int* probes) {
+                double* best_cost, int* probes, double* lowest_scale) {
   const int n = static_cast<int>(theta->size());
   const std::vector<double> centre = *theta;
   *best = centre;
   *best_cost = cost;
+  if (lowest_scale != nullptr) *lowest_scale = 0.0;
   Eigen::MatrixXd jtj;
   if (!GaussNewtonMatrix(problem, n, &jtj)) return;
   std::vector<Eigen::VectorXd> directions;
@@ -72,7 +73,12 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
   Eigen::VectorXd step = Eigen::Map<const Eigen::VectorXd>(last_step.data(), n);
   const double curvature = step.dot(jtj * step);
   if (curvature > 0.0) directions.push_back(step / std::sqrt(curvature));
-  std::vector<std::pair<double, std::vector<double>>> lower_points;
+  struct LowerPoint {
+    double cost;
+    double scale;
+    std::vector<double> point;
+  };
+  std::vector<LowerPoint> lower_points;
   counter->guard = false;
   for (const Eigen::VectorXd& d : directions) {
     for (double s : {0.01, 0.3, 1.0, 3.0, 10.0}) {
@@ -83,18 +89,24 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
         }
         const double c = CostAt(problem, point, threads, theta);
         ++*probes;
-        if (c < cost) lower_points.emplace_back(c, point);
+        if (c < cost) lower_points.push_back({c, s, point});
       }
     }
   }
   counter->guard = true;
   // The lowest point that passes the guard (the same cost, by the same
   // arithmetic, when it passes).
-  std::sort(lower_points.begin(), lower_points.end());
-  for (const auto& [c, point] : lower_points) {
-    if (std::isfinite(CostAt(problem, point, threads, theta))) {
-      *best_cost = c;
-      *best = point;
+  // By cost, ties by the point (as the pairs were sorted before the scale
+  // was kept).
+  std::sort(lower_points.begin(), lower_points.end(),
+            [](const LowerPoint& a, const LowerPoint& b) {
+              return a.cost != b.cost ? a.cost < b.cost : a.point < b.point;
+            });
+  for (const LowerPoint& p : lower_points) {
+    if (std::isfinite(CostAt(problem, p.point, threads, theta))) {
+      *best_cost = p.cost;
+      *best = p.point;
+      if (lowest_scale != nullptr) *lowest_scale = p.scale;
       break;
     }
   }

@@ -58,13 +58,15 @@ double LowerThan(double cost, double relative);
 // guard of `counter` off); a point lower than θ* is kept only if it also
 // passes the sensitivity guard (ExperimentCost), as the solver will start
 // from it. The cost is evaluated on `threads` threads (CostAt). Leaves
-// *theta at θ*.
+// *theta at θ*. *lowest_scale (if not null) receives the s of the point
+// returned in *best (standard deviations; 0 if nothing is lower): lower
+// points at 0.01 mean a cost rough below the standard-error scale.
 void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
                 const std::vector<double>& upper,
                 const std::vector<double>& last_step, double cost,
                 EvaluationCounter* counter, int threads,
                 std::vector<double>* theta, std::vector<double>* best,
-                double* best_cost, int* probes);
+                double* best_cost, int* probes, double* lowest_scale = nullptr);
 
 }  // namespace axis
 

@@ -718,6 +718,9 @@ std::string SummaryHtml(const HtmlReportInput& input) {
   if (!r.residual_note.empty()) item("warning", HtmlEscape(r.residual_note));
   item("uncertainty", HtmlEscape((r.uncertainty_method.empty() ? "-" : r.uncertainty_method) +
                                  ": " + r.uncertainty_note));
+  if (!r.misspecification_note.empty()) {
+    item("misspecification", HtmlEscape(r.misspecification_note));
+  }
   // FormatPhases: "time: 41.2 s (…)". With discovery the result is the
   // last refit's; the loop's own times are in its section.
   std::string phases = FormatPhases(r);

@@ -433,6 +433,9 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
   if (!result.model_note.empty()) out += "- note: " + result.model_note + "\n";
   if (!result.auto_starts_note.empty()) out += "- starts: " + result.auto_starts_note + "\n";
   if (!result.residual_note.empty()) out += "- warning: " + result.residual_note + "\n";
+  if (!result.misspecification_note.empty()) {
+    out += "- misspecification: " + result.misspecification_note + "\n";
+  }
   if (!result.integration.empty()) out += "- integration: " + result.integration + "\n";
   out += "- " + (result.optimum_check.empty() ? std::string("optimum not checked")
                                              : result.optimum_check) +
@@ -461,6 +464,10 @@ Json ParameterJson(const FitResult& result, const ParameterEstimate& p) {
   e["ci95_high"] = p.free ? JsonNumber<Json>(p.ci95_high) : Json(nullptr);
   e["std_error_gauss_newton"] =
       p.free ? JsonNumber<Json>(p.std_error_gauss_newton) : Json(nullptr);
+  e["interval_method"] = p.free ? Json(p.interval_method) : Json(nullptr);
+  if (p.free && !result.misspecification_note.empty()) {
+    e["std_error_sandwich"] = JsonNumber<Json>(p.std_error_sandwich);
+  }
   if (p.free && result.bootstrap_replicates > 0) {
     e["bootstrap"] = {{"std_error", JsonNumber<Json>(p.std_error_bootstrap)},
                       {"low", JsonNumber<Json>(p.bootstrap_low)},
@@ -567,6 +574,7 @@ void AddPhasesAndChecks(const FitResult& result, Json* out) {
   j["phases"] = phases;
   j["uncertainty"] = {{"method", result.uncertainty_method},
                       {"note", result.uncertainty_note},
+                      {"misspecification", result.misspecification_note},
                       {"bootstrap_replicates", result.bootstrap_replicates}};
   j["optimum"] = {{"verified", result.optimum_verified},
                   {"check", result.optimum_check},

@@ -265,6 +265,9 @@ class JobPipeline {
     if (!result.residual_note.empty()) out_ << "warning: " << result.residual_note << "\n";
     out_ << result.optimum_check << "\n";
     out_ << "uncertainty: " << result.uncertainty_note << "\n";
+    if (!result.misspecification_note.empty()) {
+      out_ << "misspecification: " << result.misspecification_note << "\n";
+    }
     if (run_.job.uncertainty.bootstrap > 0) out_ << FormatBootstrap(result);
   }
 

@@ -15,6 +15,7 @@
 #include "estimation/current_loop_check.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
+#include "estimation/start_agreement.h"
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
 #include "job/solver_settings.h"
@@ -240,13 +241,72 @@ TEST(FitTest, AStartFarAboveTheNoiseAddsRandomStarts) {
   RecordProperty("s2_alone", std::to_string(alone.residual_variance));
   RecordProperty("s2_with_starts", std::to_string(r.residual_variance));
   EXPECT_NE(r.auto_starts_note, "");
-  EXPECT_EQ(r.residual_note, "");
+  EXPECT_EQ(r.residual_note, "") << r.auto_starts_note;
   EXPECT_NEAR(r.residual_variance, 1.0, 5.0 * std::sqrt(2.0 / (r.num_residuals - 5)));
   const std::map<std::string, double> truth = {
       {"V_L", 1.8}, {"B_a", 320}, {"b_g", 2600}, {"k_g", 2.8e6}, {"T_p", 0.07}};
   for (const auto& [name, value] : truth) {
     const ParameterEstimate& e = Estimate(r, name);
     EXPECT_NEAR(e.value, value, 4.0 * e.std_error) << name;
+  }
+}
+
+// Issue 42: a misfit of the model is not a wrong minimum. The records
+// (testdata/generate/misfit/: a ±6 V square wave and a 5 V sweep of the X
+// axis with the paper's values, the accelerometer sampled at the instant;
+// noise seeds fixed) fitted with x_axis.yaml, which assumes the period mean,
+// from the paper job's factor-2 start: the job's start ends far above the
+// noise (s² ≈ 15), and the first kMisfitProbeStarts random starts land at
+// its cost (or join its path), so the other five do not run and the note
+// says the misfit is the model's. The estimate is the job-start-alone fit's
+// or a probe's at most SameMinimumTolerance lower (never higher: 1e-9
+// relative, the solver's round-off).
+TEST(FitTest, AMisfitOfTheModelStopsAfterTheFirstRandomStarts) {
+  std::ostringstream experiments;
+  for (const std::string name : {"x_square_6V_instant", "x_sweep_5V_instant"}) {
+    ExperimentConfig g = LoadExperiment(kRoot + "/testdata/generate/misfit/" + name + ".yaml");
+    const std::string csv = testing_files::TestTempDir() + name + ".csv";
+    WriteTraceCsv(csv, SimulateExperiment(g, SimulateAxisOptions{}), g.options.channels);
+    experiments << "  - name: " << name << "\n    data: " << csv
+                << "\n    channels: {u: u, a: a, tach: tach, i: i}\n"
+                << "    input: {column: u" << (name.find("square") != std::string::npos ? ", interpolation: hold" : "")
+                << "}\n    fit: {a: 0.02, tach: 0.005}\n";
+  }
+  const auto fit = [&](int auto_starts) {
+    std::ostringstream y;
+    y << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
+      << "configuration: {current_loop: quasi_steady}\n"
+      << "simulation: {step: 1.0e-4}\n"
+      << "free:\n"
+      << "  V_L: {initial: 5.4, lower: 0.5, upper: 20}\n"
+      << "  B_a: {initial: 100, lower: 10, upper: 2000}\n"
+      << "  b_g: {initial: 3000, lower: 100, upper: 20000}\n"
+      << "  k_g: {initial: 2.5e6, lower: 5.0e5, upper: 5.0e7}\n"
+      << "  T_p: {initial: 0.08, lower: 0.005, upper: 1.0}\n"
+      << "experiments:\n" << experiments.str()
+      << "solver: {probe_rounds: 0, auto_starts: " << auto_starts << "}\n"
+      << "uncertainty: {method: gauss_newton}\n";
+    const FitJob job =
+        ParseFitJob(YAML::Load(y.str()), "misfit.yaml", testing_files::TestTempDir());
+    return FitParameters(job, nullptr);
+  };
+  const FitResult alone = fit(0);
+  const FitResult r = fit(8);
+  RecordProperty("s2", std::to_string(r.residual_variance));
+  EXPECT_GT(alone.residual_variance, kAutoStartsAbove);
+  EXPECT_NE(r.auto_starts_note.find("the misfit is the model's"), std::string::npos)
+      << r.auto_starts_note;
+  // The job's start and the probes only.
+  EXPECT_EQ(r.start_costs.size(), 1u + kMisfitProbeStarts);
+  EXPECT_LE(r.final_cost, alone.final_cost * (1.0 + 1e-9));
+  EXPECT_GE(r.final_cost,
+            alone.final_cost - SameMinimumTolerance(alone.residual_variance, 0.0));
+  // Structured residuals at s² > 2: the intervals are conditional on the
+  // model, and the sandwich standard errors are given.
+  EXPECT_NE(r.misspecification_note.find("conditional on the model"), std::string::npos);
+  for (const ParameterEstimate& e : r.parameters) {
+    if (!e.free) continue;
+    EXPECT_TRUE(std::isfinite(e.std_error_sandwich) && e.std_error_sandwich > 0.0) << e.name;
   }
 }
 
