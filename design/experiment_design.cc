@@ -13,6 +13,7 @@
 #include <boost/math/distributions/non_central_chi_squared.hpp>
 
 #include "common/format.h"
+#include "discovery/candidates.h"
 #include "discovery/discovery.h"
 #include "estimation/at_estimate.h"
 #include "estimation/experiment_cost.h"
@@ -411,12 +412,13 @@ void ExperimentDesigner::FindPair() {
   level_ = job_.discover.alpha / std::max<size_t>(1, candidates_.size());
   // The pair the loop stops on (discovery/discovery_loop.cc DiscoveryLoop): the most
   // significant candidate with an indistinguishable twin of at most its
-  // size, and that twin.
+  // size, and that twin; not front-end terms of one channel, which the loop
+  // refits together (SameChannelFrontEnd).
   for (const Score& s : ranking_.scores) {
     if (!(s.p_value < level_)) break;
     for (const auto& [a, b] : ranking_.indistinguishable) {
       const std::string other = a == s.name ? b : (b == s.name ? a : "");
-      if (other.empty()) continue;
+      if (other.empty() || SameChannelFrontEnd(s.name, other)) continue;
       for (const Score& t : ranking_.scores) {
         if (t.name == other && t.dof <= s.dof) score_b_ = &t;
       }

@@ -230,6 +230,12 @@ void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
   job->free = kept;
 }
 
+bool SameChannelFrontEnd(const std::string& a, const std::string& b) {
+  const size_t da = a.find('.'), db = b.find('.');
+  return IsFrontEndEffect(a) && IsFrontEndEffect(b) && da != std::string::npos &&
+         db != std::string::npos && a.substr(da) == b.substr(db);
+}
+
 // The candidate of a Candidate::name ("coulomb", "sensor_delay.a"); throws
 // std::invalid_argument for a name that is not one.
 Candidate CandidateNamed(const std::string& name) {

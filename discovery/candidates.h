@@ -87,6 +87,13 @@ size_t StartsOf(const Candidate& c);
 // 0.02 m/s"); empty for a candidate with one start. Never throws.
 std::string StartLabel(const Candidate& c, size_t start);
 
+// Whether candidates `a` and `b` (Candidate::name) are sensor front-end
+// terms of one channel ("sensor_delay.a", "sensor_lowpass.a"): to first
+// order their score columns are equal (MODEL.md §6), so the discovery loop
+// refits them together instead of stopping on them as indistinguishable,
+// and the experiment design does not try to separate them. Never throws.
+bool SameChannelFrontEnd(const std::string& a, const std::string& b);
+
 // The candidate of a Candidate::name ("coulomb", "sensor_delay.a"); throws
 // std::invalid_argument for a name that is not one.
 Candidate CandidateNamed(const std::string& name);

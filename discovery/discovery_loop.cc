@@ -16,7 +16,6 @@
 #include "discovery/removal.h"
 #include "discovery/screen.h"
 #include "discovery/significance.h"
-#include "sim/config.h"
 #include "estimation/at_estimate.h"
 #include "estimation/fit.h"
 #include "estimation/fit_control.h"
@@ -205,15 +204,10 @@ void DiscoveryLoop::RefitCandidates() {
 }
 
 std::vector<std::string> DiscoveryLoop::FrontEndFamily(const Score& score) const {
-  if (!IsFrontEndEffect(score.name)) return {};
-  const std::string channel = score.name.substr(score.name.find('.'));
   std::vector<std::string> family;
   for (const auto& [a, b] : ranking_.indistinguishable) {
     const std::string other = a == score.name ? b : (b == score.name ? a : "");
-    if (other.empty() || !IsFrontEndEffect(other) || other.find('.') == std::string::npos ||
-        other.substr(other.find('.')) != channel) {
-      continue;
-    }
+    if (other.empty() || !SameChannelFrontEnd(score.name, other)) continue;
     if (family.empty()) family.push_back(score.name);
     if (std::find(family.begin(), family.end(), other) == family.end()) family.push_back(other);
   }
