@@ -81,7 +81,8 @@ const std::vector<SensorEffectInfo>& SensorEffectTable();
 enum class AccelerometerSampling {
   kPeriodMean,  // (v(t_k) − v(t_k − T_o))/T_o: mean of y1' over the period
                 // T_o ending at the sample (integrate-and-dump anti-aliasing)
-  kInstant,     // y1'(t_k)
+  kInstant,     // y1'(t_k) as a sensor of finite bandwidth sees it: the
+                // mean over ±AxisStructure::instant_window
 };
 
 // How the motor current y6 of the analog_velocity_loop follows eq. 3.
@@ -105,6 +106,11 @@ struct AxisStructure {
   EffectSwitches effects;
   SensorSwitches sensors;
   AccelerometerSampling accelerometer = AccelerometerSampling::kPeriodMean;
+  // The instant accelerometer's half-window w (s, > 0; MODEL.md §6): a sample
+  // is the mean of y1' over [t_k − w, t_k + w], w rounded to a whole number
+  // of RK4 steps (at least one). A property of the sensor, not of the
+  // integrator: fits at different steps see the same signal.
+  double instant_window = 1.0e-4;
   int N_cog = 6;  // cogging periods per motor revolution (fixed, §7)
   // MODEL.md §7 force_map: its variable and knots (sim/force_map.h); its
   // values are AxisParams::f_map.

@@ -416,6 +416,7 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
       << (config.structure.accelerometer == AccelerometerSampling::kInstant
               ? "instant"
               : "period_mean");
+  out << YAML::Key << "instant_window" << YAML::Value << config.structure.instant_window;
   // Parameters of MODEL.md §2 and §4, and the sgn_ε widths v_eps and
   // omega_eps of §7 (effect parameters go with their effect).
   std::set<std::string> effect_params;
@@ -479,6 +480,8 @@ AxisConfig ParseAxisConfig(const YAML::Node& document, const std::string& path) 
       ParseCurrentLoop(root.Choice("current_loop", kCurrentLoops, "full"));
   config.structure.accelerometer =
       ParseAccelerometer(root.Choice("accelerometer", kAccelerometer, "period_mean"));
+  config.structure.instant_window =
+      root.Number("instant_window", config.structure.instant_window, YamlMap::Range::kPositive);
   YamlMap params(root.Required("parameters"), path, "parameters.");
   ParseParameters(params, &config);
   if (const YAML::Node effects = root.Optional("effects")) {
@@ -714,6 +717,10 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
     if (map.Has("accelerometer")) {
       model->structure.accelerometer =
           ParseAccelerometer(map.Choice("accelerometer", kAccelerometer));
+    }
+    if (map.Has("instant_window")) {
+      model->structure.instant_window =
+          map.Number("instant_window", YamlMap::Range::kPositive);
     }
     map.Finish();
   }

@@ -154,30 +154,39 @@ T ValueOnGrid(const std::vector<T>& s, double h, const T& time) {
 // (MODEL.md §6), v does not.
 //   period_mean (`period_steps` = T_o/h ≥ 1): (v(t_n) − v(t_n − T_o))/T_o,
 //     the mean of y1' over the output period ending at t_n;
-//   instant (`period_steps` = 0): (v(t_{n+1}) − v(t_{n−1}))/(2h), the mean
-//     of y1' over [t_n − h, t_n + h] — the sensor's own bandwidth at the
-//     integrator's resolution; y1'(t_n) to O(h²) between contacts. At t_N
-//     the one-sided (v_N − v_{N−1})/h.
+//   instant (`period_steps` = 0, `window_steps` = w/h ≥ 1):
+//     (v(t_n + w) − v(t_n − w))/(2w), the mean of y1' over [t_n − w, t_n + w]
+//     — the sensor's own bandwidth; y1'(t_n) to O(w²) between contacts.
+//     Near the end the window is cut at t_N (one-sided at t_N itself).
 // Before t = 0 the motion is continued back as v(0) + a0·t. Never throws.
 template <typename T>
 std::vector<T> AccelerationOnGrid(const std::vector<T>& v, double h, long period_steps,
-                                  const T& a0) {
+                                  long window_steps, const T& a0) {
   const long size = static_cast<long>(v.size());
   std::vector<T> s(v.size());
   const auto v_at = [&](long n) -> T {
     if (n >= 0) return v[std::min(n, size - 1)];
     return v[0] + a0 * T(static_cast<double>(n) * h);
   };
+  const long k = std::max(1L, window_steps);
   for (long n = 0; n < size; ++n) {
     if (period_steps > 0) {
       s[n] = (v_at(n) - v_at(n - period_steps)) / T(static_cast<double>(period_steps) * h);
-    } else if (n + 1 < size) {
-      s[n] = (v_at(n + 1) - v_at(n - 1)) / T(2.0 * h);
+    } else if (size == 1) {
+      s[n] = a0;
     } else {
-      s[n] = size > 1 ? T((v_at(n) - v_at(n - 1)) / T(h)) : a0;
+      const long hi = std::min(n + k, size - 1);
+      const long lo = n + k < size ? n - k : std::min(n - 1, n - (hi - n));
+      s[n] = (v_at(hi) - v_at(lo)) / T(static_cast<double>(hi - lo) * h);
     }
   }
   return s;
+}
+
+// The instant accelerometer's half-window in RK4 steps of length h:
+// `window` / h rounded, at least 1 (MODEL.md §6). Never throws.
+inline long InstantWindowSteps(double window, double h) {
+  return std::max(1L, std::lround(window / h));
 }
 
 }  // namespace axis

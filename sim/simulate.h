@@ -453,7 +453,9 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
     std::vector<T>& out = trace.values[c];
     if (on_grid[c]) {
       std::vector<T> s =
-          c == kA ? AccelerationOnGrid(fine[c], h, a_mean ? grid.steps_per_output : 0, a_initial)
+          c == kA ? AccelerationOnGrid(fine[c], h, a_mean ? grid.steps_per_output : 0,
+                                       InstantWindowSteps(structure.instant_window, h),
+                                       a_initial)
                   : std::move(fine[c]);
       if (structure.sensors.lowpass[c]) {
         s = LowPassOnGrid(s, h, 1, params.tau_lp[c], T(1.0));

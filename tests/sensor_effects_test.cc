@@ -22,14 +22,15 @@ namespace {
 constexpr int kTach = static_cast<int>(Channel::kTach);
 
 Trace<double> StepRun(const AxisStructure& s, const AxisParams<double>& p, double output_period,
-                      std::vector<Channel> channels = {Channel::kTach, Channel::kV}) {
+                      std::vector<Channel> channels = {Channel::kTach, Channel::kV},
+                      double step = 1e-5) {
   Drive drive;
   drive.input.kind = InputSignal::Kind::kStep;
   drive.input.amplitude = 10.0;
   drive.input.start = 0.01;
   SimulationOptions options;
   options.duration = 0.3;
-  options.step = 1e-5;
+  options.step = step;
   options.output_period = output_period;
   options.channels = std::move(channels);
   return Simulate(s, p, AxisState<double>::Zero().eval(), drive, options,
@@ -144,23 +145,30 @@ TEST(SensorEffectsTest, LowPassInTheSimulatorMatchesAnIndependentIntegration) {
   }
 }
 
-// The instant accelerometer is (v(t_k + h) − v(t_k − h))/(2h) of the run's
-// own v on the RK4 grid.
+// The instant accelerometer is (v(t_k + w) − v(t_k − w))/(2w) of the run's
+// own v on the RK4 grid, w = instant_window in whole steps (MODEL.md §6).
 TEST(SensorEffectsTest, InstantAccelerometerIsTheCentredMeanOfV) {
-  AxisStructure s;
-  s.accelerometer = AccelerometerSampling::kInstant;
   AxisParams<double> p;
   const Trace<double> every = StepRun(AxisStructure{}, p, 1e-5, {Channel::kV, Channel::kA});
-  const Trace<double> inst = StepRun(s, p, 1e-3, {Channel::kV, Channel::kA});
   const std::vector<double>& v = every[Channel::kV];
-  ASSERT_EQ(inst[Channel::kA].size(), 301u);
-  for (size_t k = 1; k + 1 < inst[Channel::kA].size(); ++k) {
-    const size_t n = 100 * k;
-    EXPECT_NEAR(inst[Channel::kA][k], (v[n + 1] - v[n - 1]) / 2e-5, 1e-9) << k;
+  for (const auto& [window, steps] : {std::pair{1e-4, 10}, std::pair{1e-5, 1}}) {
+    AxisStructure s;
+    s.accelerometer = AccelerometerSampling::kInstant;
+    s.instant_window = window;
+    const Trace<double> inst = StepRun(s, p, 1e-3, {Channel::kV, Channel::kA});
+    ASSERT_EQ(inst[Channel::kA].size(), 301u);
+    for (size_t k = 1; k + 1 < inst[Channel::kA].size(); ++k) {
+      const size_t n = 100 * k;
+      EXPECT_NEAR(inst[Channel::kA][k], (v[n + steps] - v[n - steps]) / (2.0 * window), 1e-9)
+          << window << " " << k;
+    }
   }
-  // Without backlash y1' is smooth: the centred mean is y1'(t_k) to
-  // O(h^2 y1'''/6), checked against the fourth-order stencil of the same v
-  // (y1' to O(h^4)): within 1e-3 of the largest |y1'|.
+  // Without backlash y1' is smooth: the centred mean over ±10 µs is y1'(t_k)
+  // to O(w^2 y1'''/6), checked against the fourth-order stencil of the same
+  // v (y1' to O(h^4)): within 1e-3 of the largest |y1'|.
+  AxisStructure s;
+  s.accelerometer = AccelerometerSampling::kInstant;
+  s.instant_window = 1e-5;
   AxisParams<double> smooth = p;
   smooth.H = 0.0;
   const Trace<double> v_smooth = StepRun(AxisStructure{}, smooth, 1e-5, {Channel::kV});
@@ -173,6 +181,29 @@ TEST(SensorEffectsTest, InstantAccelerometerIsTheCentredMeanOfV) {
     const size_t n = 100 * k;
     const double fourth = (-w[n + 2] + 8 * w[n + 1] - 8 * w[n - 1] + w[n - 2]) / (12 * 1e-5);
     EXPECT_NEAR(a_inst[Channel::kA][k], fourth, 1e-3 * peak) << k;
+  }
+}
+
+// The window belongs to the sensor: runs at RK4 steps of 10 and 20 µs see
+// the same ±100 µs mean, within the two runs' integration difference (the
+// largest difference of their v channels, over the window 2w).
+TEST(SensorEffectsTest, InstantWindowDoesNotDependOnTheStep) {
+  AxisStructure s;
+  s.accelerometer = AccelerometerSampling::kInstant;
+  s.instant_window = 1e-4;
+  AxisParams<double> p;
+  const Trace<double> fine = StepRun(s, p, 1e-3, {Channel::kV, Channel::kA}, 1e-5);
+  const Trace<double> coarse = StepRun(s, p, 1e-3, {Channel::kV, Channel::kA}, 2e-5);
+  ASSERT_EQ(fine[Channel::kA].size(), coarse[Channel::kA].size());
+  double dv = 0.0, peak = 0.0;
+  for (size_t k = 0; k < fine[Channel::kV].size(); ++k) {
+    dv = std::max(dv, std::abs(fine[Channel::kV][k] - coarse[Channel::kV][k]));
+    peak = std::max(peak, std::abs(fine[Channel::kA][k]));
+  }
+  ASSERT_GT(peak, 1.0);
+  for (size_t k = 1; k + 1 < fine[Channel::kA].size(); ++k) {
+    EXPECT_NEAR(fine[Channel::kA][k], coarse[Channel::kA][k], 2.0 * dv / 2e-4 + 1e-9 * peak)
+        << k;
   }
 }
 
