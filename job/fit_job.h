@@ -98,6 +98,15 @@ struct FitJob {
   // the full loop (key simulation.full_loop_refit_above; run/job_run.h RunJob,
   // estimation/current_loop_check.h); > 0, +inf never refits.
   double full_loop_refit_above = 1.0;
+  // How that refit gets its optimum check and intervals (key
+  // simulation.full_loop_intervals; estimation/full_loop_refit.h):
+  // kCarried, a local solve from the bias-corrected estimate whose
+  // intervals are the quasi-steady fit's carried over (scaled by the ratio
+  // of the two models' Gauss–Newton standard errors); kRefitted, the job's
+  // own optimum check and uncertainty method run again on the full loop
+  // (ten times the cost per simulation).
+  enum class FullLoopIntervals { kCarried, kRefitted };
+  FullLoopIntervals full_loop_intervals = FullLoopIntervals::kCarried;
   std::string out_dir;  // from output.dir (relative to the job file) or --out
 };
 

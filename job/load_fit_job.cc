@@ -729,6 +729,10 @@ void FitJobParser::ParseSimulation() {
     step_ = map.Number("step", step_, Range::kFinitePositive);
     job_.full_loop_refit_above =
         map.Number("full_loop_refit_above", job_.full_loop_refit_above, Range::kPositiveOrInfinite);
+    job_.full_loop_intervals =
+        map.Choice("full_loop_intervals", {"carried", "refitted"}, "carried") == "refitted"
+            ? FitJob::FullLoopIntervals::kRefitted
+            : FitJob::FullLoopIntervals::kCarried;
     map.Finish();
   }
   const YAML::Node sim = root_.node()["simulation"];

@@ -18,6 +18,7 @@
 #include "estimation/fit.h"
 #include "estimation/fit_notes.h"
 #include "estimation/fit_result.h"
+#include "estimation/full_loop_refit.h"
 #include "estimation/uncertainty.h"
 #include "job/discovery_settings.h"
 #include "job/fit_job.h"
@@ -169,9 +170,11 @@ class JobPipeline {
     }
   }
 
-  // The refit with the paper's full loop (WithFullLoop) from the
-  // quasi-steady estimate: the job's optimum check and uncertainty method,
-  // its initial values reported as the job's, the quasi-steady fit and the
+  // The refit with the paper's full loop (estimation/full_loop_refit.h)
+  // from the quasi-steady estimate less its first-order shift: a local
+  // solve whose intervals are the quasi-steady fit's carried over, or the
+  // job's optimum check and uncertainty method again
+  // (simulation.full_loop_intervals); its initial values reported as the job's, the quasi-steady fit and the
   // check as its first phases. Throws std::runtime_error if it ends without
   // an estimate.
   void RefitTheFullLoop(double check_seconds) {
@@ -180,14 +183,13 @@ class JobPipeline {
     out_ << "\n" << run_.loop_check.note << "\nRefitting with the full current loop at "
          << run_.loop_check.full_step << " s from the quasi-steady estimate (simulation."
          << "full_loop_refit_above: " << job.full_loop_refit_above << ")\n";
-    FitJob full = WithFullLoop(AtEstimate(job, result_));
-    full.solver.starts = 0;
-    full.solver.auto_starts = 0;
-    full.solver.first_horizon = 0.0;
+    FitJob full = FullLoopRefitJob(job, result_, run_.loop_check);
     FitResult refit = FitParameters(full, &out_);
     if (!std::isfinite(refit.final_cost) || !refit.converged) {
       throw std::runtime_error(refit.termination.empty() ? "no estimate" : refit.termination);
     }
+    const bool carried = job.full_loop_intervals == FitJob::FullLoopIntervals::kCarried;
+    if (carried) CarryQuasiSteadyIntervals(result_, &refit);
     for (ParameterEstimate& e : refit.parameters) {
       for (const ParameterEstimate& before : result_.parameters) {
         if (before.name == e.name) e.initial = before.initial;
@@ -212,11 +214,16 @@ class JobPipeline {
     note << "fitted first with the quasi-steady current loop, which shifted the estimate by "
             "up to "
          << FormatNumber(run_.loop_check.largest, 3)
-         << " standard errors against the full loop on these records; the values, "
-            "intervals and traces are the full loop's, refitted at "
+         << " standard errors against the full loop on these records; the values and "
+            "traces are the full loop's, refitted at "
          << run_.loop_check.full_step
-         << " s from there (simulation.full_loop_refit_above: " << job.full_loop_refit_above
-         << "; the cost's initial value is the full loop's at the quasi-steady estimate)";
+         << " s from the estimate less that shift (simulation.full_loop_refit_above: "
+         << job.full_loop_refit_above
+         << "; the cost's initial value is the full loop's at the quasi-steady estimate); "
+         << (carried ? "the intervals are the quasi-steady fit's, carried over "
+                       "(simulation.full_loop_intervals: carried)"
+                     : "so are the optimum check and the intervals "
+                       "(simulation.full_loop_intervals: refitted)");
     refit.model_note += (refit.model_note.empty() ? "" : "; ") + note.str();
     if (!result_.auto_starts_note.empty()) {
       refit.auto_starts_note = "in the quasi-steady fit: " + result_.auto_starts_note;

@@ -109,8 +109,11 @@ struct AxisStructure {
   // The instant accelerometer's half-window w (s, > 0; MODEL.md §6): a sample
   // is the mean of y1' over [t_k − w, t_k + w], w rounded to a whole number
   // of RK4 steps (at least one). A property of the sensor, not of the
-  // integrator: fits at different steps see the same signal.
-  double instant_window = 1.0e-4;
+  // integrator: fits at different steps see the same signal where the step
+  // divides it. The default is the paper's step: the narrowest window a fit
+  // at 10 µs resolves; a sensor_lowpass on `a` widens the bandwidth, nothing
+  // narrows a window wider than the records'.
+  double instant_window = 1.0e-5;
   int N_cog = 6;  // cogging periods per motor revolution (fixed, §7)
   // MODEL.md §7 force_map: its variable and knots (sim/force_map.h); its
   // values are AxisParams::f_map.

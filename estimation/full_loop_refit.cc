@@ -1,0 +1,73 @@
+#include "estimation/full_loop_refit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "estimation/at_estimate.h"
+
+namespace axis {
+namespace {
+
+bool Positive(double x) { return std::isfinite(x) && x > 0.0; }
+
+const ParameterEstimate* Find(const FitResult& r, const std::string& name) {
+  for (const ParameterEstimate& e : r.parameters) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
+}
+
+// The end `end` of the quasi-steady interval about `q`, carried to `value`
+// with the ratio r (CarryQuasiSteadyIntervals).
+double CarryEnd(double end, double q, double value, double r) {
+  if (Positive(end) && Positive(q) && Positive(value)) return value * std::pow(end / q, r);
+  return value + r * (end - q);
+}
+
+}  // namespace
+
+FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
+                        const CurrentLoopCheck& check, double* step) {
+  FitJob full = WithFullLoop(AtEstimate(job, quasi), step);
+  full.solver.starts = 0;
+  full.solver.auto_starts = 0;
+  full.solver.first_horizon = 0.0;
+  for (FreeParameter& f : full.free) {
+    for (size_t k = 0; k < check.names.size() && k < check.shift.size(); ++k) {
+      if (check.names[k] != f.name || !std::isfinite(check.shift[k])) continue;
+      f.initial = std::clamp(f.initial - check.shift[k], f.lower, f.upper);
+    }
+  }
+  if (job.full_loop_intervals == FitJob::FullLoopIntervals::kCarried) {
+    full.solver.probe_rounds = 0;
+    full.solver.local_starts = 0.0;
+    full.uncertainty.method = UncertaintySettings::Method::kGaussNewton;
+  }
+  return full;
+}
+
+void CarryQuasiSteadyIntervals(const FitResult& quasi, FitResult* full) {
+  for (ParameterEstimate& e : full->parameters) {
+    const ParameterEstimate* q = e.free ? Find(quasi, e.name) : nullptr;
+    if (q == nullptr) continue;
+    const double ratio = e.std_error_gauss_newton / q->std_error_gauss_newton;
+    const double r = Positive(ratio) ? ratio : 1.0;
+    e.ci95_low = CarryEnd(q->ci95_low, q->value, e.value, r);
+    e.ci95_high = CarryEnd(q->ci95_high, q->value, e.value, r);
+    e.std_error = r * q->std_error;
+    e.interval_method = q->interval_method + ", carried from the quasi-steady fit";
+    e.determined = e.determined && q->determined;
+  }
+  full->optimum_verified = quasi.optimum_verified;
+  full->optimum_check = "in the quasi-steady fit: " + quasi.optimum_check +
+                        "; the full loop refitted locally from its bias-corrected estimate";
+  full->uncertainty_method = quasi.uncertainty_method;
+  full->uncertainty_note = "the quasi-steady fit's intervals, moved to the full loop's "
+                           "estimate and scaled by the ratio of the two models' "
+                           "Gauss-Newton standard errors (simulation.full_loop_intervals: "
+                           "carried): " +
+                           quasi.uncertainty_note;
+}
+
+}  // namespace axis

@@ -1,0 +1,50 @@
+// The refit of a quasi-steady fit with the paper's full current loop (MODEL.md
+// eq. 3), for when the current-loop check (estimation/current_loop_check.h)
+// finds the quasi-steady approximation shifting the estimate by more than
+// simulation.full_loop_refit_above standard errors (run/job_run.h RunJob).
+//
+// The full loop costs about ten times as much per simulation (10 µs instead
+// of 100 µs). Running the job's whole optimum check and profile intervals
+// on it took 250 s of a 260 s job (issue 42, the accelerometer sampled at
+// the instant: 892 probe simulations, 440 in local restarts, 1640 in the
+// profiles). The two models differ by a shift of a few standard errors,
+// not in the shape of the cost, so by default (FitJob::FullLoopIntervals::
+// kCarried) the refit is a local Levenberg–Marquardt solve from the
+// bias-corrected estimate θ_qs − shift (the check's first-order bias), with
+// the Gauss–Newton covariance of the full loop, and the intervals are the
+// quasi-steady fit's (its optimum check, its profile or smooth-scale
+// intervals) carried over: CarryQuasiSteadyIntervals. kRefitted runs the
+// job's own checks and interval method on the full loop instead.
+#ifndef ESTIMATION_FULL_LOOP_REFIT_H_
+#define ESTIMATION_FULL_LOOP_REFIT_H_
+
+#include "estimation/current_loop_check.h"
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+
+namespace axis {
+
+// The job of the refit: WithFullLoop of `job` at the estimate of `quasi`
+// (AtEstimate), one start, no random starts, no horizon continuation; its
+// free parameters start at value − check.shift (clamped to their bounds;
+// a NaN shift leaves the value). With job.full_loop_intervals kCarried also
+// no probe rounds, no local restarts and Gauss–Newton intervals. *step,
+// if not null, receives the full loop's step (s). Throws
+// std::runtime_error as WithFullLoop.
+FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
+                        const CurrentLoopCheck& check, double* step = nullptr);
+
+// Gives every free parameter of `full` (the refit) the interval of the same
+// parameter in `quasi`, moved to the refit's value and scaled by
+// r = (full's Gauss–Newton standard error) / (quasi's), or 1 where either is
+// not a finite positive number: for a positive value and interval the ends
+// scale in ratio, value·(end/value_qs)^r (which keeps them positive, as a
+// log-scaled parameter's are); otherwise they move by r·(end − value_qs). std_error becomes r·(quasi's), the interval method
+// "<quasi's>, carried from the quasi-steady fit", and the optimum check,
+// its verdict and the uncertainty method and note are the quasi-steady
+// fit's, named as such. Never throws.
+void CarryQuasiSteadyIntervals(const FitResult& quasi, FitResult* full);
+
+}  // namespace axis
+
+#endif  // ESTIMATION_FULL_LOOP_REFIT_H_
