@@ -49,8 +49,8 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   refit.model.structure.accelerometer = other;
   AsWarmRefit(&refit);
   refit.solver.progress = false;
-  const FitResult moved = FitParameters(refit, nullptr);
-  check.chi2_other = 2.0 * moved.final_cost;
+  check.refit = FitParameters(refit, nullptr);
+  check.chi2_other = 2.0 * check.refit.final_cost;
   if (!std::isfinite(check.chi2_other) || !std::isfinite(check.chi2_declared)) {
     check.chi2_other = std::numeric_limits<double>::quiet_NaN();
     return check;

@@ -34,6 +34,10 @@ struct SamplingCheck {
   double chi2_other = 0.0;     // the same after the refit under the other one
   int samples = 0;             // the samples of `a` the job fits
   std::string note;            // set when chi2_other < (1 − kSamplingDropNote)·chi2_declared
+  // The refit under the other convention (Gauss–Newton intervals, no
+  // optimum check): the discovery loop's base fit when it adopts that
+  // convention (discovery/accelerometer_convention.h).
+  FitResult refit;
 };
 
 // Refits `job` from the estimate of `result` (AtEstimate, AsWarmRefit:

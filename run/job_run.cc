@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -10,6 +11,7 @@
 #include "common/format.h"
 #include "common/progress.h"
 #include "design/experiment_design.h"
+#include "discovery/accelerometer_convention.h"
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
 #include "discovery/force_map.h"
@@ -120,9 +122,18 @@ class JobPipeline {
          << FormatFitTable(result_);
     run_.diagnostics = DiagnoseResiduals(AtEstimate(job, result_));
     out_ << "\n" << FormatDiagnostics(run_.diagnostics);
+    // The sampling convention first (discovery/accelerometer_convention.h):
+    // the loop's delays and filters would stand in for it.
+    const std::optional<DiscoveryStep> convention =
+        AdoptAccelerometerConvention(run_.sampling_check, &job, &result_);
+    if (convention) {
+      out_ << "\nFront end: " << convention->effect << " adopted, BIC " << convention->bic_before
+           << " -> " << convention->bic_after << " (" << convention->rule << ")\n";
+    }
     DiscoverySettings settings = job.discover;
     settings.enabled = true;
     run_.discovery = Discover(settings, &job, &result_, &out_);
+    if (convention) PrependConventionStep(*convention, &run_.discovery);
     run_.discovery.base_fit_seconds = base_fit_seconds_;
     out_ << "\nFinal model:\n" << FormatDiagnostics(run_.discovery.final_diagnostics) << "\n"
          << FormatDiscovery(run_.discovery);

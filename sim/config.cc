@@ -226,6 +226,7 @@ bool IsEffectName(const std::string& name, bool allow_bare_sensor) {
 
 bool IsFrontEndEffect(const std::string& name) {
   const std::string effect = name.substr(0, name.find('.'));
+  if (effect == "accelerometer") return true;
   for (const SensorEffectInfo& e : SensorEffectTable()) {
     if (effect == e.name) return true;
   }

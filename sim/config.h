@@ -84,8 +84,10 @@ bool IsEffectName(const std::string& name, bool allow_bare_sensor = false);
 
 // Whether an effect name (IsEffectName, or "force_map.x" style) belongs to
 // the sensor front end (MODEL.md §6: sensor_delay, sensor_bias,
-// sensor_lowpass, sensor_lowpass2, with or without a channel) rather than to
-// the plant. The discovery report lists the two apart. Never throws.
+// sensor_lowpass, sensor_lowpass2, with or without a channel; and the
+// accelerometer's sampling convention as the discovery loop names its
+// change, "accelerometer.instant" or "accelerometer.period_mean") rather
+// than to the plant. The discovery report lists the two apart. Never throws.
 bool IsFrontEndEffect(const std::string& name);
 
 // The list of effect names for messages: "coulomb, stribeck, …,

@@ -4,12 +4,15 @@
 // to the noise and the declared one does not, and the note names the
 // convention; on period-mean records fitted as such, no note.
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "estimation/fit.h"
 #include "estimation/sampling_check.h"
+#include "discovery/discovery_report.h"
+#include "run/job_run.h"
 #include "job/load_fit_job.h"
 #include "tests/test_files.h"
 
@@ -88,6 +91,24 @@ TEST(SamplingCheckTest, PeriodMeanRecordsFittedAsSuchGetNoNote) {
   ASSERT_TRUE(check.ran);
   EXPECT_GT(check.chi2_other, check.chi2_declared);
   EXPECT_TRUE(check.note.empty()) << check.note;
+}
+
+// With --discover the loop starts from the other convention
+// (discovery/accelerometer_convention.h): the first step is
+// "accelerometer.instant", listed with the front end; no plant effect is
+// added to explain the sampling (instant records, a null plant), and the
+// job the run ends with samples `a` at the instant.
+TEST(SamplingCheckTest, DiscoveryAdoptsTheConventionAsAFrontEndStep) {
+  std::ostringstream out;
+  const JobRun run = RunJob(StepJob("instant"), true, out);
+  ASSERT_FALSE(run.discovery.steps.empty()) << out.str();
+  EXPECT_EQ(run.discovery.steps[0].effect, "accelerometer.instant");
+  EXPECT_TRUE(run.discovery.steps[0].kept);
+  EXPECT_LT(run.discovery.steps[0].bic_after, run.discovery.steps[0].bic_before);
+  ASSERT_FALSE(run.discovery.selected.empty());
+  EXPECT_EQ(run.discovery.selected[0], "accelerometer.instant");
+  EXPECT_TRUE(SplitSelected(run.discovery.selected).plant.empty()) << out.str();
+  EXPECT_EQ(run.job.model.structure.accelerometer, AccelerometerSampling::kInstant);
 }
 
 }  // namespace

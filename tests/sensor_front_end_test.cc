@@ -139,6 +139,7 @@ TEST(SensorFrontEndTest, ConfigReadsAndWritesTheFrontEnd) {
   EXPECT_DOUBLE_EQ(again.params.zeta_lp2[kA], 0.6);
   EXPECT_DOUBLE_EQ(again.params.tau_d[kTach], -0.0004);
   EXPECT_TRUE(IsFrontEndEffect("sensor_lowpass2.a"));
+  EXPECT_TRUE(IsFrontEndEffect("accelerometer.instant"));
   EXPECT_FALSE(IsFrontEndEffect("coulomb"));
   const std::string bad = model + "effects:\n  sensor_lowpass: {tach: -1e-4}\n";
   EXPECT_THROW(ParseAxisConfig(ParseYamlText(bad, "bad.yaml"), "bad.yaml"),

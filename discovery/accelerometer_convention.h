@@ -1,0 +1,39 @@
+// The accelerometer's sampling convention (MODEL.md §6: instant or period
+// mean) as a front-end step of the discovery loop. The convention is not a
+// parameter the score test can differentiate, and to first order the
+// loop's delay and low-pass on `a` stand in for it (issue 42: a period
+// mean read as instant samples is a box filter and a half-period delay):
+// on instant records read as period means, `fit-params --discover` kept
+// sensor_delay.a and ended "incomplete" at s² = 1.40, b_g 13 standard
+// errors off. The sampling check (estimation/sampling_check.h) has already
+// refitted the model under the other convention; when that refit lowered
+// χ² past its note, the loop starts from it.
+#ifndef DISCOVERY_ACCELEROMETER_CONVENTION_H_
+#define DISCOVERY_ACCELEROMETER_CONVENTION_H_
+
+#include <optional>
+
+#include "discovery/discovery_report.h"
+#include "estimation/fit_result.h"
+#include "estimation/sampling_check.h"
+#include "job/fit_job.h"
+
+namespace axis {
+
+// If `check` carries a note (the other convention's refit lowered Σ(r/σ)²
+// by at least kSamplingDropNote) and its refit has a finite cost: sets
+// job->model.structure.accelerometer to check.other, replaces *result by
+// check.refit, and returns the step "accelerometer.<other>" (kept; chi2 =
+// the drop in Σ(r/σ)², dof 0: the same parameters, so the BIC falls by
+// that much; the channels' RMS before and after). Else changes nothing and
+// returns nullopt. Never throws (except std::bad_alloc).
+std::optional<DiscoveryStep> AdoptAccelerometerConvention(const SamplingCheck& check,
+                                                          FitJob* job, FitResult* result);
+
+// Puts `step` before the loop's own steps in `report`, and its effect
+// first among the selected. Never throws (except std::bad_alloc).
+void PrependConventionStep(const DiscoveryStep& step, DiscoveryReport* report);
+
+}  // namespace axis
+
+#endif  // DISCOVERY_ACCELEROMETER_CONVENTION_H_
