@@ -21,7 +21,7 @@
 namespace axis {
 
 // If `check` carries a note (the other convention's refit lowered Σ(r/σ)²
-// by at least kSamplingDropNote) and its refit has a finite cost: sets
+// by more than kSamplingBicMargin) and its refit has a finite cost: sets
 // job->model.structure.accelerometer to check.other, replaces *result by
 // check.refit, and returns the step "accelerometer.<other>" (kept; chi2 =
 // the drop in Σ(r/σ)², dof 0: the same parameters, so the BIC falls by

@@ -304,6 +304,8 @@ class JobPipeline {
           {"other", c.other},
           {"chi2_declared", JsonNumber<nlohmann::json>(c.chi2_declared)},
           {"chi2_other", JsonNumber<nlohmann::json>(c.chi2_other)},
+          {"chi2_declared_with_delay", JsonNumber<nlohmann::json>(c.chi2_declared_delay)},
+          {"chi2_other_with_delay", JsonNumber<nlohmann::json>(c.chi2_other_delay)},
           {"samples", c.samples},
           {"note", c.note}};
       if (!c.note.empty()) extra.markdown += "\n## Accelerometer sampling\n\n" + c.note + "\n";
