@@ -28,6 +28,8 @@ std::optional<DiscoveryStep> AdoptAccelerometerConvention(const SamplingCheck& c
   return step;
 }
 
+bool IsConventionStep(const std::string& name) { return name.rfind("accelerometer.", 0) == 0; }
+
 void PrependConventionStep(const DiscoveryStep& step, DiscoveryReport* report) {
   report->steps.insert(report->steps.begin(), step);
   report->selected.insert(report->selected.begin(), step.effect);

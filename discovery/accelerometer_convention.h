@@ -12,6 +12,7 @@
 #define DISCOVERY_ACCELEROMETER_CONVENTION_H_
 
 #include <optional>
+#include <string>
 
 #include "discovery/discovery_report.h"
 #include "estimation/fit_result.h"
@@ -29,6 +30,10 @@ namespace axis {
 // returns nullopt. Never throws (except std::bad_alloc).
 std::optional<DiscoveryStep> AdoptAccelerometerConvention(const SamplingCheck& check,
                                                           FitJob* job, FitResult* result);
+
+// Whether `name` is the step AdoptAccelerometerConvention returns
+// ("accelerometer.…"), which has no parameter of its own. Never throws.
+bool IsConventionStep(const std::string& name);
 
 // Puts `step` before the loop's own steps in `report`, and its effect
 // first among the selected. Never throws (except std::bad_alloc).

@@ -10,6 +10,7 @@
 #include "common/format.h"
 #include "common/progress.h"
 #include "common/statistics.h"
+#include "discovery/accelerometer_convention.h"
 #include "discovery/channel_changes.h"
 #include "discovery/screen.h"
 #include "discovery/significance.h"
@@ -78,6 +79,7 @@ void DropInsignificant(double level, FitJob* job, FitResult* result,
   // The last added first (Stribeck before the Coulomb it refines).
   const std::vector<std::string> effects = report->selected;
   for (size_t k = effects.size(); k-- > 0;) {
+    if (IsConventionStep(effects[k])) continue;  // no parameter to test
     const Candidate candidate = CandidateNamed(effects[k]);
     if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
     ApplyEstimates(*result, job);
@@ -127,7 +129,7 @@ void DropInsignificant(double level, FitJob* job, FitResult* result,
   ApplyEstimates(*result, job);
   report->significance.clear();
   for (const std::string& name : report->selected) {
-    report->significance.push_back(EffectWald(name, *result));
+    if (!IsConventionStep(name)) report->significance.push_back(EffectWald(name, *result));
   }
 }
 
