@@ -8,7 +8,10 @@ namespace axis {
 
 std::optional<DiscoveryStep> AdoptAccelerometerConvention(const SamplingCheck& check,
                                                           FitJob* job, FitResult* result) {
-  if (check.note.empty() || !std::isfinite(check.refit.final_cost)) return std::nullopt;
+  if (check.note.empty() || !std::isfinite(check.refit.final_cost) ||
+      !(check.refit.bic < result->bic)) {
+    return std::nullopt;
+  }
   DiscoveryStep step;
   step.effect = "accelerometer." + check.other;
   step.chi2 = check.chi2_declared - check.chi2_other;

@@ -22,7 +22,8 @@
 namespace axis {
 
 // If `check` carries a note (the other convention's refit lowered Σ(r/σ)²
-// by more than kSamplingBicMargin) and its refit has a finite cost: sets
+// past kSamplingBicMargin) and its refit, without the check's delay, has a
+// finite cost and a lower BIC than `result`: sets
 // job->model.structure.accelerometer to check.other, replaces *result by
 // check.refit, and returns the step "accelerometer.<other>" (kept; chi2 =
 // the drop in Σ(r/σ)², dof 0: the same parameters, so the BIC falls by

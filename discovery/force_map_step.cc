@@ -1,3 +1,4 @@
+#include "discovery/accelerometer_convention.h"
 #include "discovery/force_map_step.h"
 
 #include <algorithm>
@@ -366,6 +367,7 @@ void ForceMapStep::BackwardPass() {
   const std::vector<std::string>& selected = loop_.selected;
   for (auto it = selected.rbegin(); it != selected.rend(); ++it) {
     const std::string& effect = *it;
+    if (IsConventionStep(effect)) continue;  // no parameter to move into the map
     if (std::find(loop_.removed.begin(), loop_.removed.end(), effect) != loop_.removed.end()) {
       continue;
     }

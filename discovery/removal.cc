@@ -98,17 +98,22 @@ void DropInsignificant(double level, FitJob* job, FitResult* result,
     // ridge, where removing the effect raised BIC from 8.0e3 past 2.0e4 on
     // an independent-data PRBS record, had a Wald p above the level), and a
     // refit stopped on its BIC bound has no estimate to adopt.
-    const double ratio = 2.0 * (refit.final_cost - result->final_cost);
-    const double ratio_p = record.stopped.empty() && std::isfinite(ratio)
-                               ? ChiSquaredSurvival(std::max(ratio, 0.0), std::max(w.dof, 1))
-                               : 0.0;
+    // χ² of the refit's fixed parameters, scaled by s² as the Wald test is.
+    const double ratio = 2.0 * (refit.final_cost - result->final_cost) /
+                         std::max(1.0, result->residual_variance);
+    const int fixed = std::max(1, static_cast<int>(EffectParameters(candidate).size()));
+    const bool failed = record.stopped.empty() && !std::isfinite(ratio);
+    const double ratio_p =
+        record.stopped.empty() && !failed ? ChiSquaredSurvival(std::max(ratio, 0.0), fixed) : 0.0;
     std::ostringstream why;
     why << "Wald chi2 " << w.chi2 << " (dof " << w.dof << "), p " << w.p_value
         << " not below " << level;
     if (ratio_p < level) {
-      why << ", but the likelihood ratio of the refit without it is significant ("
-          << (record.stopped.empty() ? "p " + FormatNumber(ratio_p, 4) : "stopped on its bound")
-          << "): kept";
+      why << (failed ? ", but the refit without it failed: kept"
+                     : ", but the likelihood ratio of the refit without it is significant (" +
+                           (record.stopped.empty() ? "p " + FormatNumber(ratio_p, 4)
+                                                   : std::string("stopped on its bound")) +
+                           "): kept");
       record.insignificant = why.str();
       record.kept = false;
       report->steps.push_back(record);

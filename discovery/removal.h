@@ -36,13 +36,15 @@ void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, Fi
                 FitResult* result, DiscoveryReport* report);
 
 // The stand-in rule of Discover (issue 10), on its own: each effect of
-// report->selected (Candidate names, the last first; Coulomb skipped while
+// report->selected (Candidate names, the last first; the accelerometer's
+// convention step, discovery/accelerometer_convention.h, skipped; Coulomb skipped while
 // Stribeck is in) whose EffectWald p-value at the fit `result` is not below
 // `level` is refitted away (warm-started at the optimum with the effect
 // off, its parameters fixed) and dropped whatever BIC says, unless the
-// likelihood ratio of that refit, 2·(cost without − cost with), is
-// significant at `level` (χ² with the Wald test's dof) or the refit
-// stopped on its BIC bound: then the effect stays (a removal step with
+// likelihood ratio of that refit, 2·(cost without − cost with)/max(1, s²),
+// is significant at `level` (χ² with as many dof as the effect's
+// parameters) or the refit stopped on its BIC bound or failed: then the
+// effect stays (a removal step with
 // `insignificant` saying so, kept false). A dropped one: a removal step
 // with `insignificant` set is appended, the name moves to report->removed,
 // and `job`/`result` become the model without it. Sets report->level and

@@ -1,6 +1,7 @@
 #include "estimation/sampling_check.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -27,31 +28,36 @@ int SamplesOfA(const FitJob& job) {
   return samples;
 }
 
-// `job` under `convention`, with a free delay on channel `a` (sensor_delay.a,
-// MODEL.md §6: either sign, from 0, within ± the longest output period of
-// the experiments that fit `a`, which holds the half-period between the
-// conventions and sub-sample skews; wider, a refit can slip a whole period
-// of the gear's ringing) unless the job has one already.
-FitJob WithConventionAndDelay(const FitJob& job, AccelerometerSampling convention) {
-  constexpr int kA = static_cast<int>(Channel::kA);
+// `job` under `convention`, with a free delay on every fitted channel
+// (sensor_delay.<channel>, MODEL.md §6: either sign, from 0, within ± the
+// longest output period of the experiments that fit it, which holds the
+// half-period between the conventions and sub-sample skews; wider, a refit
+// can slip a whole period of the gear's ringing) that has none yet: a skew
+// between the channels is not the convention's. *added counts them.
+FitJob WithConventionAndDelays(const FitJob& job, AccelerometerSampling convention, int* added) {
   FitJob out = job;
   out.model.structure.accelerometer = convention;
-  if (out.model.structure.sensors.delay[kA]) return out;
-  out.model.structure.sensors.delay[kA] = true;
-  out.model.params.tau_d[kA] = 0.0;
-  FreeParameter f;
-  f.name = "tau_d.a";
-  f.unit = ParamUnit(f.name);
-  f.initial = 0.0;
-  double period = 0.0;
+  std::array<double, kNumChannels> period{};
   for (const FitExperiment& e : job.experiments) {
     for (const FittedChannel& c : e.fitted) {
-      if (c.channel == Channel::kA) period = std::max(period, e.options.output_period);
+      const int k = static_cast<int>(c.channel);
+      period[k] = std::max(period[k], e.options.output_period);
     }
   }
-  f.lower = -period;
-  f.upper = period;
-  out.free.push_back(f);
+  *added = 0;
+  for (int k = 0; k < kNumChannels; ++k) {
+    if (!(period[k] > 0.0) || out.model.structure.sensors.delay[k]) continue;
+    out.model.structure.sensors.delay[k] = true;
+    out.model.params.tau_d[k] = 0.0;
+    FreeParameter f;
+    f.name = std::string("tau_d.") + ChannelName(static_cast<Channel>(k));
+    f.unit = ParamUnit(f.name);
+    f.initial = 0.0;
+    f.lower = -period[k];
+    f.upper = period[k];
+    out.free.push_back(f);
+    ++*added;
+  }
   return out;
 }
 
@@ -85,15 +91,18 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   check.samples = SamplesOfA(at);
   check.chi2_declared = 2.0 * result.final_cost;
   check.chi2_other = std::numeric_limits<double>::quiet_NaN();
-  check.dof = static_cast<int>(result.residual_dof) - 1;  // one more parameter: the delay
-  check.chi2_declared_delay =
-      WarmRefitChi2(WithConventionAndDelay(at, at.model.structure.accelerometer), nullptr);
-  check.chi2_other_delay = WarmRefitChi2(WithConventionAndDelay(at, other), nullptr);
+  int added = 0;
+  check.chi2_declared_delay = WarmRefitChi2(
+      WithConventionAndDelays(at, at.model.structure.accelerometer, &added), nullptr);
+  check.chi2_other_delay = WarmRefitChi2(WithConventionAndDelays(at, other, &added), nullptr);
+  check.dof = static_cast<int>(result.residual_dof) - added;  // the refits' own
   if (!std::isfinite(check.chi2_other_delay) || !std::isfinite(check.chi2_declared_delay)) {
     return check;
   }
   const double s2 = check.chi2_declared_delay / std::max(1, check.dof);
-  if (!(check.chi2_declared_delay - check.chi2_other_delay > kSamplingBicMargin * std::max(1.0, s2))) {
+  const double gain = check.chi2_declared_delay - check.chi2_other_delay;
+  const double excess = std::max(0.0, check.chi2_declared_delay - check.dof);
+  if (!(gain > kSamplingBicMargin * std::max(1.0, s2) && gain > kSamplingExcessShare * excess)) {
     return check;
   }
   FitJob plain = at;
@@ -106,12 +115,12 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   std::ostringstream note;
   note << std::setprecision(4) << "the accelerometer's records fit 'accelerometer: "
        << check.other << "' better than the declared '" << check.declared
-       << "' (each refitted with a free delay on a, sum of (r/sigma)^2 "
+       << "' (each refitted with a free delay on every fitted channel, sum of (r/sigma)^2 "
        << check.chi2_declared_delay << " -> " << check.chi2_other_delay << "; without it "
        << check.chi2_declared << " -> " << check.chi2_other << "; " << check.samples
        << " samples of a): the misfit is the sampling convention's, not a wrong minimum; "
-          "declare it in the model config (MODEL.md section 6) or the job's configuration, "
-          "and fit again";
+          "declare it in the model config (MODEL.md section 6) or the job's configuration "
+          "(fit-params --discover starts from it)";
   check.note = note.str();
   return check;
 }

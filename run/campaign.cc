@@ -20,6 +20,7 @@
 #include "common/concurrency.h"
 #include "common/format.h"
 #include "common/json_fields.h"
+#include "discovery/accelerometer_convention.h"
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
 #include "discovery/discovery_report.h"
@@ -113,7 +114,9 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
       if (run.force_map.kept) o.force_map = "force_map." + run.force_map.kind;
       o.selected = run.discovery.selected;
       for (const DiscoveryStep& s : run.discovery.steps) {
-        if (!s.removal && s.kept && o.first_added.empty()) o.first_added = s.effect;
+        if (!s.removal && s.kept && o.first_added.empty() && !IsConventionStep(s.effect)) {
+          o.first_added = s.effect;
+        }
         if (!s.retried.empty()) o.retried.push_back(s.effect);
       }
       verdict = run.discovery.verdict;

@@ -258,19 +258,43 @@ class JobPipeline {
   // square-wave records: 0.08 ± 0.04 kg with the full loop).
   void JudgeTheEffectsAgain() {
     Stage("the discovered effects' significance with the full loop");
-    const size_t before = run_.discovery.removed.size();
+    DiscoveryReport& report = run_.discovery;
+    const size_t removed_before = report.removed.size(), steps_before = report.steps.size();
     const std::string refit_note = result_.model_note;
-    DropInsignificant(run_.discovery.level, &run_.job, &result_, &run_.discovery, &out_);
-    if (run_.discovery.removed.size() == before) return;
+    try {
+      DropInsignificant(report.level, &run_.job, &result_, &report, &out_);
+    } catch (const std::exception& e) {
+      result_.model_note += std::string("; the significance check with the full loop failed (") +
+                            e.what() + ")";
+      return;
+    }
+    for (size_t k = steps_before; k < report.steps.size(); ++k) {
+      report.steps[k].insignificant = "with the full loop: " + report.steps[k].insignificant;
+    }
+    JudgeTheFinalModelAgain();
+    if (report.removed.size() == removed_before) return;
     std::string names;
-    for (size_t k = before; k < run_.discovery.removed.size(); ++k) {
-      names += (names.empty() ? "" : ", ") + run_.discovery.removed[k];
+    for (size_t k = removed_before; k < report.removed.size(); ++k) {
+      names += (names.empty() ? "" : ", ") + report.removed[k];
     }
     result_.model_note = refit_note + "; then " + names +
                          " not significant with the full loop (Wald and likelihood ratio at "
                          "the loop's level): refitted without (Gauss-Newton intervals of the "
                          "full loop)";
     out_ << "note: " << names << " dropped: not significant with the full current loop\n";
+  }
+
+  // The loop's final diagnostics and verdict again, of the model the run
+  // reports (the full loop's, after JudgeTheEffectsAgain), printed.
+  void JudgeTheFinalModelAgain() {
+    DiscoveryReport& report = run_.discovery;
+    try {
+      report.final_diagnostics = DiagnoseResiduals(AtEstimate(run_.job, result_));
+      report.verdict = JudgeResiduals(report.final_diagnostics, result_, run_.job.discover.alpha);
+    } catch (const std::runtime_error&) {
+      return;  // the refit does not simulate at its estimate: the loop's verdict stays
+    }
+    out_ << "\nFinal model with the full current loop: " << FormatVerdict(report.verdict);
   }
 
   // The residual diagnostics of the fitted model, for report.html (with

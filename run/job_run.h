@@ -46,9 +46,10 @@ struct JobRun {
   // With current_loop: quasi_steady, what the approximation costs the final
   // estimate (estimation/current_loop_check.h); ran = false otherwise.
   CurrentLoopCheck loop_check;
-  // Channel `a` at the declared model's estimate under the other
-  // accelerometer convention (estimation/sampling_check.h); ran = false
-  // when no fitted experiment fits `a`.
+  // The declared model refitted under each accelerometer convention with a
+  // free delay on `a`, and the whole fit's χ² of each (report.json
+  // accelerometer_check; estimation/sampling_check.h); ran = false when no
+  // fitted experiment fits `a`.
   SamplingCheck sampling_check;
   bool has_published = false;     // the job has `published:`
   PublishedComparison published;  // if has_published

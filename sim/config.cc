@@ -456,6 +456,11 @@ void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
         where + ": key 'coupling': expected rigid with amplifier "
                 "force_source (there is no motor to couple), got gear");
   }
+  if (!(config.structure.instant_window > 0.0 && config.structure.instant_window <= 1.0)) {
+    throw std::invalid_argument(where + ": key 'instant_window': expected a half-window in s, "
+                                        "> 0 and at most 1, got " +
+                                FormatNumber(config.structure.instant_window));
+  }
   if (config.structure.current_loop == CurrentLoop::kQuasiSteady &&
       config.structure.amplifier != Amplifier::kAnalogVelocityLoop) {
     throw std::invalid_argument(

@@ -105,7 +105,7 @@ struct Trace {
 
 // Whether channel c's recorded samples are read off its values at every RK4
 // step (sim/sensor_front_end.h): a delay or a low-pass on it, or the
-// instant accelerometer (the mean of y1' over ±h, from v). A bias alone,
+// instant accelerometer (the mean of y1' over ±instant_window, from v). A bias alone,
 // and the period-mean accelerometer alone, work on the output samples.
 inline bool HasGridFrontEnd(const AxisStructure& structure, Channel c) {
   const int k = static_cast<int>(c);
