@@ -36,8 +36,9 @@ FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
 
 // Gives every free parameter of `full` (the refit) the interval of the same
 // parameter in `quasi`, moved to the refit's value and scaled by
-// r = (full's Gauss–Newton standard error) / (quasi's), or 1 where either is
-// not a finite positive number: for a positive value and interval the ends
+// r = max(1, (full's Gauss–Newton standard error) / (quasi's)), or 1 where
+// either is not a finite positive number (never narrower: a rough
+// full-loop cost makes its Gauss–Newton scale an artifact): for a positive value and interval the ends
 // scale in ratio, value·(end/value_qs)^r (which keeps them positive, as a
 // log-scaled parameter's are); otherwise they move by r·(end − value_qs). std_error becomes r·(quasi's), the interval method
 // "<quasi's>, carried from the quasi-steady fit", and the optimum check,

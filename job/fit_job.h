@@ -101,8 +101,9 @@ struct FitJob {
   // How that refit gets its optimum check and intervals (key
   // simulation.full_loop_intervals; estimation/full_loop_refit.h):
   // kCarried, a local solve from the bias-corrected estimate whose
-  // intervals are the quasi-steady fit's carried over (scaled by the ratio
-  // of the two models' Gauss–Newton standard errors); kRefitted, the job's
+  // intervals are the quasi-steady fit's carried over (widened by the ratio
+  // of the two models' Gauss–Newton standard errors where the full loop's
+  // is larger); kRefitted, the job's
   // own optimum check and uncertainty method run again on the full loop
   // (ten times the cost per simulation).
   enum class FullLoopIntervals { kCarried, kRefitted };
