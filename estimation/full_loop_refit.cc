@@ -25,6 +25,26 @@ double CarryEnd(double end, double q, double value, double r) {
   return value + r * (end - q);
 }
 
+// Gives every free parameter of `to` that is in `from` from's interval,
+// moved to its value and widened by the Gauss–Newton ratio (never narrowed).
+void MoveIntervals(const FitResult& from, FitResult* to) {
+  for (ParameterEstimate& e : to->parameters) {
+    const ParameterEstimate* q = e.free ? Find(from, e.name) : nullptr;
+    if (q == nullptr) continue;
+    // Wider where the full loop's Gauss–Newton scale is, never narrower:
+    // on a cost made rough by many backlash contacts at 10 µs that scale is
+    // an artifact (a PRBS record: T_p's 5.6 times smaller, the truth 14 of
+    // those off; the quasi-steady interval held it at 1.8).
+    const double ratio = e.std_error_gauss_newton / q->std_error_gauss_newton;
+    const double r = Positive(ratio) ? std::max(1.0, ratio) : 1.0;
+    e.ci95_low = CarryEnd(q->ci95_low, q->value, e.value, r);
+    e.ci95_high = CarryEnd(q->ci95_high, q->value, e.value, r);
+    e.std_error = r * q->std_error;
+    e.interval_method = q->interval_method;
+    e.determined = e.determined && q->determined;
+  }
+}
+
 }  // namespace
 
 FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
@@ -48,20 +68,11 @@ FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
 }
 
 void CarryQuasiSteadyIntervals(const FitResult& quasi, FitResult* full) {
+  MoveIntervals(quasi, full);
   for (ParameterEstimate& e : full->parameters) {
-    const ParameterEstimate* q = e.free ? Find(quasi, e.name) : nullptr;
-    if (q == nullptr) continue;
-    // Wider where the full loop's Gauss–Newton scale is, never narrower:
-    // on a cost made rough by many backlash contacts at 10 µs that scale is
-    // an artifact (a PRBS record: T_p's 5.6 times smaller, the truth 14 of
-    // those off; the quasi-steady interval held it at 1.8).
-    const double ratio = e.std_error_gauss_newton / q->std_error_gauss_newton;
-    const double r = Positive(ratio) ? std::max(1.0, ratio) : 1.0;
-    e.ci95_low = CarryEnd(q->ci95_low, q->value, e.value, r);
-    e.ci95_high = CarryEnd(q->ci95_high, q->value, e.value, r);
-    e.std_error = r * q->std_error;
-    e.interval_method = q->interval_method + ", carried from the quasi-steady fit";
-    e.determined = e.determined && q->determined;
+    if (e.free && Find(quasi, e.name) != nullptr) {
+      e.interval_method += ", carried from the quasi-steady fit";
+    }
   }
   full->optimum_verified = quasi.optimum_verified;
   full->optimum_check = "in the quasi-steady fit: " + quasi.optimum_check +
@@ -72,6 +83,14 @@ void CarryQuasiSteadyIntervals(const FitResult& quasi, FitResult* full) {
                            "Gauss-Newton standard errors where the full loop's is larger "
                            "(simulation.full_loop_intervals: carried): " +
                            quasi.uncertainty_note;
+}
+
+void CarryIntervalsAcrossRemoval(const FitResult& carried, FitResult* refit) {
+  MoveIntervals(carried, refit);
+  refit->optimum_verified = carried.optimum_verified;
+  refit->optimum_check = carried.optimum_check;
+  refit->uncertainty_method = carried.uncertainty_method;
+  refit->uncertainty_note = carried.uncertainty_note;
 }
 
 }  // namespace axis

@@ -46,6 +46,21 @@ FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
 // fit's, named as such. Never throws.
 void CarryQuasiSteadyIntervals(const FitResult& quasi, FitResult* full);
 
+// After an effect is dropped from the full-loop refit (discovery's
+// significance rule applied again, run/job_run.h), the model without it is
+// again a local Gauss–Newton solve on the same rough cost, so its own
+// intervals are the artifact CarryQuasiSteadyIntervals avoids (an
+// independent square-wave and sweep record: T_p's 14 times narrower than
+// the carried one, the truth 9 of those off). Gives every free parameter of
+// `refit` that is also in `carried` (the full-loop fit with the effect, its
+// intervals carried) `carried`'s interval moved to the refit's value, and
+// widened by the ratio of the two Gauss–Newton standard errors where the
+// refit's is larger, never narrowed (as CarryQuasiSteadyIntervals; the
+// dropped effect's correlation can only have widened them). The interval
+// method, optimum check and uncertainty method and note are `carried`'s.
+// Never throws.
+void CarryIntervalsAcrossRemoval(const FitResult& carried, FitResult* refit);
+
 }  // namespace axis
 
 #endif  // ESTIMATION_FULL_LOOP_REFIT_H_

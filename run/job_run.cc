@@ -261,6 +261,7 @@ class JobPipeline {
     DiscoveryReport& report = run_.discovery;
     const size_t removed_before = report.removed.size(), steps_before = report.steps.size();
     const std::string refit_note = result_.model_note;
+    const FitResult with_effects = result_;
     try {
       DropInsignificant(report.level, &run_.job, &result_, &report, &out_);
     } catch (const std::exception& e) {
@@ -277,10 +278,13 @@ class JobPipeline {
     for (size_t k = removed_before; k < report.removed.size(); ++k) {
       names += (names.empty() ? "" : ", ") + report.removed[k];
     }
+    const bool carried = run_.job.full_loop_intervals == FitJob::FullLoopIntervals::kCarried;
+    if (carried) CarryIntervalsAcrossRemoval(with_effects, &result_);
     result_.model_note = refit_note + "; then " + names +
                          " not significant with the full loop (Wald and likelihood ratio at "
-                         "the loop's level): refitted without (Gauss-Newton intervals of the "
-                         "full loop)";
+                         "the loop's level): refitted without" +
+                         (carried ? " (the intervals carried over as before)"
+                                  : " (the full loop's own intervals)");
     out_ << "note: " << names << " dropped: not significant with the full current loop\n";
   }
 
