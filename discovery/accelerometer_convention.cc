@@ -38,4 +38,18 @@ void PrependConventionStep(const DiscoveryStep& step, DiscoveryReport* report) {
   report->selected.insert(report->selected.begin(), step.effect);
 }
 
+DiscoveryReport JoinSecondPass(DiscoveryReport first, const DiscoveryStep& convention,
+                               DiscoveryReport second) {
+  DiscoveryReport out = std::move(second);
+  first.steps.push_back(convention);
+  out.steps.insert(out.steps.begin(), first.steps.begin(), first.steps.end());
+  first.selected.push_back(convention.effect);
+  out.selected.insert(out.selected.begin(), first.selected.begin(), first.selected.end());
+  out.removed.insert(out.removed.begin(), first.removed.begin(), first.removed.end());
+  out.base_fit_seconds += first.base_fit_seconds;
+  out.score_seconds += first.score_seconds;
+  out.score_rankings += first.score_rankings;
+  return out;
+}
+
 }  // namespace axis

@@ -40,6 +40,18 @@ bool IsConventionStep(const std::string& name);
 // first among the selected. Never throws (except std::bad_alloc).
 void PrependConventionStep(const DiscoveryStep& step, DiscoveryReport* report);
 
+// The report of the loop run a second time, after the convention was
+// adopted on the model the first run discovered (run/job_run.cc: a plant
+// effect's misfit can hide the convention from the check on the declared
+// model, and a delay on `a` then stands in for it): `first`'s steps, then
+// `convention`, then `second`'s; the selected effects of both in that
+// order (the convention between them); the removed ones of both; the
+// seconds and score rankings summed; the rest (ranking, stop reason,
+// significance, final diagnostics, verdict) `second`'s. Never throws
+// (except std::bad_alloc).
+DiscoveryReport JoinSecondPass(DiscoveryReport first, const DiscoveryStep& convention,
+                               DiscoveryReport second);
+
 }  // namespace axis
 
 #endif  // DISCOVERY_ACCELEROMETER_CONVENTION_H_

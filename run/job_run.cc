@@ -135,6 +135,7 @@ class JobPipeline {
     settings.enabled = true;
     run_.discovery = Discover(settings, &job, &result_, &out_);
     if (convention) PrependConventionStep(*convention, &run_.discovery);
+    if (!convention) CheckTheConventionAgain(settings);
     run_.discovery.base_fit_seconds = base_fit_seconds_;
     out_ << "\nFinal model:\n" << FormatDiagnostics(run_.discovery.final_diagnostics) << "\n"
          << FormatDiscovery(run_.discovery);
@@ -145,6 +146,43 @@ class JobPipeline {
       out_ << "\n" << FormatForceMap(run_.force_map);
     }
     out_ << "\nAfter discovery:\n";
+  }
+
+  // The accelerometer's convention judged again on the discovered model,
+  // when that model still leaves structure: on the declared one a plant
+  // effect's misfit can hide it (independent square-wave and sweep records
+  // with a 40 N Coulomb friction, sampled at the instant: the two
+  // conventions' χ² 2.435e6 and 2.431e6, no note; the loop then kept
+  // sensor_delay.a in its place and ended incomplete at s² = 1.40 in 8 of
+  // 8 seeds). If the other convention now wins, it is adopted and the loop
+  // runs again from there, with the effects left to add; then every
+  // selected effect, the first run's too, meets the significance rule again
+  // (the stand-in delay is dropped there), and the final model is judged.
+  void CheckTheConventionAgain(DiscoverySettings settings) {
+    if (run_.discovery.verdict.verdict == "explained" || !run_.sampling_check.ran) return;
+    Stage("checking the accelerometer's sampling convention on the discovered model");
+    SamplingCheck again;
+    try {
+      again = CheckAccelerometerSampling(run_.job, result_);
+    } catch (const std::runtime_error&) {
+      return;  // the discovered model does not simulate under a convention: no change
+    }
+    const std::optional<DiscoveryStep> convention =
+        AdoptAccelerometerConvention(again, &run_.job, &result_);
+    if (!convention) return;
+    run_.sampling_check = std::move(again);
+    out_ << "\nnote: " << run_.sampling_check.note << "\nFront end: " << convention->effect
+         << " adopted on the discovered model, BIC " << convention->bic_before << " -> "
+         << convention->bic_after << "; the loop runs again from there\n";
+    int added = 0;
+    for (const std::string& name : run_.discovery.selected) added += !IsConventionStep(name);
+    settings.max_effects = std::max(0, settings.max_effects - added);
+    DiscoveryReport second = Discover(settings, &run_.job, &result_, &out_);
+    run_.discovery = JoinSecondPass(std::move(run_.discovery), *convention, std::move(second));
+    DropInsignificant(run_.discovery.level, &run_.job, &result_, &run_.discovery, &out_);
+    run_.discovery.final_diagnostics = DiagnoseResiduals(AtEstimate(run_.job, result_));
+    run_.discovery.verdict =
+        JudgeResiduals(run_.discovery.final_diagnostics, result_, run_.job.discover.alpha);
   }
 
   // With the quasi-steady current loop: how far the approximation moves the

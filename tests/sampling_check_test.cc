@@ -11,6 +11,7 @@
 
 #include "estimation/fit.h"
 #include "estimation/sampling_check.h"
+#include "discovery/accelerometer_convention.h"
 #include "discovery/discovery_report.h"
 #include "run/job_run.h"
 #include "job/load_fit_job.h"
@@ -117,6 +118,54 @@ TEST(SamplingCheckTest, DiscoveryAdoptsTheConventionAsAFrontEndStep) {
   EXPECT_EQ(run.discovery.selected[0], "accelerometer.instant");
   EXPECT_TRUE(SplitSelected(run.discovery.selected).plant.empty()) << out.str();
   EXPECT_EQ(run.job.model.structure.accelerometer, AccelerometerSampling::kInstant);
+}
+
+}  // namespace
+}  // namespace axis
+
+namespace axis {
+namespace {
+
+DiscoveryStep Step(const std::string& effect) {
+  DiscoveryStep s;
+  s.effect = effect;
+  s.kept = true;
+  return s;
+}
+
+// The loop run again after the convention was adopted on the discovered
+// model (run/job_run.cc CheckTheConventionAgain): the first run's steps and
+// effects, then the convention, then the second run's; the rest the
+// second's, the counters summed.
+TEST(SamplingCheckTest, TheSecondPassJoinsTheFirstAfterTheConvention) {
+  DiscoveryReport first;
+  first.steps = {Step("coulomb"), Step("sensor_delay.a")};
+  first.selected = {"coulomb", "sensor_delay.a"};
+  first.removed = {"stribeck"};
+  first.score_seconds = 1.5;
+  first.score_rankings = 3;
+  first.stop_reason = "maximum number of effects reached";
+  DiscoveryReport second;
+  second.steps = {Step("sensor_delay.tach")};
+  second.selected = {"sensor_delay.tach"};
+  second.score_seconds = 0.5;
+  second.score_rankings = 1;
+  second.stop_reason = "no significant candidate";
+  second.verdict.verdict = "explained";
+  const DiscoveryReport joined =
+      JoinSecondPass(first, Step("accelerometer.instant"), second);
+  ASSERT_EQ(joined.steps.size(), 4u);
+  EXPECT_EQ(joined.steps[1].effect, "sensor_delay.a");
+  EXPECT_EQ(joined.steps[2].effect, "accelerometer.instant");
+  EXPECT_EQ(joined.steps[3].effect, "sensor_delay.tach");
+  EXPECT_EQ(joined.selected, (std::vector<std::string>{"coulomb", "sensor_delay.a",
+                                                       "accelerometer.instant",
+                                                       "sensor_delay.tach"}));
+  EXPECT_EQ(joined.removed, std::vector<std::string>{"stribeck"});
+  EXPECT_DOUBLE_EQ(joined.score_seconds, 2.0);
+  EXPECT_EQ(joined.score_rankings, 4);
+  EXPECT_EQ(joined.stop_reason, "no significant candidate");
+  EXPECT_EQ(joined.verdict.verdict, "explained");
 }
 
 }  // namespace
