@@ -13,6 +13,7 @@
 
 #include "job/benchmark_settings.h"
 #include "job/design_settings.h"
+#include "job/tune_settings.h"
 #include "job/discovery_settings.h"
 #include "job/published_reference.h"
 #include "job/solver_settings.h"
@@ -83,6 +84,7 @@ struct FitJob {
   UncertaintySettings uncertainty;
   DiscoverySettings discover;  // `discover:` key (enabled if present)
   DesignSettings design;       // `design:` key (design/experiment_design.h)
+  TuneSettings tune;           // `tune:` key (tune/analog_loop_tuner.h)
   PublishedReference published;  // `published:` key (report/published.h)
   BenchmarkSettings benchmark;    // `benchmark:` key (run/benchmark.h)
   // Set by the force-map step of the discovery loop (discovery/force_map.h), not

@@ -697,6 +697,7 @@ FitJob FitJobParser::Parse() {
   ParseUncertainty();
   ParseDiscover();
   ParseDesign();
+  if (const YAML::Node node = root_.Optional("tune")) ParseTuneSettings(node, path_, &job_.tune);
   ParseOutput();
   ParseExperiments();
   CheckFitMemory();

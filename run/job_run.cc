@@ -27,6 +27,8 @@
 #include "job/fit_job.h"
 #include "report/published.h"
 #include "report/report.h"
+#include "report/tuning_report.h"
+#include "tune/analog_loop_tuning.h"
 
 namespace axis {
 namespace {
@@ -57,6 +59,7 @@ class JobPipeline {
     ResidualBootstrap(run_.job, &result_, &out_);
     if (run_.job.design.enabled) DesignTheNextExperiment();
     PrintTables();
+    if (run_.job.tune.enabled) TuneTheAxis();
     AddSections();
     run_.result = std::move(result_);
     return std::move(run_);
@@ -364,6 +367,19 @@ class JobPipeline {
     out_ << "\n" << proposal_text_;
   }
 
+  // The analog loop tuned to the job's spec on the identified axis
+  // (tune/analog_loop_tuning.h), printed after the fit's tables.
+  void TuneTheAxis() {
+    Stage("tuning the analog loop");
+    try {
+      run_.tuning = TuneAnalogLoop(run_.job, result_);
+    } catch (const std::runtime_error& e) {
+      run_.tuning = AnalogLoopTuning{};
+      run_.tuning.note = std::string("no tuning: ") + e.what();
+    }
+    out_ << "\n" << FormatTuning(run_.tuning);
+  }
+
   void PrintTables() {
     const FitResult& result = result_;
     out_ << "\n" << FormatParameterTable(result) << "\n" << FormatFitTable(result);
@@ -411,6 +427,10 @@ class JobPipeline {
     if (run_.job.design.enabled) {
       extra.markdown += "\n## Next experiment\n\n```\n" + proposal_text_ + "```\n";
       extra.json["next_experiment"] = ProposalToJson(run_.proposal);
+    }
+    if (run_.job.tune.enabled) {
+      extra.markdown += "\n## Tuning\n\n```\n" + FormatTuning(run_.tuning) + "```\n";
+      extra.json["tuning"] = TuningToJson(run_.tuning);
     }
   }
 

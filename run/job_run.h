@@ -21,6 +21,7 @@
 #include "job/fit_job.h"
 #include "report/published.h"
 #include "report/report.h"
+#include "tune/analog_loop_tuning.h"
 
 namespace axis {
 
@@ -43,6 +44,9 @@ struct JobRun {
   // With `design:` (design/experiment_design.h): the next experiment, at the
   // final estimates.
   ExperimentProposal proposal;
+  // With `tune:` (tune/analog_loop_tuning.h): the analog loop tuned to the
+  // job's spec at the final estimates.
+  AnalogLoopTuning tuning;
   // With current_loop: quasi_steady, what the approximation costs the final
   // estimate (estimation/current_loop_check.h); ran = false otherwise.
   CurrentLoopCheck loop_check;

@@ -10,6 +10,8 @@
 #include "discovery/force_map.h"
 #include "report/html_report.h"
 #include "report/report.h"
+#include "report/tuning_report.h"
+#include "estimation/at_estimate.h"
 #include "run/job_run.h"
 #include "sim/config.h"
 #include "sim/csv.h"
@@ -52,6 +54,9 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
                              "experiment_proposed_model.yaml"}) {
       html.files.push_back(name);
     }
+  }
+  if (run.job.tune.enabled) {
+    WriteTuning(dir, AtEstimate(run.job, run.result).model, run.tuning, &html.files);
   }
   WriteHtmlReport(dir + "/report.html", html, warnings);
   WriteProposal(dir, run.job, run.result, run.proposal);

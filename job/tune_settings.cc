@@ -1,0 +1,86 @@
+#include "job/tune_settings.h"
+
+#include "common/format.h"
+#include "sim/yaml_util.h"
+
+namespace axis {
+namespace {
+
+using Range = YamlMap::Range;
+
+// `key` of `map` in [low, high] (an inclusive or exclusive end as said by
+// `expected`), else the config error naming it.
+double Within(YamlMap& map, const std::string& key, double fallback, double low, double high,
+              bool open_low, const std::string& expected) {
+  const double x = map.Number(key, fallback, Range::kAny);
+  const bool above = open_low ? x > low : x >= low;
+  if (map.Has(key) && !(above && x <= high)) {
+    ThrowConfigError(map.file(), map.Optional(key), map.KeyPath(key), expected, FormatNumber(x));
+  }
+  return x;
+}
+
+void ParseStep(YamlMap& tune, TuneSpec* s) {
+  const YAML::Node node = tune.Optional("step");
+  if (!node) return;
+  YamlMap map(node, tune.file(), "tune.step.");
+  s->step_voltage = Within(map, "voltage", s->step_voltage, 0.0, 10.0, true,
+                           "a set-velocity voltage in (0, 10] V");
+  s->duration = Within(map, "duration", s->duration, 0.1, 60.0, false,
+                       "a simulated time in [0.1, 60] s");
+  map.Finish();
+}
+
+void ParseSpec(YamlMap& tune, TuneSpec* s) {
+  const YAML::Node node = tune.Optional("spec");
+  if (!node) return;
+  YamlMap map(node, tune.file(), "tune.spec.");
+  constexpr double kBig = 1e30;
+  s->settling_band = Within(map, "settling_band", s->settling_band, 0.0, 0.5, true,
+                            "a fraction of the final velocity in (0, 0.5]");
+  s->ringing_after = Within(map, "ringing_after", s->ringing_after, 0.0, 60.0, false,
+                            "a time in [0, 60] s");
+  s->max_settling_time = Within(map, "settling_time", s->max_settling_time, 0.0, kBig, true,
+                                "a settling time > 0 s");
+  s->max_overshoot = Within(map, "overshoot", s->max_overshoot, 0.0, kBig, false,
+                            "a fraction of the final velocity >= 0");
+  s->max_current = Within(map, "current", s->max_current, 0.0, kBig, true,
+                          "the motor's current rating > 0 A");
+  s->min_voltage_headroom = Within(map, "voltage_headroom", s->min_voltage_headroom, 0.0, kBig,
+                                   false, "a margin >= 0 V");
+  s->max_ringing = Within(map, "ringing", s->max_ringing, 0.0, kBig, true,
+                          "a residual vibration > 0 m/s");
+  s->max_ringing_decay = Within(map, "ringing_decay", s->max_ringing_decay, 0.0, kBig, true,
+                                "an e-folding time > 0 s");
+  s->velocity_gain = Within(map, "velocity_gain", s->velocity_gain, 0.0, kBig, true,
+                            "a velocity gain > 0 m/s per V");
+  map.Finish();
+}
+
+void ParseTp(YamlMap& tune, TuneSettings* out) {
+  const YAML::Node node = tune.Optional("T_p");
+  if (!node) return;
+  YamlMap map(node, tune.file(), "tune.T_p.");
+  out->T_p_low = Within(map, "low", out->T_p_low, 0.0, 100.0, true, "a time constant in (0, 100] s");
+  out->T_p_high =
+      Within(map, "high", out->T_p_high, 0.0, 100.0, true, "a time constant in (0, 100] s");
+  if (!(out->T_p_low < out->T_p_high)) {
+    ThrowConfigError(tune.file(), node, "tune.T_p", "low < high",
+                     FormatNumber(out->T_p_low) + " and " + FormatNumber(out->T_p_high));
+  }
+  out->curve_points = static_cast<int>(map.Integer("points", out->curve_points, 5, 200));
+  map.Finish();
+}
+
+}  // namespace
+
+void ParseTuneSettings(const YAML::Node& node, const std::string& path, TuneSettings* out) {
+  YamlMap tune(node, path, "tune.");
+  out->enabled = true;
+  ParseStep(tune, &out->spec);
+  ParseSpec(tune, &out->spec);
+  ParseTp(tune, out);
+  tune.Finish();
+}
+
+}  // namespace axis

@@ -1,0 +1,79 @@
+// Job key `tune:` (configs/README.md; issue 45): the specification a
+// tuning of the identified axis must meet, in the engineer's terms, and the
+// settings the tuner may move. Kept apart from the tuning code
+// (tune/analog_loop_tuner.h) so that job/fit_job.h need not include it.
+//
+// The test is the paper's own (Nelson & Chang 1984, section III and
+// Fig. 4): a step of the set-velocity voltage U applied to the identified
+// axis at rest, simulated with the fitted model and its limits. A bound
+// left unset (NaN) is not part of the specification.
+#ifndef JOB_TUNE_SETTINGS_H_
+#define JOB_TUNE_SETTINGS_H_
+
+#include <limits>
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+namespace axis {
+
+struct TuneSpec {
+  // V, the set-velocity voltage step, in (0, 10] (the drive's ±10 V; the
+  // paper's Fig. 4 uses 10 V).
+  double step_voltage = 10.0;
+  // s, simulated from the step, in [0.1, 60]; long enough for the velocity
+  // to settle.
+  double duration = 1.5;
+  // The settling band, a fraction of the final velocity, in (0, 0.5):
+  // the settling time is the last time |v − v_final| exceeds it.
+  double settling_band = 0.02;
+  // s after the velocity first enters the band at which the residual
+  // vibration (the largest |v − v_final| from then on, m/s) is read, ≥ 0.
+  double ringing_after = 0.1;
+  // Bounds (NaN: none). s, ≥ 0.
+  double max_settling_time = std::numeric_limits<double>::quiet_NaN();
+  // Fraction of the final velocity, ≥ 0.
+  double max_overshoot = std::numeric_limits<double>::quiet_NaN();
+  // A, the motor's rating, > 0. The preamp limit K_i·V_L of the model
+  // (MODEL.md §3) always applies; this is the rating the peak must respect.
+  double max_current = std::numeric_limits<double>::quiet_NaN();
+  // V, the least margin between the motor voltage and its limit V_M, ≥ 0.
+  double min_voltage_headroom = std::numeric_limits<double>::quiet_NaN();
+  // m/s, the largest residual vibration allowed (see ringing_after), > 0.
+  double max_ringing = std::numeric_limits<double>::quiet_NaN();
+  // s, the longest e-folding time of the ringing allowed
+  // (tune/step_response.h StepMetrics::ringing_decay), > 0.
+  double max_ringing_decay = std::numeric_limits<double>::quiet_NaN();
+  // m/s per V, the drive's steady-state velocity gain r_g·ω/U (MODEL.md §3,
+  // linear_model.h SteadyStateGain); if set, K_1 is recomputed for it with
+  // the identified arm friction B_a (the paper sets K_1 for 0.1 m/s per V
+  // with K_2 at its maximum 870). NaN: K_1 as in the model.
+  double velocity_gain = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct TuneSettings {
+  bool enabled = false;  // `tune:` present in the job
+  TuneSpec spec;
+  // The analog loop's preamp time constant T_p (s), searched on a
+  // logarithmic grid of `curve_points` points from T_p_high down to
+  // T_p_low (the paper's series of steps from its maximum 4.74 s), then
+  // refined between the best point's neighbours. 0 < T_p_low < T_p_high.
+  double T_p_low = 0.005;
+  double T_p_high = 4.74;
+  int curve_points = 25;  // in [5, 200]
+};
+
+// Reads `tune:` of job `path` (every key optional; `enabled` set):
+//   tune:
+//     step: {voltage: 10, duration: 1.5}
+//     spec: {settling_band: 0.02, ringing_after: 0.1, settling_time: 0.8,
+//            overshoot: 0.05, current: 8.1, voltage_headroom: 5,
+//            ringing: 0.005, ringing_decay: 0.1, velocity_gain: 0.1}
+//     T_p: {low: 0.005, high: 4.74, points: 25}
+// Throws std::invalid_argument "<file>:<line>: key 'tune.<key>': expected
+// …, got …" for an unknown key or a value outside the ranges above.
+void ParseTuneSettings(const YAML::Node& node, const std::string& path, TuneSettings* out);
+
+}  // namespace axis
+
+#endif  // JOB_TUNE_SETTINGS_H_
