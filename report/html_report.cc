@@ -25,6 +25,7 @@
 #include "job/fit_job.h"
 #include "report/published.h"
 #include "report/report.h"
+#include "report/tuning_report.h"
 #include "sim/channels.h"
 #include "sim/csv.h"
 
@@ -983,6 +984,10 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
   }
   if (input.proposal != nullptr) {
     sections.push_back({"next-experiment", "Next experiment", ProposalHtml(*input.proposal)});
+  }
+  if (input.tuning != nullptr) {
+    sections.push_back(
+        {"tuning", "Tuning", "<pre>" + HtmlEscape(FormatTuning(*input.tuning)) + "</pre>\n"});
   }
   std::string solver = SolverHtml(result);
   if (!input.files.empty()) {

@@ -30,6 +30,7 @@
 #include "estimation/fit_result.h"
 #include "job/fit_job.h"
 #include "report/published.h"
+#include "tune/analog_loop_tuning.h"
 
 namespace axis {
 
@@ -53,6 +54,9 @@ struct HtmlReportInput {
   // `design:`: FormatProposal's text and, if one was proposed, the ten
   // best feasible inputs of the family by the criterion.
   const ExperimentProposal* proposal = nullptr;
+  // The tuning (tune/analog_loop_tuning.h), if the job has `tune:`: its
+  // text (report/tuning_report.h FormatTuning).
+  const AnalogLoopTuning* tuning = nullptr;
   // How drive columns were read where the job did not say, one line each
   // ("<experiment>: <note>").
   std::vector<std::string> input_notes;

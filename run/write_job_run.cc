@@ -31,6 +31,7 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
   html.discovery = run.discovered ? &run.discovery : nullptr;
   html.force_map = run.discovered && run.job.discover.force_map ? &run.force_map : nullptr;
   html.proposal = run.job.design.enabled ? &run.proposal : nullptr;
+  html.tuning = run.job.tune.enabled ? &run.tuning : nullptr;
   html.published = run.has_published ? &run.published : nullptr;
   html.input_notes = run.input_lines;
   html.files = {"params.md", "params.csv", "report.json"};
