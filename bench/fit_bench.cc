@@ -14,6 +14,7 @@
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
 #include "run/job_run.h"
+#include "tune/analog_loop_tuning.h"
 
 namespace {
 
@@ -147,6 +148,26 @@ BENCHMARK_CAPTURE(BM_Job, front_end_anti_alias_discover, "/configs/jobs/front_en
 BENCHMARK_CAPTURE(BM_Job, friction_patch_discover, "/configs/jobs/discover/friction_patch.yaml",
                   true)
     ->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The tuning of the analog loop alone (issue 45; tune/analog_loop_tuning.h)
+// on the paper job's fit (configs/jobs/tune/x_axis_paper.yaml: a 10 V step
+// of 1.5 s at the fit's 100 µs step, 25 points of T_p, Brent, the
+// proposal and the current setting at the 8 interval ends): one spec on
+// one axis. The fit runs once, outside the timing.
+void BM_TuneAnalogLoop(benchmark::State& state) {
+  axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +
+                                      "/configs/jobs/tune/x_axis_paper.yaml");
+  job.solver.progress = false;
+  const axis::FitResult result = axis::FitParameters(job);
+  axis::AnalogLoopTuning tuning;
+  for (auto _ : state) {
+    tuning = axis::TuneAnalogLoop(job, result);
+    benchmark::DoNotOptimize(tuning);
+  }
+  state.counters["simulations"] = tuning.simulations;
+  state.counters["T_p"] = tuning.proposed.T_p;
+}
+BENCHMARK(BM_TuneAnalogLoop)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 }  // namespace
 
