@@ -34,6 +34,7 @@
 #include "sim/csv.h"
 #include "sim/experiment.h"
 #include "sim/yaml_util.h"
+#include "tune/analog_loop_tuning.h"
 
 namespace axis {
 namespace {
@@ -92,6 +93,24 @@ FitJob CampaignSeedJob(const CampaignConfig& c, int seed, const std::string& dir
   return ParseFitJob(root, c.job_path, DirectoryOf(c.job_path));
 }
 
+namespace {
+
+// The proposal applied to the axis that made the records: the first
+// generating config's model (its undeclared effects included), simulated
+// at that config's step.
+void JudgeTuningOnTheTrueAxis(const CampaignConfig& c, const AnalogLoopTuning& t,
+                              SeedOutcome* o) {
+  o->tuned_T_p = t.proposed.T_p;
+  if (c.generate.empty()) return;
+  const ExperimentConfig truth = LoadExperiment(c.generate.front().second);
+  const std::vector<std::string> v =
+      ViolationsOn(truth.model, truth.options.step, t.proposed, t.spec);
+  o->spec_met_true = v.empty() ? 1 : 0;
+  o->spec_violation_true = v.empty() ? "" : v.front();
+}
+
+}  // namespace
+
 SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_threads) {
   SeedOutcome o;
   o.seed = seed;
@@ -135,6 +154,7 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
         o.ci95_high[k] = e.ci95_high;
       }
     }
+    if (run.tuning.ran) JudgeTuningOnTheTrueAxis(c, run.tuning, &o);
   } catch (const std::exception& e) {
     o.error = e.what();
   }
@@ -169,7 +189,10 @@ nlohmann::json SeedOutcomeToJson(const SeedOutcome& o) {
           {"value", numbers(o.value)},
           {"ci95_low", numbers(o.ci95_low)},
           {"ci95_high", numbers(o.ci95_high)},
-          {"seconds", JsonNumber(o.seconds)}};
+          {"seconds", JsonNumber(o.seconds)},
+          {"tuned_T_p", JsonNumber(o.tuned_T_p)},
+          {"spec_met_true", o.spec_met_true},
+          {"spec_violation_true", o.spec_violation_true}};
 }
 
 SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& where) {
@@ -192,6 +215,9 @@ SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& wher
                                 std::to_string(o.ci95_high.size()));
   }
   o.seconds = JsonNumberField(j, "seconds", where);
+  o.tuned_T_p = JsonNumberField(j, "tuned_T_p", where);
+  o.spec_met_true = JsonIntField(j, "spec_met_true", where);
+  o.spec_violation_true = JsonStringField(j, "spec_violation_true", where);
   return o;
 }
 
@@ -262,6 +288,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
                           const std::vector<SeedOutcome>& outcomes) {
   CampaignSummary s;
   int false_discoveries = 0, front_end = 0, right_first = 0, exact = 0, as_expected = 0, ok = 0;
+  int tuned = 0, spec_met = 0;
   std::vector<int> covered(config.truth_values.size(), 0);
   bool truth_names_front_end = false;
   for (const std::string& e : config.truth_effects) {
@@ -287,6 +314,8 @@ CampaignSummary Summarize(const CampaignConfig& config,
     s.explained += o.verdict == "explained";
     if (!o.force_map.empty()) ++s.force_maps[o.force_map];
     s.incomplete += o.verdict == "incomplete";
+    tuned += o.spec_met_true >= 0;
+    spec_met += o.spec_met_true == 1;
     for (size_t k = 0; k < covered.size(); ++k) {
       const double truth = config.truth_values[k].second;
       covered[k] += o.ci95_low[k] <= truth && truth <= o.ci95_high[k];
@@ -314,6 +343,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
     s.covered_pooled = RateOf(pooled, ok * static_cast<int>(covered.size()));
   }
   if (!config.truth_verdict.empty()) s.verdict_as_expected = RateOf(as_expected, ok);
+  if (tuned > 0) s.spec_met_true = RateOf(spec_met, tuned);
   return s;
 }
 
@@ -352,6 +382,10 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
     out << "| verdict " << config.truth_verdict << " | " << FormatRate(s.verdict_as_expected)
         << " |\n";
   }
+  if (s.spec_met_true.n) {
+    out << "| spec met on the true axis (tune:, the proposal applied to the generating model) | "
+        << FormatRate(s.spec_met_true) << " |\n";
+  }
   out << "| verdicts | explained " << s.explained << ", incomplete " << s.incomplete
       << " |\n";
   if (!s.force_maps.empty()) {
@@ -372,12 +406,14 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
   int listed = 0;
   for (const SeedOutcome& o : outcomes) {
     const bool odd = !o.error.empty() || o.selected != config.truth_effects ||
-                     (!config.truth_verdict.empty() && o.verdict != config.truth_verdict);
+                     (!config.truth_verdict.empty() && o.verdict != config.truth_verdict) ||
+                     o.spec_met_true == 0;
     if (!odd) continue;
     ++listed;
     out << "- seed " << o.seed << ": "
         << (o.error.empty() ? "selected {" + Join(o.selected, ", ") + "}, verdict " + o.verdict
                             : "failed: " + o.error)
+        << (o.spec_met_true == 0 ? "; on the true axis: " + o.spec_violation_true : "")
         << "\n";
   }
   if (listed == 0) out << "- none\n";
@@ -393,7 +429,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
     (void)truth;
     csv << "," << name << "," << name << "_ci95_low," << name << "_ci95_high";
   }
-  csv << "\n";
+  csv << ",tuned_T_p,spec_met_true\n";
   for (const SeedOutcome& o : outcomes) {
     std::string error = o.error;
     std::replace(error.begin(), error.end(), ',', ';');
@@ -403,7 +439,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
     for (size_t k = 0; k < config.truth_values.size(); ++k) {
       csv << "," << o.value[k] << "," << o.ci95_low[k] << "," << o.ci95_high[k];
     }
-    csv << "\n";
+    csv << "," << o.tuned_T_p << "," << o.spec_met_true << "\n";
   }
   nlohmann::json j;
   j["title"] = config.title;
@@ -425,6 +461,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
   if (s.verdict_as_expected.n) j["verdict_as_expected"] = RateJson(s.verdict_as_expected);
   j["verdicts"] = {{"explained", s.explained}, {"incomplete", s.incomplete}};
   j["force_maps"] = s.force_maps;
+  if (s.spec_met_true.n) j["spec_met_true"] = RateJson(s.spec_met_true);
   WriteFileAtomic(dir + "/results.csv", csv.str());
   WriteFileAtomic(dir + "/summary.md", FormatCampaign(config, s, outcomes));
   WriteFileAtomic(dir + "/summary.json", j.dump(2) + "\n");

@@ -6,6 +6,7 @@
 #ifndef RUN_CAMPAIGN_H_
 #define RUN_CAMPAIGN_H_
 
+#include <limits>
 #include <map>
 #include <ostream>
 #include <string>
@@ -50,6 +51,14 @@ struct SeedOutcome {
   // parameter is not in the final model.
   std::vector<double> value, ci95_low, ci95_high;
   double seconds = 0.0;                // wall time of simulate + fit + loop
+  // With the job's `tune:` (tune/analog_loop_tuning.h): the proposed T_p
+  // (s) and whether the spec holds with the proposal applied to the axis
+  // that made the records (the first generating config's model, its
+  // undeclared effects included): 1 yes, 0 no, −1 no tuning ran; the
+  // first violation there, "" if none.
+  double tuned_T_p = std::numeric_limits<double>::quiet_NaN();
+  int spec_met_true = -1;
+  std::string spec_violation_true;
 };
 
 // The job of seed `seed`: each experiment of config.job_path simulated from
@@ -122,6 +131,9 @@ struct CampaignSummary {
   // the pooled rate is narrower than its true spread.
   Rate covered_pooled;
   Rate verdict_as_expected;   // only if truth_verdict is set
+  // With `tune:`: seeds whose proposal meets the spec on the true axis,
+  // of those tuned.
+  Rate spec_met_true;
   int explained = 0, incomplete = 0;
   // Seeds per force map kept ("force_map.x_friction" → count), with
   // discover.force_map; empty without.

@@ -241,4 +241,13 @@ AnalogLoopTuning TuneAnalogLoop(const FitJob& job, const FitResult& result) {
   return AnalogLoopTuner(job, result).Run();
 }
 
+std::vector<std::string> ViolationsOn(const AxisConfig& axis, double step, const TunedSetting& s,
+                                      const TuneSpec& spec) {
+  AxisConfig model = axis;
+  model.params.K1 = s.K1;
+  model.params.T_p = s.T_p;
+  return SpecViolations(MeasureStep(SimulateStep(model, step, spec), spec, model.params.V_M),
+                        spec);
+}
+
 }  // namespace axis

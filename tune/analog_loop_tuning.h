@@ -81,6 +81,14 @@ struct AnalogLoopTuning {
 // proposal then has the least violation, with its violations listed).
 AnalogLoopTuning TuneAnalogLoop(const FitJob& job, const FitResult& result);
 
+// The setting `s` (its K1 and T_p) applied to another axis, `axis` (e.g.
+// the model that generated the records, with effects the fit did not
+// declare), and the step of `spec` simulated on it at `step` (s): the
+// spec's violations there (SpecViolations), empty if it holds. Throws
+// std::invalid_argument as SimulateStep.
+std::vector<std::string> ViolationsOn(const AxisConfig& axis, double step, const TunedSetting& s,
+                                      const TuneSpec& spec);
+
 }  // namespace axis
 
 #endif  // TUNE_ANALOG_LOOP_TUNING_H_
