@@ -185,11 +185,17 @@ void WriteTuning(const std::string& dir, const AxisConfig& model, const AnalogLo
   }
   const StepResponse& c = t.current.response;
   const StepResponse& p = t.proposed.response;
-  if (c.finite && p.finite && c.t.size() == p.t.size() && !c.t.empty()) {
+  const StepResponse& lo = t.proposed.band_low;
+  const StepResponse& hi = t.proposed.band_high;
+  const size_t n = c.t.size();
+  if (c.finite && p.finite && n > 0 && p.t.size() == n && lo.t.size() == n && hi.t.size() == n) {
     WriteCsvAtomic(dir + "/tune_step.csv",
-                   {"t", "v_current", "v_proposed", "i_current", "i_proposed", "vm_current",
-                    "vm_proposed", "fg_current", "fg_proposed"},
-                   {c.t, c.v, p.v, c.i, p.i, c.vm, p.vm, c.fg, p.fg});
+                   {"t", "x_current", "v_current", "i_current", "vm_current", "fg_current",
+                    "x_proposed", "v_proposed", "i_proposed", "vm_proposed", "fg_proposed",
+                    "x_proposed_low", "x_proposed_high", "v_proposed_low", "v_proposed_high",
+                    "i_proposed_low", "i_proposed_high", "fg_proposed_low", "fg_proposed_high"},
+                   {c.t, c.x, c.v, c.i, c.vm, c.fg, p.x, p.v, p.i, p.vm, p.fg, lo.x, hi.x, lo.v,
+                    hi.v, lo.i, hi.i, lo.fg, hi.fg});
     files->push_back("tune_step.csv");
   }
   AxisConfig tuned = model;

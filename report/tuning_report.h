@@ -31,8 +31,10 @@ std::string FormatTuning(const AnalogLoopTuning& t);
 nlohmann::json TuningToJson(const AnalogLoopTuning& t);
 
 // The files of a tuning that ran, into the folder `dir`: tune_curve.csv
-// (the trade-off curve: T_p and every figure), tune_step.csv (t and, for
-// the current and the proposed setting, v, i, vm and fg at the estimate),
+// (the trade-off curve: T_p and every figure), tune_step.csv (t; x, v,
+// i, vm and fg of the current and the proposed setting at the estimate;
+// the proposal's band of x, v, i and fg over the interval ends, *_low and
+// *_high),
 // model_tuned.yaml (the job's model at the estimate `model` with the
 // proposed K1 and T_p) and tune_verify.yaml (the step as an experiment of
 // simulate-axis on model_tuned.yaml: the test to run on the machine and

@@ -177,6 +177,7 @@ class AnalogLoopTuner {
     ++simulations_;
     s->response = SimulateStep(model, step_, spec_);
     s->metrics = MeasureStep(s->response, spec_, model.params.V_M);
+    WidenBand(s->response, &s->band_low, &s->band_high);
     s->violations = SpecViolations(s->metrics, spec_);
     const std::vector<std::string> broken = ViolatedFigures(s->metrics, spec_);
     s->robust = s->violations.empty();
@@ -194,7 +195,10 @@ class AnalogLoopTuner {
         double* p = FindParam(&at_end.params, e.name);
         if (p == nullptr) continue;
         *p = end;
-        const StepMetrics m = Measure(s->K1, s->T_p, at_end);
+        ++simulations_;
+        const StepResponse r = SimulateStep(at_end, step_, spec_);
+        WidenBand(r, &s->band_low, &s->band_high);
+        const StepMetrics m = MeasureStep(r, spec_, at_end.params.V_M);
         const std::vector<std::string> texts = SpecViolations(m, spec_);
         const std::vector<std::string> figures = ViolatedFigures(m, spec_);
         for (size_t v = 0; v < texts.size(); ++v) {

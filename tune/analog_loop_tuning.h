@@ -59,6 +59,9 @@ struct TunedSetting {
   // <low|high> end: <violation>".
   std::vector<std::string> robust_violations;
   StepResponse response;  // at the estimate, for the plots
+  // The response's band over the estimate and every interval end, sample
+  // by sample (WidenBand).
+  StepResponse band_low, band_high;
 };
 
 struct AnalogLoopTuning {

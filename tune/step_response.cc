@@ -75,17 +75,38 @@ StepResponse SimulateStep(const AxisConfig& model, double step, const TuneSpec& 
   e.options.duration = spec.duration;
   e.options.step = step;
   e.options.output_period = step * std::max(1.0, std::round(kOutputPeriod / step));
-  e.options.channels = {Channel::kV, Channel::kI, Channel::kVm, Channel::kFg};
+  e.options.channels = {Channel::kX, Channel::kV, Channel::kI, Channel::kVm, Channel::kFg};
   e.initial_state = ConsistentInitialState(model, AxisState<double>::Zero());
   const Trace<double> trace = RunExperiment(e);
   StepResponse r;
   r.t = trace.t;
+  r.x = Values(trace, Channel::kX);
   r.v = Values(trace, Channel::kV);
   r.i = Values(trace, Channel::kI);
   r.vm = Values(trace, Channel::kVm);
   r.fg = Values(trace, Channel::kFg);
   r.finite = trace.finite;
   return r;
+}
+
+void WidenBand(const StepResponse& r, StepResponse* low, StepResponse* high) {
+  if (!r.finite) return;
+  if (low->t.empty()) {
+    *low = r;
+    *high = r;
+    return;
+  }
+  if (r.t.size() != low->t.size()) return;
+  for (auto channel : {&StepResponse::x, &StepResponse::v, &StepResponse::i, &StepResponse::vm,
+                       &StepResponse::fg}) {
+    std::vector<double>& lo = low->*channel;
+    std::vector<double>& hi = high->*channel;
+    const std::vector<double>& value = r.*channel;
+    for (size_t k = 0; k < value.size(); ++k) {
+      lo[k] = std::min(lo[k], value[k]);
+      hi[k] = std::max(hi[k], value[k]);
+    }
+  }
 }
 
 StepMetrics MeasureStep(const StepResponse& r, const TuneSpec& spec, double V_M) {

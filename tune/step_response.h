@@ -17,6 +17,7 @@ namespace axis {
 // The simulated step, at the output period of StepResponseOptions.
 struct StepResponse {
   std::vector<double> t;   // s, from the step
+  std::vector<double> x;   // arm position y0 (m)
   std::vector<double> v;   // arm velocity y1 (m/s)
   std::vector<double> i;   // motor current (A)
   std::vector<double> vm;  // motor voltage (V)
@@ -32,6 +33,11 @@ struct StepResponse {
 // settling time to well under the 5 ms control period). Throws
 // std::invalid_argument for a step that does not fit the duration (MakeGrid).
 StepResponse SimulateStep(const AxisConfig& model, double step, const TuneSpec& spec);
+
+// Widens the band [*low, *high] sample by sample to hold `r` (every
+// channel; a band that is empty takes `r` as it is). Responses of another
+// length or not finite are skipped. Never throws (except std::bad_alloc).
+void WidenBand(const StepResponse& r, StepResponse* low, StepResponse* high);
 
 // The figures of one response, in the units of TuneSpec.
 struct StepMetrics {
