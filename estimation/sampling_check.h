@@ -52,7 +52,9 @@ struct SamplingCheck {
   // Σ(r/σ)² of the refits under the declared and the other convention, each
   // with a free delay on every fitted channel (sensor_delay.<channel> from
   // 0 within ± the longest output period; the job's own where it has one):
-  // what decides.
+  // what decides. Where the other one wins, the declared one is refitted
+  // again from the other's optimum and the lower of its two is kept (a
+  // model far off can find a lower minimum under either convention).
   double chi2_declared_delay = 0.0;
   double chi2_other_delay = 0.0;
   // Σ(r/σ)² of the refit under the other convention as the job stands
