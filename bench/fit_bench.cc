@@ -15,6 +15,7 @@
 #include "job/load_fit_job.h"
 #include "run/job_run.h"
 #include "tune/analog_loop_tuning.h"
+#include "tune/move_tuning.h"
 
 namespace {
 
@@ -168,6 +169,28 @@ void BM_TuneAnalogLoop(benchmark::State& state) {
   state.counters["T_p"] = tuning.proposed.T_p;
 }
 BENCHMARK(BM_TuneAnalogLoop)->Unit(benchmark::kMillisecond)->Iterations(5);
+
+// The tuning of the position controller and the move (issue 45;
+// tune/move_tuning.h) on the paper job's fit with the analog loop as
+// proposed (configs/jobs/tune/x_axis_move.yaml: a 0.2 m move, trapezoid
+// and minimum-jerk, G_p and G_v and the speed, 160 simulations each, the
+// robust rounds, the judging at the interval ends). The fit and the
+// analog tuning run once, outside the timing.
+void BM_TuneMove(benchmark::State& state) {
+  axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +
+                                      "/configs/jobs/tune/x_axis_move.yaml");
+  job.solver.progress = false;
+  const axis::FitResult result = axis::FitParameters(job);
+  const axis::AnalogLoopTuning analog = axis::TuneAnalogLoop(job, result);
+  axis::MoveTuning tuning;
+  for (auto _ : state) {
+    tuning = axis::TuneMove(job, result, &analog);
+    benchmark::DoNotOptimize(tuning);
+  }
+  state.counters["simulations"] = tuning.simulations;
+  state.counters["move_time"] = tuning.proposed.metrics.move_time;
+}
+BENCHMARK(BM_TuneMove)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 

@@ -1,5 +1,7 @@
 #include "job/tune_settings.h"
 
+#include <cmath>
+
 #include "common/format.h"
 #include "sim/yaml_util.h"
 
@@ -72,6 +74,104 @@ void ParseTp(YamlMap& tune, TuneSettings* out) {
   map.Finish();
 }
 
+void ParseMoveSpec(YamlMap& move, MoveSpec* s) {
+  constexpr double kBig = 1e30;
+  s->distance = move.Number("distance", s->distance, Range::kAny);
+  if (move.Has("distance") && s->distance == 0.0) {
+    ThrowConfigError(move.file(), move.Optional("distance"), move.KeyPath("distance"),
+                     "a nonzero distance in m", "0");
+  }
+  if (const YAML::Node node = move.Optional("limits")) {
+    YamlMap map(node, move.file(), "tune.move.limits.");
+    s->max_velocity = map.Number("velocity", s->max_velocity, Range::kPositive);
+    s->max_acceleration = map.Number("acceleration", s->max_acceleration, Range::kPositive);
+    s->max_jerk = map.Number("jerk", s->max_jerk, Range::kPositiveOrInfinite);
+    map.Finish();
+  }
+  if (const YAML::Node node = move.Optional("profiles")) {
+    s->profiles.clear();
+    if (!node.IsSequence() || node.size() == 0) {
+      ThrowConfigError(move.file(), node, "tune.move.profiles",
+                       "a list of trapezoid and/or min_jerk", "not a nonempty list");
+    }
+    for (const YAML::Node& p : node) {
+      const std::string name = p.IsScalar() ? p.Scalar() : "";
+      if (name != "trapezoid" && name != "min_jerk") {
+        ThrowConfigError(move.file(), p, "tune.move.profiles", "trapezoid or min_jerk",
+                         name.empty() ? "not a name" : name);
+      }
+      s->profiles.push_back(name);
+    }
+  }
+  s->settle = Within(move, "settle", s->settle, 0.05, 60.0, false, "a time in [0.05, 60] s");
+  if (const YAML::Node node = move.Optional("spec")) {
+    YamlMap map(node, move.file(), "tune.move.spec.");
+    s->position_band = Within(map, "position_band", s->position_band, 0.0, kBig, true,
+                              "a band > 0 m");
+    s->ringing_after = Within(map, "ringing_after", s->ringing_after, 0.0, 60.0, false,
+                              "a time in [0, 60] s");
+    s->max_settling_time = Within(map, "settling_time", s->max_settling_time, 0.0, kBig, false,
+                                  "a settling time >= 0 s");
+    s->max_following_error = Within(map, "following_error", s->max_following_error, 0.0, kBig,
+                                    true, "a following error > 0 m");
+    s->max_overshoot = Within(map, "overshoot", s->max_overshoot, 0.0, kBig, false,
+                              "an overshoot >= 0 m");
+    s->max_current = Within(map, "current", s->max_current, 0.0, kBig, true,
+                            "the motor's current rating > 0 A");
+    s->max_ringing = Within(map, "ringing", s->max_ringing, 0.0, kBig, true,
+                            "a residual vibration > 0 m");
+    map.Finish();
+  }
+}
+
+void ParseGains(YamlMap& move, MoveTuneSettings* out) {
+  const YAML::Node node = move.Optional("gains");
+  if (!node) return;
+  YamlMap map(node, move.file(), "tune.move.gains.");
+  out->gains.clear();
+  for (const char* name : {"G_p", "G_i", "G_v", "G_ff", "alpha"}) {
+    const YAML::Node g = map.Optional(name);
+    if (!g) continue;
+    const std::string key = std::string("tune.move.gains.") + name;
+    if (!g.IsSequence() || g.size() != 2) {
+      ThrowConfigError(move.file(), g, key, "[low, high]", "not a pair");
+    }
+    const double low = map.NumberFrom(g[0], key + "[0]", Range::kNonNegative);
+    const double high = map.NumberFrom(g[1], key + "[1]", Range::kPositive);
+    const bool alpha = std::string(name) == "alpha";
+    if (!(low < high && (!alpha || (low > 0.0 && high <= 1.0)))) {
+      ThrowConfigError(move.file(), g, key,
+                       alpha ? "[low, high] with 0 < low < high <= 1" : "[low, high] with 0 <= low < high",
+                       FormatNumber(low) + ", " + FormatNumber(high));
+    }
+    out->gains.push_back({name, low, high});
+  }
+  map.Finish();
+  if (out->gains.empty()) {
+    ThrowConfigError(move.file(), node, "tune.move.gains",
+                     "at least one of G_p, G_i, G_v, G_ff, alpha", "none");
+  }
+}
+
+void ParseMove(YamlMap& tune, MoveTuneSettings* out) {
+  const YAML::Node node = tune.Optional("move");
+  if (!node) return;
+  YamlMap move(node, tune.file(), "tune.move.");
+  out->enabled = true;
+  ParseMoveSpec(move, &out->spec);
+  ParseGains(move, out);
+  if (const YAML::Node b = move.Optional("slow_down")) {
+    try {
+      out->slow_down = b.as<bool>();
+    } catch (const YAML::Exception&) {
+      ThrowConfigError(move.file(), b, "tune.move.slow_down", "true or false", b.Scalar());
+    }
+  }
+  out->evaluations = static_cast<int>(move.Integer("evaluations", out->evaluations, 20, 5000));
+  out->margin = Within(move, "margin", out->margin, 0.0, 0.5, false, "a fraction in [0, 0.5]");
+  move.Finish();
+}
+
 }  // namespace
 
 void ParseTuneSettings(const YAML::Node& node, const std::string& path, TuneSettings* out) {
@@ -80,6 +180,7 @@ void ParseTuneSettings(const YAML::Node& node, const std::string& path, TuneSett
   ParseStep(tune, &out->spec);
   ParseSpec(tune, &out->spec);
   ParseTp(tune, out);
+  ParseMove(tune, &out->move);
   tune.Finish();
 }
 

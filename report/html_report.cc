@@ -208,6 +208,28 @@ class Plotter {
                  }));
   }
 
+  // A <figure> with the step of the analog tuning `t` (current, proposed,
+  // the proposal's band).
+  std::string TuningStep(const AnalogLoopTuning& t) {
+    return Later("The step of the tuning: velocity and motor current of the current and the "
+                 "proposed setting, the proposal's band over the fit's interval ends.",
+                 [&t](const std::string& csv) { WriteTuneStepCsv(csv, t); },
+                 Gnuplot("tuning step", [](const std::string& csv, const std::string& output) {
+                   return TuneStepPlotScript(csv, output);
+                 }));
+  }
+
+  // A <figure> with the move of the move tuning `t`.
+  std::string TuningMove(const MoveTuning& t) {
+    return Later("The move: position (with the proposal's reference, dashed) and motor "
+                 "current of the current and the proposed setting, the proposal's band over "
+                 "the fit's interval ends.",
+                 [&t](const std::string& csv) { WriteTuneMoveCsv(csv, t); },
+                 Gnuplot("tuning move", [](const std::string& csv, const std::string& output) {
+                   return TuneMovePlotScript(csv, output);
+                 }));
+  }
+
   // Draws every figure asked for and replaces its placeholder in the
   // sections' bodies. The objects the calls were given must still exist.
   void Draw(std::vector<HtmlSection>* sections) {
@@ -987,7 +1009,15 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
   }
   if (input.tuning != nullptr) {
     sections.push_back(
-        {"tuning", "Tuning", "<pre>" + HtmlEscape(FormatTuning(*input.tuning)) + "</pre>\n"});
+        {"tuning", "Tuning",
+         "<pre>" + HtmlEscape(FormatTuning(*input.tuning)) + "</pre>\n" +
+             (input.tuning->ran ? plotter.TuningStep(*input.tuning) : std::string())});
+  }
+  if (input.move_tuning != nullptr) {
+    sections.push_back({"move-tuning", "Move tuning",
+                        "<pre>" + HtmlEscape(FormatMoveTuning(*input.move_tuning)) + "</pre>\n" +
+                            (input.move_tuning->ran ? plotter.TuningMove(*input.move_tuning)
+                                                    : std::string())});
   }
   std::string solver = SolverHtml(result);
   if (!input.files.empty()) {

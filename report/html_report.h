@@ -31,6 +31,7 @@
 #include "job/fit_job.h"
 #include "report/published.h"
 #include "tune/analog_loop_tuning.h"
+#include "tune/move_tuning.h"
 
 namespace axis {
 
@@ -57,6 +58,8 @@ struct HtmlReportInput {
   // The tuning (tune/analog_loop_tuning.h), if the job has `tune:`: its
   // text (report/tuning_report.h FormatTuning).
   const AnalogLoopTuning* tuning = nullptr;
+  // The move tuning (tune/move_tuning.h), if the job has `tune.move:`.
+  const MoveTuning* move_tuning = nullptr;
   // How drive columns were read where the job did not say, one line each
   // ("<experiment>: <note>").
   std::vector<std::string> input_notes;

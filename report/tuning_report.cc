@@ -1,6 +1,8 @@
 #include "report/tuning_report.h"
 
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <sstream>
 
 #include "common/format.h"
@@ -49,15 +51,20 @@ Json MetricsJson(const StepMetrics& m) {
           {"ringing_decay", JsonNumber<Json>(m.ringing_decay)}};
 }
 
-Json SettingJson(const TunedSetting& s) {
+Json SpreadJson(const std::vector<FigureSpread>& spreads) {
   Json spread = Json::array();
-  for (const FigureSpread& f : s.spread) {
+  for (const FigureSpread& f : spreads) {
     spread.push_back({{"figure", f.figure},
                       {"at_estimate", JsonNumber<Json>(f.at_estimate)},
                       {"low", JsonNumber<Json>(f.low)},
                       {"high", JsonNumber<Json>(f.high)},
                       {"limiting", f.limiting}});
   }
+  return spread;
+}
+
+Json SettingJson(const TunedSetting& s) {
+  const Json spread = SpreadJson(s.spread);
   return {{"K1", JsonNumber<Json>(s.K1)},
           {"T_p", JsonNumber<Json>(s.T_p)},
           {"metrics", MetricsJson(s.metrics)},
@@ -67,21 +74,44 @@ Json SettingJson(const TunedSetting& s) {
           {"robust_violations", s.robust_violations}};
 }
 
-// The table of both settings' figures.
-std::string FiguresTable(const AnalogLoopTuning& t) {
+// Whether a setting meets the spec over the uncertainty, in one line.
+std::string RobustLine(const char* name, bool robust, const std::vector<std::string>& violations,
+                       const std::vector<std::string>& robust_violations) {
+  std::string out = std::string("  ") + name;
+  if (robust) return out + ": meets the spec at the estimate and at every interval end\n";
+  out += ": does not meet the spec";
+  out += violations.empty() ? " at every interval end:" : ":";
+  for (const std::string& v : violations) out += " " + v + ";";
+  for (const std::string& v : robust_violations) out += " " + v + ";";
+  return out + "\n";
+}
+
+// The table of two settings' figures over the intervals, with each
+// figure's unit and the spec's bound on it.
+std::string SpreadTable(const std::vector<FigureSpread>& current,
+                        const std::vector<FigureSpread>& proposed,
+                        const std::function<std::string(const std::string&)>& unit,
+                        const std::function<std::string(const std::string&)>& bound) {
   TextTable table;
   table.headers = {"figure", "unit", "current", "over the intervals", "proposed",
                    "over the intervals", "limited by", "spec"};
   table.right = {false, false, true, true, true, true, false, false};
-  for (size_t f = 0; f < t.proposed.spread.size() && f < t.current.spread.size(); ++f) {
-    const FigureSpread& c = t.current.spread[f];
-    const FigureSpread& p = t.proposed.spread[f];
-    table.rows.push_back({p.figure, Unit(p.figure), Cell(c.at_estimate),
+  for (size_t f = 0; f < proposed.size() && f < current.size(); ++f) {
+    const FigureSpread& c = current[f];
+    const FigureSpread& p = proposed[f];
+    table.rows.push_back({p.figure, unit(p.figure), Cell(c.at_estimate),
                           Cell(c.low) + " .. " + Cell(c.high), Cell(p.at_estimate),
                           Cell(p.low) + " .. " + Cell(p.high), p.limiting.empty() ? "-" : p.limiting,
-                          Bound(t.spec, p.figure)});
+                          bound(p.figure)});
   }
   return RenderText(table);
+}
+
+// The table of both settings' figures.
+std::string FiguresTable(const AnalogLoopTuning& t) {
+  return SpreadTable(
+      t.current.spread, t.proposed.spread, [](const std::string& f) { return Unit(f); },
+      [&t](const std::string& f) { return Bound(t.spec, f); });
 }
 
 std::string CurveTable(const AnalogLoopTuning& t) {
@@ -116,16 +146,8 @@ std::string FormatTuning(const AnalogLoopTuning& t) {
       << FormatNumber(t.proposed.T_p, 4) << " s\n";
   out << FiguresTable(t);
   for (const auto* setting : {&t.current, &t.proposed}) {
-    const char* name = setting == &t.current ? "current" : "proposed";
-    if (setting->robust) {
-      out << "  " << name << ": meets the spec at the estimate and at every interval end\n";
-    } else {
-      out << "  " << name << ": does not meet the spec"
-          << (setting->violations.empty() ? " at every interval end" : "") << ":";
-      for (const std::string& v : setting->violations) out << " " << v << ";";
-      for (const std::string& v : setting->robust_violations) out << " " << v << ";";
-      out << "\n";
-    }
+    out << RobustLine(setting == &t.current ? "current" : "proposed", setting->robust,
+                      setting->violations, setting->robust_violations);
   }
   out << "Trade-off curve (the paper's series of steps in T_p):\n" << CurveTable(t);
   out << "  " << t.simulations << " simulations, " << FormatNumber(t.seconds, 3) << " s\n";
@@ -183,21 +205,7 @@ void WriteTuning(const std::string& dir, const AxisConfig& model, const AnalogLo
                    curve);
     files->push_back("tune_curve.csv");
   }
-  const StepResponse& c = t.current.response;
-  const StepResponse& p = t.proposed.response;
-  const StepResponse& lo = t.proposed.band_low;
-  const StepResponse& hi = t.proposed.band_high;
-  const size_t n = c.t.size();
-  if (c.finite && p.finite && n > 0 && p.t.size() == n && lo.t.size() == n && hi.t.size() == n) {
-    WriteCsvAtomic(dir + "/tune_step.csv",
-                   {"t", "x_current", "v_current", "i_current", "vm_current", "fg_current",
-                    "x_proposed", "v_proposed", "i_proposed", "vm_proposed", "fg_proposed",
-                    "x_proposed_low", "x_proposed_high", "v_proposed_low", "v_proposed_high",
-                    "i_proposed_low", "i_proposed_high", "fg_proposed_low", "fg_proposed_high"},
-                   {c.t, c.x, c.v, c.i, c.vm, c.fg, p.x, p.v, p.i, p.vm, p.fg, lo.x, hi.x, lo.v,
-                    hi.v, lo.i, hi.i, lo.fg, hi.fg});
-    files->push_back("tune_step.csv");
-  }
+  if (WriteTuneStepCsv(dir + "/tune_step.csv", t)) files->push_back("tune_step.csv");
   AxisConfig tuned = model;
   tuned.name = model.name + "_tuned";
   tuned.source = "fit-params (tune:): the fitted model with the proposed K1 and T_p";
@@ -225,6 +233,306 @@ void WriteTuning(const std::string& dir, const AxisConfig& model, const AnalogLo
   WriteFileAtomic(dir + "/tune_verify.yaml", y.str());
   files->push_back("model_tuned.yaml");
   files->push_back("tune_verify.yaml");
+}
+
+namespace {
+
+const char* MoveUnit(const std::string& figure) {
+  if (figure == "move_time" || figure == "settling_time") return "s";
+  if (figure == "peak_current") return "A";
+  return "m";
+}
+
+std::string MoveBound(const MoveSpec& s, const std::string& figure) {
+  const auto text = [](double b, const char* unit) {
+    return std::isnan(b) ? std::string() : "<= " + FormatNumber(b, 4) + " " + unit;
+  };
+  if (figure == "settling_time") return text(s.max_settling_time, "s");
+  if (figure == "following_error") return text(s.max_following_error, "m");
+  if (figure == "overshoot") return text(s.max_overshoot, "m");
+  if (figure == "peak_current") return text(s.max_current, "A");
+  if (figure == "ringing") return text(s.max_ringing, "m");
+  return "";
+}
+
+std::string Gains(const MoveSetting& s, const std::vector<TunedGain>& gains) {
+  std::string out;
+  const ControllerConfig& c = s.controller;
+  for (const TunedGain& g : gains) {
+    const double v = g.name == "G_p"    ? c.G_p
+                     : g.name == "G_i"  ? c.G_i
+                     : g.name == "G_v"  ? c.G_v
+                     : g.name == "G_ff" ? c.G_ff
+                                        : c.alpha;
+    out += (out.empty() ? "" : ", ") + g.name + " " + FormatNumber(v, 4);
+  }
+  return out;
+}
+
+std::string MoveSettingsTable(const MoveTuning& t) {
+  TextTable table;
+  table.headers = {"setting", "profile", "speed", "gains", "move (s)", "settled at (s)",
+                   "following (m)", "overshoot (m)", "peak i (A)", "ringing (m)", "meets spec"};
+  table.right = {false, false, true, false, true, true, true, true, true, true, false};
+  const auto row = [&](const std::string& name, const MoveSetting& s) {
+    const MoveMetrics& m = s.metrics;
+    table.rows.push_back({name, s.profile, FormatNumber(s.speed, 3), Gains(s, t.gains),
+                          FormatNumber(s.reference.MoveDuration(), 4),
+                          m.settled ? Cell(m.move_time) : "not settled",
+                          Cell(m.following_error), Cell(m.overshoot), Cell(m.peak_current),
+                          Cell(m.ringing), s.violations.empty() ? "yes" : "no"});
+  };
+  row("current", t.current);
+  for (const MoveSetting& s : t.tuned) row("tuned", s);
+  return RenderText(table);
+}
+
+std::string MoveFiguresTable(const MoveTuning& t) {
+  return SpreadTable(
+      t.current.spread, t.proposed.spread, [](const std::string& f) { return MoveUnit(f); },
+      [&t](const std::string& f) { return MoveBound(t.spec, f); });
+}
+
+Json MoveSettingJson(const MoveSetting& s) {
+  const ControllerConfig& c = s.controller;
+  const MoveMetrics& m = s.metrics;
+  return {{"profile", s.profile},
+          {"speed", JsonNumber<Json>(s.speed)},
+          {"K1", JsonNumber<Json>(s.K1)},
+          {"T_p", JsonNumber<Json>(s.T_p)},
+          {"controller",
+           {{"G_p", JsonNumber<Json>(c.G_p)},
+            {"G_i", JsonNumber<Json>(c.G_i)},
+            {"G_v", JsonNumber<Json>(c.G_v)},
+            {"G_ff", JsonNumber<Json>(c.G_ff)},
+            {"alpha", JsonNumber<Json>(c.alpha)}}},
+          {"move",
+           {{"velocity", JsonNumber<Json>(s.reference.velocity)},
+            {"acceleration", JsonNumber<Json>(s.reference.acceleration)},
+            {"jerk", JsonNumber<Json>(s.reference.jerk)},
+            {"duration", JsonNumber<Json>(s.reference.MoveDuration())}}},
+          {"metrics",
+           {{"move_time", JsonNumber<Json>(m.move_time)},
+            {"settled", m.settled},
+            {"settling_time", JsonNumber<Json>(m.settling_time)},
+            {"following_error", JsonNumber<Json>(m.following_error)},
+            {"overshoot", JsonNumber<Json>(m.overshoot)},
+            {"peak_current", JsonNumber<Json>(m.peak_current)},
+            {"ringing", JsonNumber<Json>(m.ringing)}}},
+          {"violations", s.violations},
+          {"objective", JsonNumber<Json>(s.objective)},
+          {"scenarios", s.scenarios},
+          {"evaluations", s.evaluations},
+          {"spread", SpreadJson(s.spread)},
+          {"robust", s.robust},
+          {"robust_violations", s.robust_violations}};
+}
+
+}  // namespace
+
+std::string FormatMoveTuning(const MoveTuning& t) {
+  if (!t.ran) return t.note.empty() ? "" : "Move tuning: " + t.note + "\n";
+  std::ostringstream out;
+  const MoveSpec& s = t.spec;
+  out << "Tuning the position controller and the move: " << FormatNumber(s.distance, 4)
+      << " m, limits " << FormatNumber(s.max_velocity, 4) << " m/s, "
+      << FormatNumber(s.max_acceleration, 4) << " m/s^2"
+      << (std::isfinite(s.max_jerk) ? ", " + FormatNumber(s.max_jerk, 4) + " m/s^3" : "")
+      << "; position band " << FormatNumber(s.position_band, 3) << " m; "
+      << (t.slow_down ? "the move may be slowed (speed < 1)" : "the move at the limits")
+      << "; searched with every bound " << FormatNumber(100.0 * t.margin, 3) << " % inside\n";
+  if (t.on_proposed_analog_loop) {
+    out << "  on the analog loop as proposed above (K1 " << FormatNumber(t.proposed.K1, 5)
+        << ", T_p " << FormatNumber(t.proposed.T_p, 4) << " s)\n";
+  }
+  out << MoveSettingsTable(t);
+  out << "  proposed: " << t.proposed.profile << " at speed " << FormatNumber(t.proposed.speed, 3)
+      << ", " << Gains(t.proposed, t.gains) << "\n";
+  if (!t.proposed.scenarios.empty()) {
+    out << "  searched to meet the spec also at: " << Join(t.proposed.scenarios, ", ")
+        << " (where the estimate's best broke it)\n";
+  }
+  out << MoveFiguresTable(t);
+  for (const auto* setting : {&t.current, &t.proposed}) {
+    out << RobustLine(setting == &t.current ? "current" : "proposed", setting->robust,
+                      setting->violations, setting->robust_violations);
+  }
+  out << "  " << t.simulations << " simulations, " << FormatNumber(t.seconds, 3) << " s\n";
+  return out.str();
+}
+
+Json MoveTuningToJson(const MoveTuning& t) {
+  Json gains = Json::array();
+  for (const TunedGain& g : t.gains) {
+    gains.push_back({{"name", g.name},
+                     {"low", JsonNumber<Json>(g.low)},
+                     {"high", JsonNumber<Json>(g.high)}});
+  }
+  Json tuned = Json::array();
+  for (const MoveSetting& s : t.tuned) tuned.push_back(MoveSettingJson(s));
+  const MoveSpec& s = t.spec;
+  return {{"ran", t.ran},
+          {"note", t.note},
+          {"spec",
+           {{"distance", JsonNumber<Json>(s.distance)},
+            {"max_velocity", JsonNumber<Json>(s.max_velocity)},
+            {"max_acceleration", JsonNumber<Json>(s.max_acceleration)},
+            {"max_jerk", JsonNumber<Json>(s.max_jerk)},
+            {"profiles", s.profiles},
+            {"settle", JsonNumber<Json>(s.settle)},
+            {"position_band", JsonNumber<Json>(s.position_band)},
+            {"ringing_after", JsonNumber<Json>(s.ringing_after)},
+            {"settling_time", JsonNumber<Json>(s.max_settling_time)},
+            {"following_error", JsonNumber<Json>(s.max_following_error)},
+            {"overshoot", JsonNumber<Json>(s.max_overshoot)},
+            {"current", JsonNumber<Json>(s.max_current)},
+            {"ringing", JsonNumber<Json>(s.max_ringing)}}},
+          {"gains", gains},
+          {"slow_down", t.slow_down},
+          {"margin", JsonNumber<Json>(t.margin)},
+          {"on_proposed_analog_loop", t.on_proposed_analog_loop},
+          {"current", MoveSettingJson(t.current)},
+          {"proposed", MoveSettingJson(t.proposed)},
+          {"tuned", tuned},
+          {"simulations", t.simulations},
+          {"seconds", JsonNumber<Json>(t.seconds)}};
+}
+
+void WriteMoveTuning(const std::string& dir, const AxisConfig& model, const MoveTuning& t,
+                     std::vector<std::string>* files) {
+  if (!t.ran) return;
+  if (WriteTuneMoveCsv(dir + "/tune_move.csv", t)) files->push_back("tune_move.csv");
+  AxisConfig tuned = model;
+  tuned.name = model.name + "_tuned_move";
+  tuned.source = "fit-params (tune.move:): the fitted model with the proposed controller";
+  tuned.params.K1 = t.proposed.K1;
+  tuned.params.T_p = t.proposed.T_p;
+  tuned.has_controller = true;
+  tuned.controller = t.proposed.controller;
+  WriteFileAtomic(dir + "/model_tuned_move.yaml",
+                  "# Written by fit-params (tune.move:): the fitted model with the proposed\n"
+                  "# K1, T_p and controller gains. Loadable by simulate-axis and fit-params.\n" +
+                      AxisConfigToYaml(tuned));
+  const Reference& r = t.proposed.reference;
+  std::ostringstream y;
+  y << "# Written by fit-params (tune.move:): the move the proposal was tuned on.\n"
+    << "# Set the controller as in model_tuned_move.yaml, run this move, record\n"
+    << "# x, x_ref, u and i (or simulate it:\n"
+    << "# simulate-axis tune_move_verify.yaml --out tune_move_verify.csv).\n"
+    << "description: \"verify the move tuning: a " << FormatNumber(r.distance, 4) << " m "
+    << t.proposed.profile << " move\"\n"
+    << "model: model_tuned_move.yaml\n"
+    << "duration: " << FormatNumber(r.MoveDuration() + t.spec.settle, 6) << "\n"
+    << "step: 1.0e-5\n"
+    << "output_rate: 1000\n"
+    << "channels: [u, x, x_ref, v, a, i, tach]\n"
+    << "reference: {type: " << t.proposed.profile << ", distance: " << FormatNumber(r.distance, 8)
+    << ", velocity: " << FormatNumber(r.velocity, 8)
+    << ", acceleration: " << FormatNumber(r.acceleration, 8);
+  if (r.kind == Reference::Kind::kMinJerk && std::isfinite(r.jerk)) {
+    y << ", jerk: " << FormatNumber(r.jerk, 8);
+  }
+  y << "}\n";
+  WriteFileAtomic(dir + "/tune_move_verify.yaml", y.str());
+  files->push_back("model_tuned_move.yaml");
+  files->push_back("tune_move_verify.yaml");
+}
+
+bool WriteTuneStepCsv(const std::string& path, const AnalogLoopTuning& t) {
+  const StepResponse& c = t.current.response;
+  const StepResponse& p = t.proposed.response;
+  const StepResponse& lo = t.proposed.band_low;
+  const StepResponse& hi = t.proposed.band_high;
+  const size_t n = c.t.size();
+  if (!(t.ran && c.finite && p.finite && n > 0 && p.t.size() == n && lo.t.size() == n &&
+        hi.t.size() == n)) {
+    return false;
+  }
+  WriteCsvAtomic(path,
+                 {"t", "x_current", "v_current", "i_current", "vm_current", "fg_current",
+                  "x_proposed", "v_proposed", "i_proposed", "vm_proposed", "fg_proposed",
+                  "x_proposed_low", "x_proposed_high", "v_proposed_low", "v_proposed_high",
+                  "i_proposed_low", "i_proposed_high", "fg_proposed_low", "fg_proposed_high"},
+                 {c.t, c.x, c.v, c.i, c.vm, c.fg, p.x, p.v, p.i, p.vm, p.fg, lo.x, hi.x, lo.v,
+                  hi.v, lo.i, hi.i, lo.fg, hi.fg});
+  return true;
+}
+
+bool WriteTuneMoveCsv(const std::string& path, const MoveTuning& t) {
+  const MoveResponse& c = t.current.response;
+  const MoveResponse& p = t.proposed.response;
+  const MoveResponse& lo = t.proposed.band_low;
+  const MoveResponse& hi = t.proposed.band_high;
+  if (!(t.ran && c.finite && p.finite && !c.t.empty() && !p.t.empty() &&
+        lo.t.size() == p.t.size() && hi.t.size() == p.t.size())) {
+    return false;
+  }
+  // The two runs differ in length where the moves do: the shorter one's
+  // columns end in NaN (not simulated), which gnuplot leaves out.
+  const size_t n = std::max(c.t.size(), p.t.size());
+  const auto held = [n](const std::vector<double>& v) {
+    std::vector<double> out = v;
+    out.resize(n, std::numeric_limits<double>::quiet_NaN());
+    return out;
+  };
+  const MoveResponse& longer = c.t.size() >= p.t.size() ? c : p;
+  WriteCsvAtomic(path,
+                 {"t", "x_ref_current", "x_current", "v_current", "i_current", "u_current",
+                  "fg_current", "x_ref_proposed", "x_proposed", "v_proposed", "i_proposed",
+                  "u_proposed", "fg_proposed", "x_proposed_low", "x_proposed_high",
+                  "v_proposed_low", "v_proposed_high", "i_proposed_low", "i_proposed_high",
+                  "u_proposed_low", "u_proposed_high"},
+                 {longer.t, held(c.x_ref), held(c.x), held(c.v), held(c.i), held(c.u),
+                  held(c.fg), held(p.x_ref), held(p.x), held(p.v), held(p.i), held(p.u),
+                  held(p.fg), held(lo.x), held(hi.x), held(lo.v), held(hi.v), held(lo.i),
+                  held(hi.i), held(lo.u), held(hi.u)});
+  return true;
+}
+
+namespace {
+
+// Two panels side by side from `csv`: each a band (columns lo:hi) and the
+// current and proposed lines, with its label.
+struct Panel {
+  const char* ylabel;
+  int current, proposed, low, high;
+  int reference;  // a dashed line (0: none)
+};
+
+std::string TwoPanelScript(const std::string& csv, const std::string& output,
+                           const std::string& title, const Panel (&panels)[2]) {
+  std::ostringstream s;
+  s << "set terminal svg size 1000,420 dynamic noenhanced font 'sans,12' background rgb "
+       "'white'; set output '"
+    << output << "'; set datafile separator ','; set grid; set key top right; "
+    << "set multiplot layout 1,2 title '" << title << "'; set xlabel 't (s)'; ";
+  for (const Panel& p : panels) {
+    s << "set ylabel '" << p.ylabel << "'; plot '" << csv << "' every ::1 using 1:" << p.low
+      << ":" << p.high << " with filledcurves lc rgb '#c6dbef' title 'proposed, over the "
+      << "intervals', '" << csv << "' every ::1 using 1:" << p.current
+      << " with lines lw 1.5 lc rgb '#969696' title 'current', '" << csv
+      << "' every ::1 using 1:" << p.proposed
+      << " with lines lw 2 lc rgb '#08519c' title 'proposed'";
+    if (p.reference > 0) {
+      s << ", '" << csv << "' every ::1 using 1:" << p.reference
+        << " with lines dt 2 lc rgb '#d94801' title 'reference (proposed)'";
+    }
+    s << "; ";
+  }
+  s << "unset multiplot";
+  return s.str();
+}
+
+}  // namespace
+
+std::string TuneStepPlotScript(const std::string& csv, const std::string& output) {
+  return TwoPanelScript(csv, output, "the step: current and proposed setting",
+                        {{"velocity (m/s)", 3, 8, 14, 15, 0}, {"current (A)", 4, 9, 16, 17, 0}});
+}
+
+std::string TuneMovePlotScript(const std::string& csv, const std::string& output) {
+  return TwoPanelScript(csv, output, "the move: current and proposed setting",
+                        {{"position (m)", 3, 9, 14, 15, 8}, {"current (A)", 5, 11, 18, 19, 0}});
 }
 
 }  // namespace axis

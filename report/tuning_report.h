@@ -13,6 +13,7 @@
 
 #include "job/fit_job.h"
 #include "tune/analog_loop_tuning.h"
+#include "tune/move_tuning.h"
 
 namespace axis {
 
@@ -42,6 +43,51 @@ nlohmann::json TuningToJson(const AnalogLoopTuning& t);
 // file cannot be written.
 void WriteTuning(const std::string& dir, const AxisConfig& model, const AnalogLoopTuning& t,
                  std::vector<std::string>* files);
+
+// The text of the move tuning (tune.move:; tune/move_tuning.h): the move
+// and its limits, a table of the current setting and of each profile's
+// tuned one (profile, speed, gains, figures at the estimate), the figures
+// of the current and the proposed setting with their spread over the
+// intervals and the limiting parameter, and whether the spec holds over
+// the uncertainty. "" if it did not run and has no note. Never throws.
+std::string FormatMoveTuning(const MoveTuning& t);
+
+// report.json's "move_tuning": {"ran", "note", "spec": {...}, "gains":
+// [{"name", "low", "high"}], "slow_down", "margin", "on_proposed_analog_loop",
+// "current", "proposed" and "tuned": [{"profile", "speed", "K1", "T_p",
+// "controller": {"G_p", "G_i", "G_v", "G_ff", "alpha"}, "move":
+// {"velocity", "acceleration", "jerk", "duration"}, "metrics": {...},
+// "violations", "objective", "scenarios", "evaluations", "spread", "robust",
+// "robust_violations"}], "simulations", "seconds"}; NaN and infinite
+// figures are null. Never throws.
+nlohmann::json MoveTuningToJson(const MoveTuning& t);
+
+// The files of a move tuning that ran, into `dir`: tune_move.csv (t;
+// x_ref, x, v, i, u, fg of the current and the proposed setting at the
+// estimate, the shorter run's columns ending in NaN; the proposal's band
+// of x, v, i and u over the interval ends),
+// model_tuned_move.yaml (the job's model at the estimate `model` with the
+// K1, T_p and controller gains of the proposal) and tune_move_verify.yaml
+// (the proposed move as a simulate-axis experiment on that model: the
+// test to run on the machine). Names appended to *files. Throws
+// std::runtime_error if a file cannot be written.
+void WriteMoveTuning(const std::string& dir, const AxisConfig& model, const MoveTuning& t,
+                     std::vector<std::string>* files);
+
+// tune_step.csv (the columns WriteTuning documents) and tune_move.csv
+// (WriteMoveTuning's) at `path`; false, writing nothing, if the tuning did
+// not run or its responses are missing or not finite. Throw
+// std::runtime_error if the file cannot be written.
+bool WriteTuneStepCsv(const std::string& path, const AnalogLoopTuning& t);
+bool WriteTuneMoveCsv(const std::string& path, const MoveTuning& t);
+
+// gnuplot scripts (SVG terminal, for report.html's RenderGnuplotSvg) that
+// draw such a CSV `csv` into `output`: velocity and current (the step),
+// position with the proposal's reference and current (the move), each
+// the current and the proposed setting with the proposal's band over the
+// interval ends. Never throw.
+std::string TuneStepPlotScript(const std::string& csv, const std::string& output);
+std::string TuneMovePlotScript(const std::string& csv, const std::string& output);
 
 }  // namespace axis
 

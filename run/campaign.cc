@@ -35,6 +35,7 @@
 #include "sim/experiment.h"
 #include "sim/yaml_util.h"
 #include "tune/analog_loop_tuning.h"
+#include "tune/move_tuning.h"
 
 namespace axis {
 namespace {
@@ -109,6 +110,16 @@ void JudgeTuningOnTheTrueAxis(const CampaignConfig& c, const AnalogLoopTuning& t
   o->spec_violation_true = v.empty() ? "" : v.front();
 }
 
+void JudgeMoveOnTheTrueAxis(const CampaignConfig& c, const MoveTuning& t, SeedOutcome* o) {
+  if (c.generate.empty()) return;
+  const ExperimentConfig truth = LoadExperiment(c.generate.front().second);
+  const std::vector<std::string> v =
+      MoveViolationsOn(truth.model, truth.options.step, t.proposed, t.spec);
+  o->move_spec_met_true = v.empty() ? 1 : 0;
+  o->move_robust = t.proposed.robust ? 1 : 0;
+  o->move_spec_violation_true = v.empty() ? "" : v.front();
+}
+
 }  // namespace
 
 SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_threads) {
@@ -155,6 +166,7 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
       }
     }
     if (run.tuning.ran) JudgeTuningOnTheTrueAxis(c, run.tuning, &o);
+    if (run.move_tuning.ran) JudgeMoveOnTheTrueAxis(c, run.move_tuning, &o);
   } catch (const std::exception& e) {
     o.error = e.what();
   }
@@ -192,7 +204,10 @@ nlohmann::json SeedOutcomeToJson(const SeedOutcome& o) {
           {"seconds", JsonNumber(o.seconds)},
           {"tuned_T_p", JsonNumber(o.tuned_T_p)},
           {"spec_met_true", o.spec_met_true},
-          {"spec_violation_true", o.spec_violation_true}};
+          {"spec_violation_true", o.spec_violation_true},
+          {"move_spec_met_true", o.move_spec_met_true},
+          {"move_spec_violation_true", o.move_spec_violation_true},
+          {"move_robust", o.move_robust}};
 }
 
 SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& where) {
@@ -218,6 +233,9 @@ SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& wher
   o.tuned_T_p = JsonNumberField(j, "tuned_T_p", where);
   o.spec_met_true = JsonIntField(j, "spec_met_true", where);
   o.spec_violation_true = JsonStringField(j, "spec_violation_true", where);
+  o.move_spec_met_true = JsonIntField(j, "move_spec_met_true", where);
+  o.move_spec_violation_true = JsonStringField(j, "move_spec_violation_true", where);
+  o.move_robust = JsonIntField(j, "move_robust", where);
   return o;
 }
 
@@ -288,7 +306,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
                           const std::vector<SeedOutcome>& outcomes) {
   CampaignSummary s;
   int false_discoveries = 0, front_end = 0, right_first = 0, exact = 0, as_expected = 0, ok = 0;
-  int tuned = 0, spec_met = 0;
+  int tuned = 0, spec_met = 0, moves = 0, move_met = 0;
   std::vector<int> covered(config.truth_values.size(), 0);
   bool truth_names_front_end = false;
   for (const std::string& e : config.truth_effects) {
@@ -316,6 +334,8 @@ CampaignSummary Summarize(const CampaignConfig& config,
     s.incomplete += o.verdict == "incomplete";
     tuned += o.spec_met_true >= 0;
     spec_met += o.spec_met_true == 1;
+    moves += o.move_spec_met_true >= 0;
+    move_met += o.move_spec_met_true == 1;
     for (size_t k = 0; k < covered.size(); ++k) {
       const double truth = config.truth_values[k].second;
       covered[k] += o.ci95_low[k] <= truth && truth <= o.ci95_high[k];
@@ -344,6 +364,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
   }
   if (!config.truth_verdict.empty()) s.verdict_as_expected = RateOf(as_expected, ok);
   if (tuned > 0) s.spec_met_true = RateOf(spec_met, tuned);
+  if (moves > 0) s.move_spec_met_true = RateOf(move_met, moves);
   return s;
 }
 
@@ -386,6 +407,11 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
     out << "| spec met on the true axis (tune:, the proposal applied to the generating model) | "
         << FormatRate(s.spec_met_true) << " |\n";
   }
+  if (s.move_spec_met_true.n) {
+    out << "| move spec met on the true axis (tune.move:, the proposed controller and move "
+           "on the generating model) | "
+        << FormatRate(s.move_spec_met_true) << " |\n";
+  }
   out << "| verdicts | explained " << s.explained << ", incomplete " << s.incomplete
       << " |\n";
   if (!s.force_maps.empty()) {
@@ -407,13 +433,19 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
   for (const SeedOutcome& o : outcomes) {
     const bool odd = !o.error.empty() || o.selected != config.truth_effects ||
                      (!config.truth_verdict.empty() && o.verdict != config.truth_verdict) ||
-                     o.spec_met_true == 0;
+                     o.spec_met_true == 0 || o.move_spec_met_true == 0;
     if (!odd) continue;
     ++listed;
     out << "- seed " << o.seed << ": "
         << (o.error.empty() ? "selected {" + Join(o.selected, ", ") + "}, verdict " + o.verdict
                             : "failed: " + o.error)
         << (o.spec_met_true == 0 ? "; on the true axis: " + o.spec_violation_true : "")
+        << (o.move_spec_met_true == 0
+                ? "; the move on the true axis: " + o.move_spec_violation_true +
+                      (o.move_robust == 1 ? " (the tuning had it meet the spec at every check)"
+                                          : " (the tuning said it does not meet the spec at "
+                                            "every check)")
+                : "")
         << "\n";
   }
   if (listed == 0) out << "- none\n";
@@ -429,7 +461,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
     (void)truth;
     csv << "," << name << "," << name << "_ci95_low," << name << "_ci95_high";
   }
-  csv << ",tuned_T_p,spec_met_true\n";
+  csv << ",tuned_T_p,spec_met_true,move_spec_met_true,move_robust\n";
   for (const SeedOutcome& o : outcomes) {
     std::string error = o.error;
     std::replace(error.begin(), error.end(), ',', ';');
@@ -439,7 +471,8 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
     for (size_t k = 0; k < config.truth_values.size(); ++k) {
       csv << "," << o.value[k] << "," << o.ci95_low[k] << "," << o.ci95_high[k];
     }
-    csv << "," << o.tuned_T_p << "," << o.spec_met_true << "\n";
+    csv << "," << o.tuned_T_p << "," << o.spec_met_true << "," << o.move_spec_met_true << ","
+        << o.move_robust << "\n";
   }
   nlohmann::json j;
   j["title"] = config.title;
@@ -462,6 +495,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
   j["verdicts"] = {{"explained", s.explained}, {"incomplete", s.incomplete}};
   j["force_maps"] = s.force_maps;
   if (s.spec_met_true.n) j["spec_met_true"] = RateJson(s.spec_met_true);
+  if (s.move_spec_met_true.n) j["move_spec_met_true"] = RateJson(s.move_spec_met_true);
   WriteFileAtomic(dir + "/results.csv", csv.str());
   WriteFileAtomic(dir + "/summary.md", FormatCampaign(config, s, outcomes));
   WriteFileAtomic(dir + "/summary.json", j.dump(2) + "\n");

@@ -59,6 +59,13 @@ struct SeedOutcome {
   double tuned_T_p = std::numeric_limits<double>::quiet_NaN();
   int spec_met_true = -1;
   std::string spec_violation_true;
+  // The same for the move tuning (`tune.move:`): its proposal (K_1, T_p,
+  // controller gains and move) on the true axis.
+  int move_spec_met_true = -1;
+  std::string move_spec_violation_true;
+  // Whether the move tuning said its proposal meets the spec at the
+  // estimate and at every check (MoveSetting::robust): 1, 0, −1 none.
+  int move_robust = -1;
 };
 
 // The job of seed `seed`: each experiment of config.job_path simulated from
@@ -134,6 +141,7 @@ struct CampaignSummary {
   // With `tune:`: seeds whose proposal meets the spec on the true axis,
   // of those tuned.
   Rate spec_met_true;
+  Rate move_spec_met_true;  // with `tune.move:`, likewise
   int explained = 0, incomplete = 0;
   // Seeds per force map kept ("force_map.x_friction" → count), with
   // discover.force_map; empty without.

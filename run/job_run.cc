@@ -378,6 +378,15 @@ class JobPipeline {
       run_.tuning.note = std::string("no tuning: ") + e.what();
     }
     out_ << "\n" << FormatTuning(run_.tuning);
+    if (!run_.job.tune.move.enabled) return;
+    Stage("tuning the position controller and the move");
+    try {
+      run_.move_tuning = TuneMove(run_.job, result_, &run_.tuning);
+    } catch (const std::exception& e) {
+      run_.move_tuning = MoveTuning{};
+      run_.move_tuning.note = std::string("no move tuning: ") + e.what();
+    }
+    out_ << "\n" << FormatMoveTuning(run_.move_tuning);
   }
 
   void PrintTables() {
@@ -431,6 +440,10 @@ class JobPipeline {
     if (run_.job.tune.enabled) {
       extra.markdown += "\n## Tuning\n\n```\n" + FormatTuning(run_.tuning) + "```\n";
       extra.json["tuning"] = TuningToJson(run_.tuning);
+    }
+    if (run_.job.tune.move.enabled) {
+      extra.markdown += "\n## Move tuning\n\n```\n" + FormatMoveTuning(run_.move_tuning) + "```\n";
+      extra.json["move_tuning"] = MoveTuningToJson(run_.move_tuning);
     }
   }
 

@@ -22,6 +22,7 @@
 #include "report/published.h"
 #include "report/report.h"
 #include "tune/analog_loop_tuning.h"
+#include "tune/move_tuning.h"
 
 namespace axis {
 
@@ -47,6 +48,9 @@ struct JobRun {
   // With `tune:` (tune/analog_loop_tuning.h): the analog loop tuned to the
   // job's spec at the final estimates.
   AnalogLoopTuning tuning;
+  // With `tune.move:` (tune/move_tuning.h): the position controller and the
+  // move tuned on the axis with the analog loop as proposed.
+  MoveTuning move_tuning;
   // With current_loop: quasi_steady, what the approximation costs the final
   // estimate (estimation/current_loop_check.h); ran = false otherwise.
   CurrentLoopCheck loop_check;

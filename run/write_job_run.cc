@@ -32,6 +32,7 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
   html.force_map = run.discovered && run.job.discover.force_map ? &run.force_map : nullptr;
   html.proposal = run.job.design.enabled ? &run.proposal : nullptr;
   html.tuning = run.job.tune.enabled ? &run.tuning : nullptr;
+  html.move_tuning = run.job.tune.move.enabled ? &run.move_tuning : nullptr;
   html.published = run.has_published ? &run.published : nullptr;
   html.input_notes = run.input_lines;
   html.files = {"params.md", "params.csv", "report.json"};
@@ -58,6 +59,7 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
   }
   if (run.job.tune.enabled) {
     WriteTuning(dir, AtEstimate(run.job, run.result).model, run.tuning, &html.files);
+    WriteMoveTuning(dir, AtEstimate(run.job, run.result).model, run.move_tuning, &html.files);
   }
   WriteHtmlReport(dir + "/report.html", html, warnings);
   WriteProposal(dir, run.job, run.result, run.proposal);

@@ -657,12 +657,15 @@ InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
 Reference ParseReference(YamlMap& map, const std::string& base_dir,
                          double origin) {
   Reference r;
-  const std::string type = map.Choice("type", {"trapezoid", "column"});
-  if (type == "trapezoid") {
-    r.kind = Reference::Kind::kTrapezoid;
+  const std::string type = map.Choice("type", {"trapezoid", "min_jerk", "column"});
+  if (type != "column") {
+    r.kind = type == "min_jerk" ? Reference::Kind::kMinJerk : Reference::Kind::kTrapezoid;
     r.distance = map.Number("distance");
     r.velocity = map.Number("velocity", Range::kFinitePositive);
     r.acceleration = map.Number("acceleration", Range::kFinitePositive);
+    if (r.kind == Reference::Kind::kMinJerk) {
+      r.jerk = map.Number("jerk", HUGE_VAL, Range::kPositiveOrInfinite);
+    }
     r.start = map.Number("start", 0.0, Range::kNonNegative);
     r.origin = map.Number("origin", origin);
   } else {

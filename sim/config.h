@@ -156,7 +156,8 @@ void RequireColumn(const YamlMap& map, const YAML::Node& node,
 InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir);
 
 // A controller reference (MODEL.md §5): `type: trapezoid` (distance,
-// velocity, acceleration, start, origin) or `type: column` (the keys of
+// velocity, acceleration, start, origin), `type: min_jerk` (the same and
+// jerk, optional) or `type: column` (the keys of
 // ParseColumnSignal). Calls Finish(). Throws std::invalid_argument.
 Reference ParseReference(YamlMap& map, const std::string& base_dir,
                          double origin);

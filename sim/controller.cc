@@ -5,11 +5,36 @@
 
 namespace axis {
 
+namespace {
+
+// The minimum-jerk move's duration for distance d > 0 within the limits.
+double MinJerkDuration(double d, double v, double a, double j) {
+  double T = 1.875 * d / v;
+  T = std::max(T, std::sqrt(10.0 / std::sqrt(3.0) * d / a));
+  if (std::isfinite(j)) T = std::max(T, std::cbrt(60.0 * d / j));
+  return T;
+}
+
+}  // namespace
+
+double Reference::MoveDuration() const {
+  const double d = std::abs(distance);
+  if (d == 0.0) return 0.0;
+  if (kind == Kind::kMinJerk) return MinJerkDuration(d, velocity, acceleration, jerk);
+  const double v_peak = std::min(velocity, std::sqrt(d * acceleration));
+  return 2.0 * v_peak / acceleration + (d - v_peak * v_peak / acceleration) / v_peak;
+}
+
 double Reference::Profile(double t) const {
   const double tau = t - start;
   if (tau <= 0.0 || distance == 0.0) return origin;
   const double d = std::abs(distance);
   const double sign = distance > 0.0 ? 1.0 : -1.0;
+  if (kind == Kind::kMinJerk) {
+    const double T = MinJerkDuration(d, velocity, acceleration, jerk);
+    const double u = std::min(1.0, tau / T);
+    return origin + sign * d * u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+  }
   // Triangular if the set velocity cannot be reached.
   const double v_peak = std::min(velocity, std::sqrt(d * acceleration));
   const double t_acc = v_peak / acceleration;
@@ -41,7 +66,7 @@ ReferenceSample SampleReference(const Reference& ref,
                                 const ControllerConfig& c, long k) {
   const double t = k * c.T_s;
   ReferenceSample out;
-  if (ref.kind == Reference::Kind::kTrapezoid) {
+  if (ref.kind != Reference::Kind::kTable) {
     const double j = std::floor(t / c.T_track + 1e-9);
     const double t0 = j * c.T_track;
     const double p0 = ref.Profile(t0);

@@ -39,21 +39,30 @@ struct ControllerConfig {
 // (r_g in m/rad), 0 for an ideal measurement (ControllerUpdate below).
 double PositionQuantum(const ControllerConfig& c, double r_g);
 
-// The reference the controller tracks, MODEL.md §5: a trapezoidal move
-// sampled by the master every T_track and interpolated linearly by the slave,
-// or a reference position column read at every control sample.
+// The reference the controller tracks, MODEL.md §5: a move (trapezoidal,
+// or minimum-jerk) sampled by the master every T_track and interpolated
+// linearly by the slave, or a reference position column read at every
+// control sample.
 struct Reference {
-  enum class Kind { kTrapezoid, kTable };
+  enum class Kind { kTrapezoid, kMinJerk, kTable };
   Kind kind = Kind::kTrapezoid;
-  // Trapezoid: signed distance D (m), set velocity v_s (m/s, > 0),
-  // acceleration a_s (m/s², > 0), start time (s), starting position (m).
+  // A move: signed distance D (m), start time (s), starting position (m),
+  // and its limits: set velocity v_s (m/s, > 0), acceleration a_s (m/s²,
+  // > 0) and, for the minimum-jerk move, jerk j_s (m/s³, > 0; +inf: none).
   double distance = 0.0, velocity = 1.0, acceleration = 1.0, start = 0.0,
          origin = 0.0;
+  double jerk = HUGE_VAL;
   // Table: reference position samples (m), linearly interpolated.
   InputSignal table;
 
-  // Continuous trapezoidal profile position at time t (kTrapezoid only).
+  // Continuous profile position at time t (m; a move only): the trapezoid
+  // (triangular where v_s is not reached), or the minimum-jerk quintic
+  // D·(10τ³ − 15τ⁴ + 6τ⁵), τ = (t − start)/T, over the shortest T whose
+  // peaks 1.875·D/T, (10/√3)·D/T² and 60·D/T³ respect v_s, a_s and j_s
+  // (Flash & Hogan 1985, the minimum of ∫ jerk² dt between rests).
   double Profile(double t) const;
+  // s from start to the end of the move (a move only).
+  double MoveDuration() const;
 };
 
 // Reference position and velocity seen by the slave at control time t_k.

@@ -181,52 +181,29 @@ class AnalogLoopTuner {
     s->violations = SpecViolations(s->metrics, spec_);
     const std::vector<std::string> broken = ViolatedFigures(s->metrics, spec_);
     s->robust = s->violations.empty();
-    for (const FigureOf& f : kFigures) {
-      s->spread.push_back({f.name, s->metrics.*f.field, s->metrics.*f.field,
-                           s->metrics.*f.field, ""});
-    }
+    s->spread = StartSpread(FigureNames(), Figures(s->metrics));
     std::vector<double> moved(std::size(kFigures), 0.0);
-    for (const ParameterEstimate& e : result_.parameters) {
-      if (!e.free || e.name == "T_p" || e.name == "K1") continue;
-      for (const bool high : {false, true}) {
-        const double end = high ? e.ci95_high : e.ci95_low;
-        if (!std::isfinite(end)) continue;
-        AxisConfig at_end = model;
-        double* p = FindParam(&at_end.params, e.name);
-        if (p == nullptr) continue;
-        *p = end;
-        ++simulations_;
-        const StepResponse r = SimulateStep(at_end, step_, spec_);
-        WidenBand(r, &s->band_low, &s->band_high);
-        const StepMetrics m = MeasureStep(r, spec_, at_end.params.V_M);
-        const std::vector<std::string> texts = SpecViolations(m, spec_);
-        const std::vector<std::string> figures = ViolatedFigures(m, spec_);
-        for (size_t v = 0; v < texts.size(); ++v) {
-          s->robust = false;
-          // A bound already broken at the estimate is said once, there.
-          if (std::find(broken.begin(), broken.end(), figures[v]) != broken.end()) continue;
-          s->robust_violations.push_back(e.name + " at " + (high ? "high" : "low") + " end: " +
-                                         texts[v]);
-        }
-        Spread(e.name, m, &moved, s);
-      }
+    for (const IntervalEnd& end : IntervalEnds(result_, model, {"T_p", "K1"})) {
+      ++simulations_;
+      const StepResponse r = SimulateStep(end.model, step_, spec_);
+      WidenBand(r, &s->band_low, &s->band_high);
+      const StepMetrics m = MeasureStep(r, spec_, end.model.params.V_M);
+      NoteEndViolations(EndName(end), SpecViolations(m, spec_), ViolatedFigures(m, spec_), broken,
+                        &s->robust, &s->robust_violations);
+      WidenSpread(end.parameter, Figures(m), &moved, &s->spread);
     }
   }
 
-  static void Spread(const std::string& name, const StepMetrics& m, std::vector<double>* moved,
-                     TunedSetting* s) {
-    for (size_t f = 0; f < std::size(kFigures); ++f) {
-      const double x = m.*kFigures[f].field;
-      FigureSpread& fs = s->spread[f];
-      if (!std::isfinite(x)) continue;
-      fs.low = std::min(fs.low, x);
-      fs.high = std::max(fs.high, x);
-      const double d = std::abs(x - fs.at_estimate);
-      if (d > (*moved)[f]) {
-        (*moved)[f] = d;
-        fs.limiting = name;
-      }
-    }
+  static std::vector<std::string> FigureNames() {
+    std::vector<std::string> out;
+    for (const FigureOf& f : kFigures) out.push_back(f.name);
+    return out;
+  }
+
+  static std::vector<double> Figures(const StepMetrics& m) {
+    std::vector<double> out;
+    for (const FigureOf& f : kFigures) out.push_back(m.*f.field);
+    return out;
   }
 
   const FitJob& job_;

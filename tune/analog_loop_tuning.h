@@ -26,6 +26,7 @@
 
 #include "estimation/fit_result.h"
 #include "job/fit_job.h"
+#include "tune/interval_ends.h"
 #include "tune/step_response.h"
 
 namespace axis {
@@ -37,22 +38,15 @@ struct TuningPoint {
   std::vector<std::string> violations;  // SpecViolations
 };
 
-// A figure over the fit's uncertainty (TuneAnalogLoop).
-struct FigureSpread {
-  std::string figure;     // "settling_time", "overshoot", "peak_current",
-                          // "voltage_headroom", "ringing", "ringing_decay"
-  double at_estimate = 0.0;
-  double low = 0.0, high = 0.0;  // min and max over the estimate and the ends
-  std::string limiting;   // the free parameter whose ends move it most ("" if none)
-};
-
 // A setting (K_1, T_p) judged at the estimate and over the uncertainty.
 struct TunedSetting {
   double K1 = 0.0;   // V/V, MODEL.md §2
   double T_p = 0.0;  // s
   StepMetrics metrics;                  // at the estimate
   std::vector<std::string> violations;  // at the estimate
-  std::vector<FigureSpread> spread;     // in FigureSpread::figure order
+  // "settling_time", "overshoot", "peak_current", "voltage_headroom",
+  // "ringing", "ringing_decay", in this order.
+  std::vector<FigureSpread> spread;
   // Every bound met at the estimate and at every end of every interval.
   bool robust = false;
   // The ends that break a bound met at the estimate: "<parameter> at

@@ -8,6 +8,7 @@
 
 #include "sim/experiment.h"
 #include "sim/simulate.h"
+#include "tune/interval_ends.h"
 
 namespace axis {
 namespace {
@@ -90,23 +91,10 @@ StepResponse SimulateStep(const AxisConfig& model, double step, const TuneSpec& 
 }
 
 void WidenBand(const StepResponse& r, StepResponse* low, StepResponse* high) {
-  if (!r.finite) return;
-  if (low->t.empty()) {
-    *low = r;
-    *high = r;
-    return;
-  }
-  if (r.t.size() != low->t.size()) return;
-  for (auto channel : {&StepResponse::x, &StepResponse::v, &StepResponse::i, &StepResponse::vm,
-                       &StepResponse::fg}) {
-    std::vector<double>& lo = low->*channel;
-    std::vector<double>& hi = high->*channel;
-    const std::vector<double>& value = r.*channel;
-    for (size_t k = 0; k < value.size(); ++k) {
-      lo[k] = std::min(lo[k], value[k]);
-      hi[k] = std::max(hi[k], value[k]);
-    }
-  }
+  WidenResponseBand(r,
+                    {&StepResponse::x, &StepResponse::v, &StepResponse::i, &StepResponse::vm,
+                     &StepResponse::fg},
+                    low, high);
 }
 
 StepMetrics MeasureStep(const StepResponse& r, const TuneSpec& spec, double V_M) {

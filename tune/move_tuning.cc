@@ -1,0 +1,403 @@
+#include "tune/move_tuning.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
+#include <nlopt.h>
+
+#include "estimation/at_estimate.h"
+#include "estimation/current_loop_check.h"
+
+namespace axis {
+namespace {
+
+// The slowest time scale of the profile the search may choose (a move
+// four times as long as at the limits).
+constexpr double kMinSpeed = 0.25;
+// Subplex's first step, in the unit box of the search.
+constexpr double kLocalStep = 0.1;
+// Rounds of the robust search: the interval ends where the best setting
+// breaks the spec join the models it must meet, and Subplex runs again.
+constexpr int kRobustRounds = 3;
+// The ends added per round: the worst ones (each adds a simulation to every
+// evaluation of the search).
+constexpr size_t kEndsPerRound = 2;
+
+struct MoveFigureOf {
+  const char* name;
+  double MoveMetrics::*field;
+};
+constexpr MoveFigureOf kMoveFigures[] = {{"move_time", &MoveMetrics::move_time},
+                                         {"settling_time", &MoveMetrics::settling_time},
+                                         {"following_error", &MoveMetrics::following_error},
+                                         {"overshoot", &MoveMetrics::overshoot},
+                                         {"peak_current", &MoveMetrics::peak_current},
+                                         {"ringing", &MoveMetrics::ringing}};
+
+std::vector<double> Figures(const MoveMetrics& m) {
+  std::vector<double> out;
+  for (const MoveFigureOf& f : kMoveFigures) out.push_back(m.*f.field);
+  return out;
+}
+
+std::vector<std::string> FigureNames() {
+  std::vector<std::string> out;
+  for (const MoveFigureOf& f : kMoveFigures) out.push_back(f.name);
+  return out;
+}
+
+double* GainField(ControllerConfig* c, const std::string& name) {
+  if (name == "G_p") return &c->G_p;
+  if (name == "G_i") return &c->G_i;
+  if (name == "G_v") return &c->G_v;
+  if (name == "G_ff") return &c->G_ff;
+  if (name == "alpha") return &c->alpha;
+  return nullptr;
+}
+
+// A gain from its coordinate z in [0, 1] of the search box and back: log
+// between the ends where the lower one is positive, else linear.
+double GainAt(const TunedGain& g, double z) {
+  if (g.low > 0.0) return std::exp(std::log(g.low) + z * (std::log(g.high) - std::log(g.low)));
+  return g.low + z * (g.high - g.low);
+}
+double CoordinateOf(const TunedGain& g, double value) {
+  const double x = std::clamp(value, g.low, g.high);
+  if (g.low > 0.0) return (std::log(x) - std::log(g.low)) / (std::log(g.high) - std::log(g.low));
+  return (x - g.low) / (g.high - g.low);
+}
+
+// The spec whose bounds the search must meet: each upper bound lowered by
+// the fraction `margin` (what the model does not capture: its integration
+// step and current-loop approximation, the corners of the uncertainty).
+MoveSpec WithMargin(MoveSpec s, double margin) {
+  for (double MoveSpec::*b : {&MoveSpec::max_settling_time, &MoveSpec::max_following_error,
+                              &MoveSpec::max_overshoot, &MoveSpec::max_current,
+                              &MoveSpec::max_ringing}) {
+    s.*b *= 1.0 - margin;  // NaN stays NaN: no bound
+  }
+  return s;
+}
+
+struct NloptDeleter {
+  void operator()(nlopt_opt o) const { nlopt_destroy(o); }
+};
+using Nlopt = std::unique_ptr<std::remove_pointer_t<nlopt_opt>, NloptDeleter>;
+
+// A model other than the estimate a setting is judged on: an interval end,
+// or the estimate with the full current loop where the job fits the
+// quasi-steady one.
+struct Check {
+  std::string name;       // "V_L at low end", "the full current loop"
+  std::string parameter;  // what moves the figures ("V_L", "current loop")
+  AxisConfig model;
+  double step = 0.0;      // s, its RK4 step
+};
+
+class MoveTuner {
+ public:
+  MoveTuner(const FitJob& job, const FitResult& result, const AnalogLoopTuning* analog)
+      : job_(job),
+        result_(result),
+        analog_(analog),
+        settings_(job.tune.move),
+        spec_(job.tune.move.spec) {}
+
+  MoveTuning Run() {
+    const auto start = std::chrono::steady_clock::now();
+    if (!Prepare()) return out_;
+    for (const std::string& profile : spec_.profiles) out_.tuned.push_back(Search(profile));
+    size_t best = 0;
+    for (size_t k = 1; k < out_.tuned.size(); ++k) {
+      if (out_.tuned[k].objective < out_.tuned[best].objective) best = k;
+    }
+    out_.proposed = out_.tuned[best];
+    Judge(&out_.current);
+    Judge(&out_.proposed);
+    out_.ran = true;
+    out_.simulations = simulations_;
+    out_.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out_;
+  }
+
+ private:
+  bool Prepare() {
+    out_.spec = spec_;
+    out_.margin = settings_.margin;
+    search_spec_ = WithMargin(spec_, settings_.margin);
+    out_.gains = settings_.gains;
+    out_.slow_down = settings_.slow_down;
+    if (!settings_.enabled) {
+      out_.note = "no move tuning: the job has no tune.move block";
+      return false;
+    }
+    if (job_.experiments.empty()) throw std::runtime_error("the job has no fitted experiment");
+    model_ = AtEstimate(job_, result_).model;
+    if (analog_ != nullptr && analog_->ran) {
+      model_.params.K1 = analog_->proposed.K1;
+      model_.params.T_p = analog_->proposed.T_p;
+      out_.on_proposed_analog_loop = true;
+      // K_1 and T_p are then settings, not uncertain parameters of the axis.
+      fixed_ = {"T_p", "K1"};
+    }
+    base_ = model_.has_controller ? model_.controller : ControllerConfig{};
+    step_ = job_.experiments.front().options.step;
+    // The longest run the search can make: the penalty per unit of
+    // violation, and the time charged to a move that does not settle.
+    penalty_ = 0.0;
+    for (const std::string& p : spec_.profiles) {
+      penalty_ = std::max(penalty_, MoveAt(p, kMinSpeed).MoveDuration() + spec_.settle);
+    }
+    MakeChecks();
+    out_.current = Evaluate(spec_.profiles.front(), base_, 1.0);
+    if (!out_.current.response.finite) {
+      throw std::runtime_error("the identified model's move under the current controller is "
+                               "not finite");
+    }
+    return true;
+  }
+
+  // The interval ends, and the full current loop at its step
+  // (estimation/current_loop_check.h WithFullLoop) where the job fits the
+  // quasi-steady one: the tuning is for the machine, not the fit's
+  // approximation.
+  void MakeChecks() {
+    for (IntervalEnd& end : IntervalEnds(result_, model_, fixed_)) {
+      checks_.push_back({EndName(end), end.parameter, std::move(end.model), step_});
+    }
+    if (model_.structure.amplifier != Amplifier::kAnalogVelocityLoop ||
+        model_.structure.current_loop != CurrentLoop::kQuasiSteady) {
+      return;
+    }
+    double full_step = 0.0;
+    FitJob full = WithFullLoop(AtEstimate(job_, result_), &full_step);
+    full.model.params.K1 = model_.params.K1;
+    full.model.params.T_p = model_.params.T_p;
+    checks_.push_back({"the full current loop", "current loop", std::move(full.model),
+                       std::min(step_, full_step)});
+  }
+
+  // The spec's move with `profile` at the time scale `speed`.
+  Reference MoveAt(const std::string& profile, double speed) const {
+    Reference r;
+    r.kind = profile == "min_jerk" ? Reference::Kind::kMinJerk : Reference::Kind::kTrapezoid;
+    r.distance = spec_.distance;
+    r.velocity = spec_.max_velocity * speed;
+    r.acceleration = spec_.max_acceleration * speed * speed;
+    r.jerk = spec_.max_jerk * speed * speed * speed;
+    return r;
+  }
+
+  MoveSetting Evaluate(const std::string& profile, const ControllerConfig& c, double speed) {
+    MoveSetting s;
+    s.K1 = model_.params.K1;
+    s.T_p = model_.params.T_p;
+    s.profile = profile;
+    s.controller = c;
+    s.speed = speed;
+    s.reference = MoveAt(profile, speed);
+    ++simulations_;
+    s.response = SimulateMove(model_, c, s.reference, step_, spec_.settle);
+    s.metrics = MeasureMove(s.response, spec_);
+    s.violations = MoveViolations(s.metrics, spec_);
+    s.objective = ObjectiveOf(s.metrics);
+    // The worst over the models the robust search has added.
+    for (const Check& check : scenarios_) {
+      ++simulations_;
+      const MoveMetrics m = MeasureMove(
+          SimulateMove(check.model, c, s.reference, check.step, spec_.settle), spec_);
+      s.objective = std::max(s.objective, ObjectiveOf(m));
+    }
+    return s;
+  }
+
+  double ObjectiveOf(const MoveMetrics& m) const {
+    return (m.settled ? m.move_time : penalty_) + penalty_ * MoveViolation(m, search_spec_);
+  }
+
+  // The checks at which `s` breaks the spec with its margin, the worst
+  // kEndsPerRound of them (by MoveViolation).
+  std::vector<Check> Violating(const MoveSetting& s) {
+    std::vector<std::pair<double, const Check*>> broken;
+    for (const Check& check : checks_) {
+      ++simulations_;
+      const MoveMetrics m = MeasureMove(
+          SimulateMove(check.model, s.controller, s.reference, check.step, spec_.settle), spec_);
+      const double v = MoveViolation(m, search_spec_);
+      if (v > 0.0) broken.emplace_back(v, &check);
+    }
+    std::stable_sort(broken.begin(), broken.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<Check> out;
+    for (size_t k = 0; k < broken.size() && k < kEndsPerRound; ++k) {
+      out.push_back(*broken[k].second);
+    }
+    return out;
+  }
+
+  // The setting at the coordinates z of the search box.
+  MoveSetting At(const std::string& profile, const double* z) {
+    ControllerConfig c = base_;
+    for (size_t g = 0; g < settings_.gains.size(); ++g) {
+      *GainField(&c, settings_.gains[g].name) = GainAt(settings_.gains[g], z[g]);
+    }
+    const double speed = settings_.slow_down ? z[settings_.gains.size()] : 1.0;
+    return Evaluate(profile, c, speed);
+  }
+
+  struct SearchState {
+    MoveTuner* tuner;
+    const std::string* profile;
+    MoveSetting best;
+    int evaluations = 0;
+  };
+
+  static double Objective(unsigned, const double* z, double*, void* data) {
+    SearchState* st = static_cast<SearchState*>(data);
+    MoveSetting s = st->tuner->At(*st->profile, z);
+    ++st->evaluations;
+    const double j = std::isfinite(s.objective) ? s.objective : HUGE_VAL;
+    if (st->best.profile.empty() || j < st->best.objective) {
+      s.response = MoveResponse{};  // the best keeps its figures; Judge simulates again
+      st->best = std::move(s);
+    }
+    return j;
+  }
+
+  // DIRECT-L on the box for half the budget, then Subplex from the better
+  // of its best and the current setting; then the robust rounds.
+  MoveSetting Search(const std::string& profile) {
+    scenarios_.clear();
+    const unsigned n = static_cast<unsigned>(settings_.gains.size() + (settings_.slow_down ? 1 : 0));
+    std::vector<double> lower(n, 0.0), upper(n, 1.0), z(n, 0.5);
+    if (settings_.slow_down) lower[n - 1] = kMinSpeed;
+    SearchState st{this, &profile, MoveSetting{}, 0};
+    const int global_budget = settings_.evaluations / 2;
+    Run(NLOPT_GN_DIRECT_L, lower, upper, global_budget, &st, &z);
+    std::vector<double> start = Coordinates(st.best.controller, st.best.speed);
+    std::vector<double> current = Coordinates(base_, 1.0);
+    const double best_of_direct = st.best.objective;
+    Objective(n, current.data(), nullptr, &st);  // the current gains, in the box
+    if (st.best.objective < best_of_direct) start = current;
+    Run(NLOPT_LN_SBPLX, lower, upper, settings_.evaluations - st.evaluations, &st, &start);
+    MoveSetting best = std::move(st.best);
+    best.evaluations = st.evaluations;
+    Robustify(profile, lower, upper, &best);
+    return best;
+  }
+
+  // Up to kRobustRounds times: the interval ends at which `best` breaks the
+  // spec join scenarios_ (the objective is then the worst over the estimate
+  // and them), and Subplex runs again from `best` for half the budget.
+  void Robustify(const std::string& profile, const std::vector<double>& lower,
+                 const std::vector<double>& upper, MoveSetting* best) {
+    for (int round = 0; round < kRobustRounds; ++round) {
+      std::vector<Check> violating = Violating(*best);
+      if (violating.empty()) break;
+      for (Check& check : violating) {
+        if (std::find(best->scenarios.begin(), best->scenarios.end(), check.name) !=
+            best->scenarios.end()) {
+          continue;
+        }
+        best->scenarios.push_back(check.name);
+        scenarios_.push_back(std::move(check));
+      }
+      SearchState st{this, &profile, MoveSetting{}, 0};
+      std::vector<double> start = Coordinates(best->controller, best->speed);
+      Run(NLOPT_LN_SBPLX, lower, upper, settings_.evaluations / 2, &st, &start);
+      const std::vector<std::string> names = best->scenarios;
+      const int evaluations = best->evaluations + st.evaluations;
+      *best = std::move(st.best);
+      best->scenarios = names;
+      best->evaluations = evaluations;
+    }
+  }
+
+  std::vector<double> Coordinates(ControllerConfig c, double speed) const {
+    std::vector<double> z;
+    for (const TunedGain& g : settings_.gains) z.push_back(CoordinateOf(g, *GainField(&c, g.name)));
+    if (settings_.slow_down) z.push_back(std::clamp(speed, kMinSpeed, 1.0));
+    return z;
+  }
+
+  static void Run(nlopt_algorithm algorithm, const std::vector<double>& lower,
+                  const std::vector<double>& upper, int budget, SearchState* st,
+                  std::vector<double>* z) {
+    if (budget <= 0) return;
+    const unsigned n = static_cast<unsigned>(z->size());
+    Nlopt opt(nlopt_create(algorithm, n));
+    if (!opt) throw std::runtime_error("NLopt could not create its optimiser");
+    nlopt_set_lower_bounds(opt.get(), lower.data());
+    nlopt_set_upper_bounds(opt.get(), upper.data());
+    nlopt_set_min_objective(opt.get(), &MoveTuner::Objective, st);
+    nlopt_set_maxeval(opt.get(), budget);
+    std::vector<double> step(n, kLocalStep);
+    nlopt_set_initial_step(opt.get(), step.data());
+    double value = 0.0;
+    // Its outcome is the best point the objective saw (SearchState::best),
+    // whatever NLopt's return code.
+    nlopt_optimize(opt.get(), z->data(), &value);
+  }
+
+  // The setting at the estimate and at each end of each free parameter's
+  // interval.
+  void Judge(MoveSetting* s) {
+    ++simulations_;
+    s->response = SimulateMove(model_, s->controller, s->reference, step_, spec_.settle);
+    s->metrics = MeasureMove(s->response, spec_);
+    s->violations = MoveViolations(s->metrics, spec_);
+    WidenMoveBand(s->response, &s->band_low, &s->band_high);
+    const std::vector<std::string> broken = MoveViolatedFigures(s->metrics, spec_);
+    s->robust = s->violations.empty();
+    s->spread = StartSpread(FigureNames(), Figures(s->metrics));
+    std::vector<double> moved(std::size(kMoveFigures), 0.0);
+    for (const Check& check : checks_) {
+      ++simulations_;
+      const MoveResponse r = SimulateMove(check.model, s->controller, s->reference, check.step,
+                                          spec_.settle);
+      WidenMoveBand(r, &s->band_low, &s->band_high);
+      const MoveMetrics m = MeasureMove(r, spec_);
+      NoteEndViolations(check.name, MoveViolations(m, spec_), MoveViolatedFigures(m, spec_),
+                        broken, &s->robust, &s->robust_violations);
+      WidenSpread(check.parameter, Figures(m), &moved, &s->spread);
+    }
+  }
+
+  const FitJob& job_;
+  const FitResult& result_;
+  const AnalogLoopTuning* analog_;
+  const MoveTuneSettings& settings_;
+  const MoveSpec& spec_;
+  MoveSpec search_spec_;  // spec_ with the design margin (the search's)
+  AxisConfig model_;
+  ControllerConfig base_;
+  std::vector<std::string> fixed_;        // parameters that are settings
+  std::vector<Check> checks_;     // the models a setting is judged on
+  std::vector<Check> scenarios_;  // those the robust search has added
+  double step_ = 0.0;
+  double penalty_ = 0.0;
+  int simulations_ = 0;
+  MoveTuning out_;
+};
+
+}  // namespace
+
+MoveTuning TuneMove(const FitJob& job, const FitResult& result, const AnalogLoopTuning* analog) {
+  return MoveTuner(job, result, analog).Run();
+}
+
+std::vector<std::string> MoveViolationsOn(const AxisConfig& axis, double step,
+                                          const MoveSetting& s, const MoveSpec& spec) {
+  AxisConfig model = axis;
+  model.params.K1 = s.K1;
+  model.params.T_p = s.T_p;
+  return MoveViolations(
+      MeasureMove(SimulateMove(model, s.controller, s.reference, step, spec.settle), spec), spec);
+}
+
+}  // namespace axis

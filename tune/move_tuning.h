@@ -1,0 +1,114 @@
+// The sampled position controller and the move of the identified axis tuned
+// to a specification (issue 45; job key `tune.move:`, job/tune_settings.h
+// MoveTuneSettings). Nelson & Chang (1984) built their simulation for
+// "off-line testing of system changes and new control schemes" and named
+// minimum-time and minimum-jerk moves as the strategies to evaluate; with
+// the current and voltage limits the usual linear design does not apply,
+// so the search simulates the nonlinear model (tune/move_response.h).
+//
+// For each profile of the spec (trapezoid, minimum-jerk at the machine's
+// limits): the controller gains of MoveTuneSettings::gains (MODEL.md §5)
+// and, with slow_down, a time scale s in [0.25, 1] of the profile are
+// searched to minimise the move time (start to settled in the band) plus
+// a penalty per unit of the spec's violation — each bound tightened by the
+// design margin MoveTuneSettings::margin — so that any setting that meets
+// the spec beats any that does not: NLopt's DIRECT-L (global, on
+// the box of the gains, log-scaled where the lower end is positive) for
+// half the budget, then Subplex (local, derivative-free; the move time
+// is a step function of the settings at the output period) from the
+// better of DIRECT-L's best and the current setting. The checks: the
+// model with each free parameter of the fit at either end of its 95 %
+// interval (tune/interval_ends.h) and, where the job fits the quasi-steady
+// current loop, the estimate with the full loop at its own step
+// (estimation/current_loop_check.h WithFullLoop). Then, up to three
+// rounds: the two checks where the best setting breaks the spec (with its
+// margin) most are added to the models it must meet (the objective becomes
+// the worst over the estimate and them) and Subplex runs again from it for
+// half the budget. The proposal is the profile with the lowest objective;
+// it and the current setting are judged at the estimate and every check.
+#ifndef TUNE_MOVE_TUNING_H_
+#define TUNE_MOVE_TUNING_H_
+
+#include <string>
+#include <vector>
+
+#include "estimation/fit_result.h"
+#include "job/fit_job.h"
+#include "sim/controller.h"
+#include "tune/analog_loop_tuning.h"
+#include "tune/interval_ends.h"
+#include "tune/move_response.h"
+
+namespace axis {
+
+// A controller and a move, judged at the estimate (and, for the current
+// and the proposed one, over the uncertainty).
+struct MoveSetting {
+  // The analog loop it runs on (V/V, s): the model's, or the analog
+  // tuning's proposal (TuneMove).
+  double K1 = 0.0, T_p = 0.0;
+  std::string profile;          // "trapezoid" or "min_jerk"
+  ControllerConfig controller;  // the gains (the rest as the axis's)
+  Reference reference;          // the move with the limits it uses
+  double speed = 1.0;           // the time scale s of the profile, in (0, 1]
+  MoveMetrics metrics;          // at the estimate
+  std::vector<std::string> violations;  // at the estimate
+  // The search's (s): the move time plus a penalty per unit of violation,
+  // the worst over the estimate and `scenarios`.
+  double objective = 0.0;
+  // The checks ("Delta_M at high end", "the full current loop") the robust
+  // search added because the setting broke the spec there.
+  std::vector<std::string> scenarios;
+  int evaluations = 0;          // simulations of its search
+  // "move_time", "settling_time", "following_error", "overshoot",
+  // "peak_current", "ringing", in this order; empty unless judged.
+  std::vector<FigureSpread> spread;
+  bool robust = false;  // every bound met at the estimate and every check
+  // "<check>: <violation>" ("V_L at low end: overshoot ...").
+  std::vector<std::string> robust_violations;
+  MoveResponse response;             // at the estimate
+  MoveResponse band_low, band_high;  // over the estimate and the checks
+};
+
+struct MoveTuning {
+  bool ran = false;
+  std::string note;  // why not, or what the search could not do
+  MoveSpec spec;
+  double margin = 0.0;  // MoveTuneSettings::margin, as searched
+  // Whether the move was tuned on the analog loop's proposal (the inner
+  // loop first, as the paper's order) rather than the model's K_1, T_p.
+  bool on_proposed_analog_loop = false;
+  std::vector<TunedGain> gains;  // searched
+  bool slow_down = true;
+  // The axis's controller (the model's, else MODEL.md §5's AID 600
+  // defaults) on the spec's first profile at the limits.
+  MoveSetting current;
+  std::vector<MoveSetting> tuned;  // one per profile of the spec, in its order
+  MoveSetting proposed;            // the tuned one with the lowest objective
+  int simulations = 0;
+  double seconds = 0.0;
+};
+
+// Tunes the controller gains and the move of job.tune.move on the model of
+// `job` at `result`'s estimate (AtEstimate) — with the K_1 and T_p that
+// `analog` proposes if it is given and ran — simulating at the first
+// fitted experiment's RK4 step. The model's amplifier may be any; the controller
+// is the model's (AxisConfig::controller) if it has one, else the AID 600
+// defaults. ran is false with a note if job.tune.move is not enabled.
+// Throws std::runtime_error if the job has no experiment or the model at
+// the estimate does not simulate the current setting; never for a spec
+// that cannot be met (the proposal then has the least violation).
+MoveTuning TuneMove(const FitJob& job, const FitResult& result,
+                    const AnalogLoopTuning* analog = nullptr);
+
+// The setting `s` (its K_1, T_p, controller and move) on another axis
+// `axis` (e.g. the model that generated the records), simulated at `step`
+// (s): the spec's
+// violations there (MoveViolations), empty if it holds. Throws
+// std::invalid_argument as SimulateMove.
+std::vector<std::string> MoveViolationsOn(const AxisConfig& axis, double step,
+                                          const MoveSetting& s, const MoveSpec& spec);
+
+}  // namespace axis
+
+#endif  // TUNE_MOVE_TUNING_H_
