@@ -467,12 +467,12 @@ bool WriteTuneMoveCsv(const std::string& path, const MoveTuning& t) {
         lo.t.size() == p.t.size() && hi.t.size() == p.t.size())) {
     return false;
   }
-  // The two runs differ in length where the moves do: the shorter one's
-  // columns end in NaN (not simulated), which gnuplot leaves out.
+  // TuneMove runs both to the same end; a run that is shorter still (a
+  // tuning made otherwise) is held at its last sample.
   const size_t n = std::max(c.t.size(), p.t.size());
   const auto held = [n](const std::vector<double>& v) {
     std::vector<double> out = v;
-    out.resize(n, std::numeric_limits<double>::quiet_NaN());
+    if (!out.empty()) out.resize(n, out.back());
     return out;
   };
   const MoveResponse& longer = c.t.size() >= p.t.size() ? c : p;

@@ -64,8 +64,8 @@ nlohmann::json MoveTuningToJson(const MoveTuning& t);
 
 // The files of a move tuning that ran, into `dir`: tune_move.csv (t;
 // x_ref, x, v, i, u, fg of the current and the proposed setting at the
-// estimate, the shorter run's columns ending in NaN; the proposal's band
-// of x, v, i and u over the interval ends),
+// estimate, run to the same end; the proposal's band of x, v, i and u over
+// the interval ends),
 // model_tuned_move.yaml (the job's model at the estimate `model` with the
 // K1, T_p and controller gains of the proposal) and tune_move_verify.yaml
 // (the proposed move as a simulate-axis experiment on that model: the

@@ -12,11 +12,15 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "estimation/at_estimate.h"
 #include "estimation/fit.h"
 #include "job/load_fit_job.h"
 #include "job/tune_settings.h"
 #include "sim/config.h"
 #include "sim/controller.h"
+#include "sim/experiment.h"
+#include "report/tuning_report.h"
+#include "tests/test_files.h"
 #include "tune/analog_loop_tuning.h"
 #include "tune/move_response.h"
 #include "tune/move_tuning.h"
@@ -129,6 +133,18 @@ TEST(MoveTuneTest, TheProposalMeetsTheSpecOnTheAxisThatMadeTheData) {
   const AxisConfig truth = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
   const std::vector<std::string> on_truth = MoveViolationsOn(truth, 1e-5, t.proposed, t.spec);
   EXPECT_TRUE(on_truth.empty()) << on_truth[0];
+  // The files: both runs to the same end, the verify experiment loadable
+  // and on the proposed controller.
+  EXPECT_EQ(t.current.response.t.size(), t.proposed.response.t.size());
+  const std::string dir = testing_files::TestTempDir();
+  std::vector<std::string> files;
+  WriteMoveTuning(dir, AtEstimate(job, result).model, t, &files);
+  EXPECT_EQ(files, (std::vector<std::string>{"tune_move.csv", "model_tuned_move.yaml",
+                                             "tune_move_verify.yaml"}));
+  const ExperimentConfig verify = LoadExperiment(dir + "/tune_move_verify.yaml");
+  EXPECT_TRUE(verify.drive.closed_loop);
+  EXPECT_DOUBLE_EQ(verify.drive.controller.G_p, t.proposed.controller.G_p);
+  EXPECT_NEAR(verify.drive.reference.MoveDuration(), t.proposed.reference.MoveDuration(), 1e-6);
 }
 
 TEST(MoveTuneTest, BadMoveKeysAreRefusedNamingThem) {

@@ -116,6 +116,11 @@ class MoveTuner {
       if (out_.tuned[k].objective < out_.tuned[best].objective) best = k;
     }
     out_.proposed = out_.tuned[best];
+    // Both judged runs end together (the plots and tune_move.csv put them
+    // side by side): the shorter move settles for longer.
+    judge_end_ = std::max(out_.current.reference.MoveDuration(),
+                          out_.proposed.reference.MoveDuration()) +
+                 spec_.settle;
     Judge(&out_.current);
     Judge(&out_.proposed);
     out_.ran = true;
@@ -348,7 +353,8 @@ class MoveTuner {
   // interval.
   void Judge(MoveSetting* s) {
     ++simulations_;
-    s->response = SimulateMove(model_, s->controller, s->reference, step_, spec_.settle);
+    const double settle = judge_end_ - s->reference.MoveDuration();
+    s->response = SimulateMove(model_, s->controller, s->reference, step_, settle);
     s->metrics = MeasureMove(s->response, spec_);
     s->violations = MoveViolations(s->metrics, spec_);
     WidenMoveBand(s->response, &s->band_low, &s->band_high);
@@ -358,8 +364,8 @@ class MoveTuner {
     std::vector<double> moved(std::size(kMoveFigures), 0.0);
     for (const Check& check : checks_) {
       ++simulations_;
-      const MoveResponse r = SimulateMove(check.model, s->controller, s->reference, check.step,
-                                          spec_.settle);
+      const MoveResponse r =
+          SimulateMove(check.model, s->controller, s->reference, check.step, settle);
       WidenMoveBand(r, &s->band_low, &s->band_high);
       const MoveMetrics m = MeasureMove(r, spec_);
       NoteEndViolations(check.name, MoveViolations(m, spec_), MoveViolatedFigures(m, spec_),
@@ -381,6 +387,7 @@ class MoveTuner {
   std::vector<Check> scenarios_;  // those the robust search has added
   double step_ = 0.0;
   double penalty_ = 0.0;
+  double judge_end_ = 0.0;  // s, the judged runs' length
   int simulations_ = 0;
   MoveTuning out_;
 };

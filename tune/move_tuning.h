@@ -25,7 +25,8 @@
 // margin) most are added to the models it must meet (the objective becomes
 // the worst over the estimate and them) and Subplex runs again from it for
 // half the budget. The proposal is the profile with the lowest objective;
-// it and the current setting are judged at the estimate and every check.
+// it and the current setting are judged at the estimate and every check,
+// both run to the same end (the longer move's end plus `settle`).
 #ifndef TUNE_MOVE_TUNING_H_
 #define TUNE_MOVE_TUNING_H_
 
