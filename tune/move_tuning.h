@@ -24,9 +24,11 @@
 // rounds: the two checks where the best setting breaks the spec (with its
 // margin) most are added to the models it must meet (the objective becomes
 // the worst over the estimate and them) and Subplex runs again from it for
-// half the budget. The proposal is the profile with the lowest objective;
-// it and the current setting are judged at the estimate and every check,
-// both run to the same end (the longer move's end plus `settle`).
+// half the budget. Each profile's tuned setting and the current one are
+// judged at the estimate and every check, all run to the same end (the
+// longest move's end plus `settle`); the proposal is the tuned setting
+// with the lowest objective among those that meet the spec at every
+// check, else among all.
 #ifndef TUNE_MOVE_TUNING_H_
 #define TUNE_MOVE_TUNING_H_
 
@@ -62,7 +64,7 @@ struct MoveSetting {
   std::vector<std::string> scenarios;
   int evaluations = 0;          // simulations of its search
   // "move_time", "settling_time", "following_error", "overshoot",
-  // "peak_current", "ringing", in this order; empty unless judged.
+  // "peak_current", "ringing", in this order.
   std::vector<FigureSpread> spread;
   bool robust = false;  // every bound met at the estimate and every check
   // "<check>: <violation>" ("V_L at low end: overshoot ...").
@@ -84,8 +86,8 @@ struct MoveTuning {
   // The axis's controller (the model's, else MODEL.md §5's AID 600
   // defaults) on the spec's first profile at the limits.
   MoveSetting current;
-  std::vector<MoveSetting> tuned;  // one per profile of the spec, in its order
-  MoveSetting proposed;            // the tuned one with the lowest objective
+  std::vector<MoveSetting> tuned;  // one per profile of the spec, in its order, judged
+  MoveSetting proposed;            // the one chosen of `tuned` (TuneMove)
   int simulations = 0;
   double seconds = 0.0;
 };
