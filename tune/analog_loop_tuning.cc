@@ -23,18 +23,14 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kBrentBits = 10;
 constexpr int kBrentIterations = 30;
 
-// The figures of StepMetrics in FigureSpread order, with the side of the
-// bound that is better (true: lower is better).
-struct FigureOf {
-  const char* name;
-  double StepMetrics::*field;
-};
-constexpr FigureOf kFigures[] = {{"settling_time", &StepMetrics::settling_time},
-                                 {"overshoot", &StepMetrics::overshoot},
-                                 {"peak_current", &StepMetrics::peak_current},
-                                 {"voltage_headroom", &StepMetrics::voltage_headroom},
-                                 {"ringing", &StepMetrics::ringing},
-                                 {"ringing_decay", &StepMetrics::ringing_decay}};
+// The figures of StepMetrics in TunedSetting::spread order.
+constexpr FigureField<StepMetrics> kFigures[] = {
+    {"settling_time", &StepMetrics::settling_time},
+    {"overshoot", &StepMetrics::overshoot},
+    {"peak_current", &StepMetrics::peak_current},
+    {"voltage_headroom", &StepMetrics::voltage_headroom},
+    {"ringing", &StepMetrics::ringing},
+    {"ringing_decay", &StepMetrics::ringing_decay}};
 
 // How far `m` is outside the spec: the sum over the bounds of the relative
 // excess (0 when it meets them all; 1 for an unmeasured figure).
@@ -181,7 +177,7 @@ class AnalogLoopTuner {
     s->violations = SpecViolations(s->metrics, spec_);
     const std::vector<std::string> broken = ViolatedFigures(s->metrics, spec_);
     s->robust = s->violations.empty();
-    s->spread = StartSpread(FigureNames(), Figures(s->metrics));
+    s->spread = StartSpread(FigureNames(kFigures), FigureValues(s->metrics, kFigures));
     std::vector<double> moved(std::size(kFigures), 0.0);
     for (const IntervalEnd& end : IntervalEnds(result_, model, {"T_p", "K1"})) {
       ++simulations_;
@@ -190,20 +186,8 @@ class AnalogLoopTuner {
       const StepMetrics m = MeasureStep(r, spec_, end.model.params.V_M);
       NoteEndViolations(EndName(end), SpecViolations(m, spec_), ViolatedFigures(m, spec_), broken,
                         &s->robust, &s->robust_violations);
-      WidenSpread(end.parameter, Figures(m), &moved, &s->spread);
+      WidenSpread(end.parameter, FigureValues(m, kFigures), &moved, &s->spread);
     }
-  }
-
-  static std::vector<std::string> FigureNames() {
-    std::vector<std::string> out;
-    for (const FigureOf& f : kFigures) out.push_back(f.name);
-    return out;
-  }
-
-  static std::vector<double> Figures(const StepMetrics& m) {
-    std::vector<double> out;
-    for (const FigureOf& f : kFigures) out.push_back(m.*f.field);
-    return out;
   }
 
   const FitJob& job_;

@@ -38,6 +38,29 @@ struct FigureSpread {
   std::string limiting;          // the parameter whose ends move it most ("" if none)
 };
 
+// A figure of a metrics struct (StepMetrics, MoveMetrics): its name, as
+// FigureSpread::figure, and its field.
+template <typename Metrics>
+struct FigureField {
+  const char* name;
+  double Metrics::*field;
+};
+
+// The names and the values of `figures` (in their order). Never throw
+// (except std::bad_alloc).
+template <typename Metrics, size_t N>
+std::vector<std::string> FigureNames(const FigureField<Metrics> (&figures)[N]) {
+  std::vector<std::string> out;
+  for (const FigureField<Metrics>& f : figures) out.push_back(f.name);
+  return out;
+}
+template <typename Metrics, size_t N>
+std::vector<double> FigureValues(const Metrics& m, const FigureField<Metrics> (&figures)[N]) {
+  std::vector<double> out;
+  for (const FigureField<Metrics>& f : figures) out.push_back(m.*f.field);
+  return out;
+}
+
 // Spreads for `figures` with their values at the estimate (low = high =
 // at_estimate), and the widening by one interval end: each finite value
 // of `values` (in `figures` order) widens its spread; `moved` (one per

@@ -27,37 +27,13 @@ constexpr int kRobustRounds = 3;
 // evaluation of the search).
 constexpr size_t kEndsPerRound = 2;
 
-struct MoveFigureOf {
-  const char* name;
-  double MoveMetrics::*field;
-};
-constexpr MoveFigureOf kMoveFigures[] = {{"move_time", &MoveMetrics::move_time},
-                                         {"settling_time", &MoveMetrics::settling_time},
-                                         {"following_error", &MoveMetrics::following_error},
-                                         {"overshoot", &MoveMetrics::overshoot},
-                                         {"peak_current", &MoveMetrics::peak_current},
-                                         {"ringing", &MoveMetrics::ringing}};
-
-std::vector<double> Figures(const MoveMetrics& m) {
-  std::vector<double> out;
-  for (const MoveFigureOf& f : kMoveFigures) out.push_back(m.*f.field);
-  return out;
-}
-
-std::vector<std::string> FigureNames() {
-  std::vector<std::string> out;
-  for (const MoveFigureOf& f : kMoveFigures) out.push_back(f.name);
-  return out;
-}
-
-double* GainField(ControllerConfig* c, const std::string& name) {
-  if (name == "G_p") return &c->G_p;
-  if (name == "G_i") return &c->G_i;
-  if (name == "G_v") return &c->G_v;
-  if (name == "G_ff") return &c->G_ff;
-  if (name == "alpha") return &c->alpha;
-  return nullptr;
-}
+constexpr FigureField<MoveMetrics> kMoveFigures[] = {
+    {"move_time", &MoveMetrics::move_time},
+    {"settling_time", &MoveMetrics::settling_time},
+    {"following_error", &MoveMetrics::following_error},
+    {"overshoot", &MoveMetrics::overshoot},
+    {"peak_current", &MoveMetrics::peak_current},
+    {"ringing", &MoveMetrics::ringing}};
 
 // A gain from its coordinate z in [0, 1] of the search box and back: log
 // between the ends where the lower one is positive, else linear.
@@ -260,7 +236,7 @@ class MoveTuner {
   MoveSetting At(const std::string& profile, const double* z) {
     ControllerConfig c = base_;
     for (size_t g = 0; g < settings_.gains.size(); ++g) {
-      *GainField(&c, settings_.gains[g].name) = GainAt(settings_.gains[g], z[g]);
+      *ControllerGain(&c, settings_.gains[g].name) = GainAt(settings_.gains[g], z[g]);
     }
     const double speed = settings_.slow_down ? z[settings_.gains.size()] : 1.0;
     return Evaluate(profile, c, speed);
@@ -336,7 +312,7 @@ class MoveTuner {
 
   std::vector<double> Coordinates(ControllerConfig c, double speed) const {
     std::vector<double> z;
-    for (const TunedGain& g : settings_.gains) z.push_back(CoordinateOf(g, *GainField(&c, g.name)));
+    for (const TunedGain& g : settings_.gains) z.push_back(CoordinateOf(g, *ControllerGain(&c, g.name)));
     if (settings_.slow_down) z.push_back(std::clamp(speed, kMinSpeed, 1.0));
     return z;
   }
@@ -371,7 +347,7 @@ class MoveTuner {
     WidenMoveBand(s->response, &s->band_low, &s->band_high);
     const std::vector<std::string> broken = MoveViolatedFigures(s->metrics, spec_);
     s->robust = s->violations.empty();
-    s->spread = StartSpread(FigureNames(), Figures(s->metrics));
+    s->spread = StartSpread(FigureNames(kMoveFigures), FigureValues(s->metrics, kMoveFigures));
     std::vector<double> moved(std::size(kMoveFigures), 0.0);
     for (const Check& check : checks_) {
       ++simulations_;
@@ -381,7 +357,7 @@ class MoveTuner {
       const MoveMetrics m = MeasureMove(r, spec_);
       NoteEndViolations(check.name, MoveViolations(m, spec_), MoveViolatedFigures(m, spec_),
                         broken, &s->robust, &s->robust_violations);
-      WidenSpread(check.parameter, Figures(m), &moved, &s->spread);
+      WidenSpread(check.parameter, FigureValues(m, kMoveFigures), &moved, &s->spread);
     }
   }
 
@@ -404,6 +380,15 @@ class MoveTuner {
 };
 
 }  // namespace
+
+double* ControllerGain(ControllerConfig* c, const std::string& name) {
+  if (name == "G_p") return &c->G_p;
+  if (name == "G_i") return &c->G_i;
+  if (name == "G_v") return &c->G_v;
+  if (name == "G_ff") return &c->G_ff;
+  if (name == "alpha") return &c->alpha;
+  return nullptr;
+}
 
 MoveTuning TuneMove(const FitJob& job, const FitResult& result, const AnalogLoopTuning* analog) {
   return MoveTuner(job, result, analog).Run();

@@ -104,6 +104,10 @@ struct MoveTuning {
 MoveTuning TuneMove(const FitJob& job, const FitResult& result,
                     const AnalogLoopTuning* analog = nullptr);
 
+// The field of `c` that TunedGain::name `name` names ("G_p", "G_i", "G_v",
+// "G_ff", "alpha"; MODEL.md §5), nullptr for another name. Never throws.
+double* ControllerGain(ControllerConfig* c, const std::string& name);
+
 // The setting `s` (its K_1, T_p, controller and move) on another axis
 // `axis` (e.g. the model that generated the records), simulated at `step`
 // (s): the spec's
