@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "estimation/at_estimate.h"
@@ -71,19 +72,61 @@ double WarmRefitChi2(FitJob job, FitResult* fit) {
   return chi2;
 }
 
-// Whether the with-delay refits of `check` name the other convention: its
-// gain beyond the BIC margin and beyond the excess share.
-bool Decides(const SamplingCheck& check) {
-  const double s2 = check.chi2_declared_delay / std::max(1, check.dof);
-  const double gain = check.chi2_declared_delay - check.chi2_other_delay;
-  const double excess = std::max(0.0, check.chi2_declared_delay - check.dof);
+// `job` without its fitted delay on `a` (sensor_delay.a, tau_d.a free), or
+// nullopt if it has none.
+std::optional<FitJob> WithoutFittedDelayOfA(const FitJob& job) {
+  const int a = static_cast<int>(Channel::kA);
+  const auto it = std::find_if(job.free.begin(), job.free.end(),
+                               [](const FreeParameter& f) { return f.name == "tau_d.a"; });
+  if (!job.model.structure.sensors.delay[a] || it == job.free.end()) return std::nullopt;
+  FitJob out = job;
+  out.model.structure.sensors.delay[a] = false;
+  out.model.params.tau_d[a] = 0.0;
+  out.free.erase(out.free.begin() + (it - job.free.begin()));
+  return out;
+}
+
+// With kBestBic: each convention's lower BIC of its refit as the job stands
+// (`fitted` entries of θ) and with the `added` delays, over `residuals`;
+// the other one's also without the job's fitted delay on `a`.
+void BestBics(double residuals, double fitted, int added, SamplingCheck* check) {
+  const double log_m = std::log(std::max(1.0, residuals));
+  auto best = [&](double plain, double delayed) {
+    double b = std::numeric_limits<double>::infinity();
+    if (std::isfinite(plain)) b = plain + fitted * log_m;
+    if (std::isfinite(delayed)) b = std::min(b, delayed + (fitted + added) * log_m);
+    return b;
+  };
+  check->bic_declared = best(check->chi2_declared, check->chi2_declared_delay);
+  check->bic_other = best(check->chi2_other, check->chi2_other_delay);
+  if (std::isfinite(check->chi2_other_without_delay_a)) {
+    check->bic_other =
+        std::min(check->bic_other, check->chi2_other_without_delay_a + (fitted - 1.0) * log_m);
+  }
+}
+
+// Whether the refits of `check` name the other convention (SamplingRule);
+// with kBestBic its BICs are set first (BestBics).
+bool Decides(double residuals, double fitted, int added, SamplingCheck* check) {
+  if (check->rule == SamplingRule::kBestBic) {
+    BestBics(residuals, fitted, added, check);
+    const double s2 = check->chi2_declared / std::max(1.0, residuals - fitted);
+    return check->bic_declared - check->bic_other > kSamplingBicMargin * std::max(1.0, s2);
+  }
+  const double s2 = check->chi2_declared_delay / std::max(1, check->dof);
+  const double gain = check->chi2_declared_delay - check->chi2_other_delay;
+  const double excess = std::max(0.0, check->chi2_declared_delay - check->dof);
   return gain > kSamplingBicMargin * std::max(1.0, s2) && gain > kSamplingExcessShare * excess;
 }
 
 }  // namespace
 
-SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& result) {
+SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& result,
+                                         SamplingRule rule) {
   SamplingCheck check;
+  check.rule = rule;
+  check.bic_declared = check.bic_other = std::numeric_limits<double>::quiet_NaN();
+  check.chi2_other_without_delay_a = std::numeric_limits<double>::quiet_NaN();
   bool fits_a = false;
   for (const FitExperiment& e : job.experiments) {
     for (const FittedChannel& f : e.fitted) fits_a = fits_a || f.channel == Channel::kA;
@@ -111,7 +154,17 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   if (!std::isfinite(check.chi2_other_delay) || !std::isfinite(check.chi2_declared_delay)) {
     return check;
   }
-  if (!Decides(check)) return check;
+  const double residuals = result.num_residuals;
+  const double fitted = result.num_residuals - result.residual_dof;
+  FitJob plain = at;
+  plain.model.structure.accelerometer = other;
+  if (rule == SamplingRule::kBestBic) {
+    check.chi2_other = WarmRefitChi2(plain, &check.refit);
+    if (const std::optional<FitJob> without = WithoutFittedDelayOfA(plain)) {
+      check.chi2_other_without_delay_a = WarmRefitChi2(*without, nullptr);
+    }
+  }
+  if (!Decides(residuals, fitted, added, &check)) return check;
   // The other convention's gain may be a lower minimum of a model far off,
   // not the convention's: the declared convention refitted from the other's
   // optimum (the payload discovery case, its payload undeclared at s² = 89:
@@ -122,22 +175,29 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   cross.model.structure.accelerometer = declared;
   const double chi2_cross = WarmRefitChi2(cross, nullptr);
   if (chi2_cross < check.chi2_declared_delay) check.chi2_declared_delay = chi2_cross;
-  if (!Decides(check)) return check;
-  FitJob plain = at;
-  plain.model.structure.accelerometer = other;
-  check.chi2_other = WarmRefitChi2(plain, &check.refit);
+  if (!Decides(residuals, fitted, added, &check)) return check;
+  if (rule == SamplingRule::kMisfit) check.chi2_other = WarmRefitChi2(plain, &check.refit);
   if (!std::isfinite(check.chi2_other)) {
     check.chi2_other = std::numeric_limits<double>::quiet_NaN();
     return check;
   }
   std::ostringstream note;
   note << std::setprecision(4) << "the accelerometer's records fit 'accelerometer: "
-       << check.other << "' better than the declared '" << check.declared
-       << "' (each refitted with a free delay on every fitted channel, sum of (r/sigma)^2 "
-       << check.chi2_declared_delay << " -> " << check.chi2_other_delay << "; without it "
-       << check.chi2_declared << " -> " << check.chi2_other << "; " << check.samples
-       << " samples of a): the misfit is the sampling convention's, not a wrong minimum; "
-          "declare it in the model config (MODEL.md section 6) or the job's configuration "
+       << check.other << "' better than the declared '" << check.declared << "' (";
+  if (rule == SamplingRule::kBestBic) {
+    note << "BIC of the better of each convention's refits, as the model stands and with a "
+            "free delay on every fitted channel, "
+         << check.bic_declared << " -> " << check.bic_other << "; ";
+  } else {
+    note << "each refitted with a free delay on every fitted channel, ";
+  }
+  note << "sum of (r/sigma)^2 " << check.chi2_declared_delay << " -> " << check.chi2_other_delay
+       << "; without it " << check.chi2_declared << " -> " << check.chi2_other << "; "
+       << check.samples << " samples of a): "
+       << (rule == SamplingRule::kBestBic
+               ? "the filter or delay kept on a stood in for the convention; "
+               : "the misfit is the sampling convention's, not a wrong minimum; ")
+       << "declare it in the model config (MODEL.md section 6) or the job's configuration "
           "(fit-params --discover starts from it)";
   check.note = note.str();
   return check;

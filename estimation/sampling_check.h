@@ -44,6 +44,29 @@ constexpr double kSamplingBicMargin = 10.0;
 // committed misfit records: 5.6e3 of 6.3e3).
 constexpr double kSamplingExcessShare = 0.25;
 
+// How CheckAccelerometerSampling decides for the other convention.
+enum class SamplingRule {
+  // Its refit with a free delay on every fitted channel lowers Σ(r/σ)²
+  // below the declared one's past kSamplingBicMargin·max(1, s²) and
+  // kSamplingExcessShare of the excess: the convention as the declared
+  // model's misfit (the check after the declared model's fit).
+  kMisfit,
+  // The lower BIC of its two refits (as the job stands, and with a free
+  // delay on every fitted channel) is below the lower of the declared
+  // one's (the job's own fit, and its refit with the delays) by more than
+  // kSamplingBicMargin·max(1, s²): the convention as a candidate of the
+  // discovery loop, judged by BIC against the delays that could stand in
+  // for it, for a model whose loop already kept a filter or a delay on `a`
+  // (a period mean is a box filter and a half-period delay of instant
+  // samples: with a filter kept, the two conventions differ by a sliver of
+  // the excess, which kMisfit's share does not see). The job's own fit is
+  // `result`, so its BIC is result.bic. Where the job fits a delay on `a`,
+  // the other convention's refit without it counts too (one entry fewer):
+  // the discovery loop drops that delay after adopting the convention if
+  // it is then insignificant.
+  kBestBic,
+};
+
 struct SamplingCheck {
   bool ran = false;            // some fitted experiment fits channel `a`
   std::string declared;        // "period_mean" or "instant"
@@ -58,13 +81,25 @@ struct SamplingCheck {
   double chi2_declared_delay = 0.0;
   double chi2_other_delay = 0.0;
   // Σ(r/σ)² of the refit under the other convention as the job stands
-  // (`refit`); computed only when the note is set, else NaN.
+  // (`refit`); computed only when the note is set (with kBestBic always),
+  // else NaN.
   double chi2_other = 0.0;
+  // With kBestBic and a fitted delay on `a` in the job: Σ(r/σ)² of the
+  // other convention's refit without it (the half-period delay between the
+  // conventions is what a kept delay on `a` may stand for, so under the
+  // other one it may not be needed); NaN otherwise.
+  double chi2_other_without_delay_a = 0.0;
+  SamplingRule rule = SamplingRule::kMisfit;  // what decided
+  // With kBestBic: the lower BIC of each convention's refits
+  // (Σ(r/σ)² + fitted entries·ln(residuals)); NaN with kMisfit.
+  double bic_declared = 0.0, bic_other = 0.0;
   int samples = 0;             // the samples of `a` the job fits
   int dof = 0;                 // residuals − free parameters of the refits
-  // Set when chi2_declared_delay − chi2_other_delay is above both
-  // kSamplingBicMargin·max(1, chi2_declared_delay/dof) and
-  // kSamplingExcessShare·(chi2_declared_delay − dof).
+  // With kMisfit: set when chi2_declared_delay − chi2_other_delay is above
+  // both kSamplingBicMargin·max(1, chi2_declared_delay/dof) and
+  // kSamplingExcessShare·(chi2_declared_delay − dof). With kBestBic: set
+  // when bic_declared − bic_other is above kSamplingBicMargin·max(1,
+  // chi2_declared/(residuals − fitted entries)).
   std::string note;
   // The refit under the other convention (Gauss–Newton intervals, no
   // optimum check): the discovery loop's base fit when it adopts that
@@ -76,13 +111,14 @@ struct SamplingCheck {
 // one Levenberg–Marquardt run on the whole record, Gauss–Newton
 // covariance, no checks) under each accelerometer convention
 // (AxisStructure::accelerometer) with a free delay on every fitted
-// channel, compares the
-// two Σ(r/σ)², and where the other convention wins refits the job as it
-// stands under it (`refit`). `ran` is false when no fitted experiment fits
+// channel, compares the two by `rule` (SamplingRule), and where the other
+// convention wins refits the job as it stands under it (`refit`; with
+// kBestBic before deciding). `ran` is false when no fitted experiment fits
 // `a`; a refit that ends without a finite cost leaves no note. `result`
 // must be a fit of `job`. Throws std::runtime_error if the model does not
 // simulate at the estimate.
-SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& result);
+SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& result,
+                                         SamplingRule rule = SamplingRule::kMisfit);
 
 }  // namespace axis
 

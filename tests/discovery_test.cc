@@ -440,6 +440,36 @@ TEST(DiscoveryTest, FrontEndCandidatesAreListedAndReportedApart) {
   EXPECT_TRUE(j["selected_plant"].empty());
 }
 
+// The front-end case anti_alias (configs/jobs/front_end/anti_alias.yaml:
+// instant samples of `a` behind a 250 Hz Butterworth filter, read as period
+// means; a tachometer filter; no plant effect) as fit-params runs it: the
+// loop keeps a filter and a delay on `a` as stand-ins, then the convention
+// judged by BIC against them (run/job_run.cc CheckTheConventionAgain) is
+// adopted and the stand-in delay dropped: the run ends with the generating
+// front end (instant, sensor_lowpass2.a, sensor_lowpass.tach), no plant
+// effect, and the filter's τ and ζ within 4 standard errors of the truth
+// (ExpectNearTruth; under the period-mean convention τ_lp2.a was 0.58 ms,
+// 2.4 standard errors off, ζ 0.67, 5).
+TEST(DiscoveryTest, AntiAliasFrontEndEndsUnderItsConvention) {
+  FitJob job = LoadFitJob(kRoot + "/configs/jobs/front_end/anti_alias.yaml");
+  job.solver.progress = false;
+  std::ostringstream out;
+  const JobRun run = RunJob(job, /*discover=*/true, out);
+  std::vector<std::string> selected = run.discovery.selected;
+  std::sort(selected.begin(), selected.end());
+  EXPECT_EQ(selected, (std::vector<std::string>{"accelerometer.instant", "sensor_lowpass.tach",
+                                                "sensor_lowpass2.a"}))
+      << out.str();
+  EXPECT_EQ(run.job.model.structure.accelerometer, AccelerometerSampling::kInstant);
+  ExpectNearTruth(run.result, "tau_lp2.a", 6.3662e-4);
+  ExpectNearTruth(run.result, "zeta_lp2.a", 0.70711);
+  ExpectNearTruth(run.result, "tau_lp.tach", 3.9789e-4);
+  for (const auto& [name, truth] : {std::pair<std::string, double>{"V_L", 2.7}, {"B_a", 200},
+                                    {"b_g", 1500}, {"k_g", 5.0e6}, {"T_p", 0.04}}) {
+    ExpectNearTruth(run.result, name, truth);
+  }
+}
+
 // Stribeck friction is a candidate only once Coulomb friction is in the
 // model (MODEL.md §7: its term rides on F_c), and an enabled effect is no
 // longer a candidate.

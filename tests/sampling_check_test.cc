@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -29,8 +30,11 @@ const std::string kRoot = PROJECT_SOURCE_DIR;
 // Simulates a 1 s, 6 V step of the X axis with the accelerometer
 // convention `convention` and the model-config `effects` block `effects`
 // (seed fixed) and loads a job that fits V_L and T_p to it with the shipped
-// period-mean model, from a 20 % error.
-FitJob StepJob(const std::string& convention, const std::string& effects = "") {
+// period-mean model, from a 20 % error; `job_effects` (a job's `effects:`
+// block) and `job_free` (lines of its `free:` block) add front-end terms
+// to the fitting model.
+FitJob StepJob(const std::string& convention, const std::string& effects = "",
+               const std::string& job_effects = "", const std::string& job_free = "") {
   const std::string experiment = WriteTemp(
       convention + ".yaml", "model: " + kRoot +
                                 "/configs/axes/x_axis.yaml\n"
@@ -51,9 +55,11 @@ FitJob StepJob(const std::string& convention, const std::string& effects = "") {
       "model: " + kRoot +
           "/configs/axes/x_axis.yaml\n"
           "configuration: {current_loop: quasi_steady}\n"
-          "simulation: {step: 1.0e-4}\n"
+          "simulation: {step: 1.0e-4}\n" +
+          job_effects +
           "free:\n  V_L: {initial: 3.2, lower: 0.5, upper: 20}\n"
-          "  T_p: {initial: 0.048, lower: 0.005, upper: 1.0}\n"
+          "  T_p: {initial: 0.048, lower: 0.005, upper: 1.0}\n" +
+          job_free +
           "experiments:\n  - name: step\n    data: " +
           csv +
           "\n    channels: {u: u, a: a, tach: tach, i: i}\n"
@@ -98,6 +104,58 @@ TEST(SamplingCheckTest, PeriodMeanRecordsFittedAsSuchGetNoNote) {
     const SamplingCheck check = CheckAccelerometerSampling(job, FitParameters(job));
     ASSERT_TRUE(check.ran);
     EXPECT_GT(check.chi2_other_delay, check.chi2_declared_delay);
+    EXPECT_TRUE(check.note.empty()) << check.note;
+  }
+}
+
+// The generating model's anti-alias filter on `a`: a 250 Hz Butterworth
+// (tau = 1/(2π·250 Hz), ζ = 1/√2), as the front-end cases'
+// (testdata/generate/front_end/).
+const std::string kFilterOnA = "effects: {sensor_lowpass2: {a: {tau: 6.3662e-4, zeta: 0.70711}}}\n";
+// The same filter in the fitting job, free, from 20 % off (what the
+// discovery loop keeps on `a` when the records ask for a filter).
+const std::string kFreeFilterOfA =
+    "  tau_lp2.a: {initial: 5.0e-4, lower: 0, upper: 0.005}\n"
+    "  zeta_lp2.a: {initial: 0.85, lower: 0.2, upper: 3}\n";
+const std::string kJobFilterOnA = "effects: {sensor_lowpass2: {a: {tau: 5.0e-4, zeta: 0.85}}}\n";
+
+// Instant samples behind an anti-alias filter, read as period means with a
+// free filter on `a` (the front-end case's model after the loop kept
+// sensor_lowpass2.a): the filter fits under either convention, so the
+// misfit rule sees a sliver of the excess; by BIC over each convention's
+// refits (SamplingRule::kBestBic) the instant convention is named, and
+// the other convention's refit fits to the noise.
+TEST(SamplingCheckTest, AFilterKeptOnAInPlaceOfTheConventionIsJudgedByBic) {
+  const FitJob job = StepJob("instant", kFilterOnA, kJobFilterOnA, kFreeFilterOfA);
+  const FitResult fit = FitParameters(job);
+  const SamplingCheck check = CheckAccelerometerSampling(job, fit, SamplingRule::kBestBic);
+  ASSERT_TRUE(check.ran);
+  EXPECT_EQ(check.other, "instant");
+  EXPECT_GT(check.bic_declared - check.bic_other, kSamplingBicMargin);
+  // Four fitted entries over 2 × 1001 samples: χ²/dof 1 ± 5·√(2/dof).
+  const double dof = 2.0 * check.samples - 4.0;
+  EXPECT_NEAR(check.chi2_other / dof, 1.0, 5 * std::sqrt(2.0 / dof));
+  EXPECT_NE(check.note.find("stood in for the convention"), std::string::npos) << check.note;
+}
+
+// Period-mean records behind the same filter, fitted as period means with
+// the filter free, on time and with `a` 0.2 ms early (with a free delay on
+// `a`, as the loop keeps it): by BIC the declared convention stays.
+TEST(SamplingCheckTest, PeriodMeanRecordsBehindAFilterKeepTheirConventionByBic) {
+  const std::string early = "effects: {sensor_lowpass2: {a: {tau: 6.3662e-4, zeta: 0.70711}}, "
+                            "sensor_delay: {a: -2.0e-4}}\n";
+  const std::string job_early = "effects: {sensor_lowpass2: {a: {tau: 5.0e-4, zeta: 0.85}}, "
+                                "sensor_delay: {a: 0}}\n";
+  const std::string free_early = kFreeFilterOfA + "  tau_d.a: {initial: 0, lower: -0.001, upper: 0.001}\n";
+  for (const auto& [effects, job_effects, job_free] :
+       {std::make_tuple(kFilterOnA, kJobFilterOnA, kFreeFilterOfA),
+        std::make_tuple(early, job_early, free_early)}) {
+    SCOPED_TRACE(effects);
+    const FitJob job = StepJob("period_mean", effects, job_effects, job_free);
+    const SamplingCheck check =
+        CheckAccelerometerSampling(job, FitParameters(job), SamplingRule::kBestBic);
+    ASSERT_TRUE(check.ran);
+    EXPECT_LT(check.bic_declared - check.bic_other, kSamplingBicMargin);
     EXPECT_TRUE(check.note.empty()) << check.note;
   }
 }
