@@ -180,6 +180,7 @@ void ParseTuneSettings(const YAML::Node& node, const std::string& path, TuneSett
   ParseStep(tune, &out->spec);
   ParseSpec(tune, &out->spec);
   ParseTp(tune, out);
+  out->samples = static_cast<int>(tune.Integer("samples", out->samples, 0, 1000));
   ParseMove(tune, &out->move);
   tune.Finish();
 }

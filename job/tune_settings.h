@@ -122,6 +122,10 @@ struct TuneSettings {
   double T_p_low = 0.005;
   double T_p_high = 4.74;
   int curve_points = 25;  // in [5, 200]
+  // Points of the fit's joint 95 % region (tune/joint_region.h) each
+  // setting is checked at besides the interval ends, in [0, 1000]; 0: the
+  // ends only.
+  int samples = 32;
   MoveTuneSettings move;
 };
 
@@ -132,6 +136,7 @@ struct TuneSettings {
 //            overshoot: 0.05, current: 8.1, voltage_headroom: 5,
 //            ringing: 0.005, ringing_decay: 0.1, velocity_gain: 0.1}
 //     T_p: {low: 0.005, high: 4.74, points: 25}
+//     samples: 32
 //     move:
 //       distance: 0.1
 //       limits: {velocity: 1.0, acceleration: 10, jerk: 1000}

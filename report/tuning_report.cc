@@ -71,20 +71,31 @@ Json SettingJson(const TunedSetting& s) {
           {"violations", s.violations},
           {"spread", spread},
           {"robust", s.robust},
-          {"robust_violations", s.robust_violations}};
+          {"robust_violations", s.robust_violations},
+          {"samples", s.samples},
+          {"samples_met", s.samples_met}};
+}
+
+// "k of n samples of the joint 95 % region" (tune/joint_region.h).
+std::string SamplesPhrase(int samples, int met) {
+  return std::to_string(met) + " of " + std::to_string(samples) +
+         " samples of the fit's joint 95 % region";
 }
 
 // Whether a setting meets the spec over the uncertainty, in one line;
-// `checks` names what it was judged on besides the estimate.
+// `checks` names what it was judged on besides the estimate and the
+// `samples` of the joint region (`met` of them meeting it).
 std::string RobustLine(const char* name, bool robust, const std::vector<std::string>& violations,
-                       const std::vector<std::string>& robust_violations,
+                       const std::vector<std::string>& robust_violations, int samples, int met,
                        const std::string& checks = "every interval end") {
   std::string out = std::string("  ") + name;
-  if (robust) return out + ": meets the spec at the estimate and at " + checks + "\n";
+  const std::string joint = samples > 0 ? ", and at " + SamplesPhrase(samples, met) : "";
+  if (robust) return out + ": meets the spec at the estimate and at " + checks + joint + "\n";
   out += ": does not meet the spec";
   out += violations.empty() ? " at " + checks + ":" : ":";
   for (const std::string& v : violations) out += " " + v + ";";
   for (const std::string& v : robust_violations) out += " " + v + ";";
+  if (samples > 0) out += " met at " + SamplesPhrase(samples, met);
   return out + "\n";
 }
 
@@ -149,7 +160,8 @@ std::string FormatTuning(const AnalogLoopTuning& t) {
   out << FiguresTable(t);
   for (const auto* setting : {&t.current, &t.proposed}) {
     out << RobustLine(setting == &t.current ? "current" : "proposed", setting->robust,
-                      setting->violations, setting->robust_violations);
+                      setting->violations, setting->robust_violations, setting->samples,
+                      setting->samples_met);
   }
   out << "Trade-off curve (the paper's series of steps in T_p):\n" << CurveTable(t);
   out << "  " << t.simulations << " simulations, " << FormatNumber(t.seconds, 3) << " s\n";
@@ -323,7 +335,9 @@ Json MoveSettingJson(const MoveSetting& s) {
           {"evaluations", s.evaluations},
           {"spread", SpreadJson(s.spread)},
           {"robust", s.robust},
-          {"robust_violations", s.robust_violations}};
+          {"robust_violations", s.robust_violations},
+          {"samples", s.samples},
+          {"samples_met", s.samples_met}};
 }
 
 }  // namespace
@@ -353,8 +367,8 @@ std::string FormatMoveTuning(const MoveTuning& t) {
   out << MoveFiguresTable(t);
   for (const auto* setting : {&t.current, &t.proposed}) {
     out << RobustLine(setting == &t.current ? "current" : "proposed", setting->robust,
-                      setting->violations, setting->robust_violations,
-                      "every interval end and the full current loop where the job fits the "
+                      setting->violations, setting->robust_violations, setting->samples,
+                      setting->samples_met, "every interval end and the full current loop where the job fits the "
                       "quasi-steady one");
   }
   out << "  " << t.simulations << " simulations, " << FormatNumber(t.seconds, 3) << " s\n";

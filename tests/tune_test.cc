@@ -137,6 +137,10 @@ TEST(TuneTest, BadKeysAreRefusedNamingThem) {
   EXPECT_NE(message("{step: {voltage: 12}}").find("tune.step.voltage"), std::string::npos);
   EXPECT_NE(message("{T_p: {low: 1, high: 0.1}}").find("low < high"), std::string::npos);
   EXPECT_NE(message("{spec: {overshot: 0.1}}").find("overshot"), std::string::npos);
+  EXPECT_EQ(ok.samples, 32);
+  EXPECT_EQ(parse("{samples: 0}").samples, 0);
+  EXPECT_NE(message("{samples: -1}").find("tune.samples"), std::string::npos);
+  EXPECT_NE(message("{samples: 2.5}").find("tune.samples"), std::string::npos);
 }
 
 }  // namespace

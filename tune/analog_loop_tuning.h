@@ -15,9 +15,10 @@
 // settling time between that point's neighbours. Then the proposal, and the
 // current setting, are simulated again with each free parameter of the fit
 // at either end of its 95 % interval (the others at the estimate; the
-// discovered effects' parameters included): each figure's spread, the
-// parameter that moves it most, and whether the specification holds at all
-// of them.
+// discovered effects' parameters included) and at TuneSettings::samples
+// points of the fit's joint 95 % region (tune/joint_region.h): each
+// figure's spread, the parameter whose ends move it most, and whether the
+// specification holds at all of them.
 #ifndef TUNE_ANALOG_LOOP_TUNING_H_
 #define TUNE_ANALOG_LOOP_TUNING_H_
 
@@ -47,11 +48,16 @@ struct TunedSetting {
   // "settling_time", "overshoot", "peak_current", "voltage_headroom",
   // "ringing", "ringing_decay", in this order.
   std::vector<FigureSpread> spread;
-  // Every bound met at the estimate and at every end of every interval.
+  // Every bound met at the estimate, at every end of every interval and at
+  // every sample of the joint region.
   bool robust = false;
   // The ends that break a bound met at the estimate: "<parameter> at
-  // <low|high> end: <violation>".
+  // <low|high> end: <violation>"; of the joint region's samples only the
+  // first that does ("joint sample 3: <violation>").
   std::vector<std::string> robust_violations;
+  // The samples of the fit's joint 95 % region judged (tune/joint_region.h,
+  // TuneSettings::samples) and those where every bound is met.
+  int samples = 0, samples_met = 0;
   StepResponse response;  // at the estimate, for the plots
   // The response's band over the estimate and every interval end, sample
   // by sample (WidenBand).

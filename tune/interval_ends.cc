@@ -41,7 +41,7 @@ void WidenSpread(const std::string& parameter, const std::vector<double>& values
     fs.low = std::min(fs.low, x);
     fs.high = std::max(fs.high, x);
     const double d = std::abs(x - fs.at_estimate);
-    if (d > (*moved)[f]) {
+    if (!parameter.empty() && d > (*moved)[f]) {
       (*moved)[f] = d;
       fs.limiting = parameter;
     }

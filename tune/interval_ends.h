@@ -65,7 +65,9 @@ std::vector<double> FigureValues(const Metrics& m, const FigureField<Metrics> (&
 // at_estimate), and the widening by one interval end: each finite value
 // of `values` (in `figures` order) widens its spread; `moved` (one per
 // figure, start at 0) keeps the largest |value − at_estimate| so far and
-// `limiting` the parameter that gave it. Never throw (except bad_alloc).
+// `limiting` the parameter that gave it. A `parameter` "" (a sample of the
+// joint region, tune/joint_region.h, which moves them all) widens the
+// spread without naming a limiting parameter. Never throw (except bad_alloc).
 std::vector<FigureSpread> StartSpread(const std::vector<std::string>& figures,
                                       const std::vector<double>& at_estimate);
 void WidenSpread(const std::string& parameter, const std::vector<double>& values,

@@ -11,6 +11,7 @@
 
 #include "estimation/at_estimate.h"
 #include "estimation/current_loop_check.h"
+#include "tune/joint_region.h"
 
 namespace axis {
 namespace {
@@ -68,10 +69,11 @@ using Nlopt = std::unique_ptr<std::remove_pointer_t<nlopt_opt>, NloptDeleter>;
 // or the estimate with the full current loop where the job fits the
 // quasi-steady one.
 struct Check {
-  std::string name;       // "V_L at low end", "the full current loop"
-  std::string parameter;  // what moves the figures ("V_L", "current loop")
+  std::string name;       // "V_L at low end", "the full current loop", "joint sample 3"
+  std::string parameter;  // what moves the figures ("V_L", "current loop"; "" for a sample)
   AxisConfig model;
   double step = 0.0;      // s, its RK4 step
+  bool sample = false;    // a point of the joint 95 % region (tune/joint_region.h)
 };
 
 class MoveTuner {
@@ -161,6 +163,10 @@ class MoveTuner {
   void MakeChecks() {
     for (IntervalEnd& end : IntervalEnds(result_, model_, fixed_)) {
       checks_.push_back({EndName(end), end.parameter, std::move(end.model), step_});
+    }
+    for (RegionSample& s :
+         JointRegionSamples(result_, model_, fixed_, job_.free, job_.tune.samples)) {
+      checks_.push_back({s.name, "", std::move(s.model), step_, true});
     }
     if (model_.structure.amplifier != Amplifier::kAnalogVelocityLoop ||
         model_.structure.current_loop != CurrentLoop::kQuasiSteady) {
@@ -355,8 +361,17 @@ class MoveTuner {
           SimulateMove(check.model, s->controller, s->reference, check.step, settle);
       WidenMoveBand(r, &s->band_low, &s->band_high);
       const MoveMetrics m = MeasureMove(r, spec_);
-      NoteEndViolations(check.name, MoveViolations(m, spec_), MoveViolatedFigures(m, spec_),
-                        broken, &s->robust, &s->robust_violations);
+      const std::vector<std::string> violations = MoveViolations(m, spec_);
+      if (check.sample) {
+        ++s->samples;
+        s->samples_met += violations.empty();
+      }
+      if (check.sample && s->samples - s->samples_met > 1) {
+        s->robust = false;  // an earlier sample broke it and was noted
+      } else {
+        NoteEndViolations(check.name, violations, MoveViolatedFigures(m, spec_), broken,
+                          &s->robust, &s->robust_violations);
+      }
       WidenSpread(check.parameter, FigureValues(m, kMoveFigures), &moved, &s->spread);
     }
   }

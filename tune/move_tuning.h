@@ -25,7 +25,10 @@
 // margin) most are added to the models it must meet (the objective becomes
 // the worst over the estimate and them) and Subplex runs again from it for
 // half the budget. Each profile's tuned setting and the current one are
-// judged at the estimate and every check, all run to the same end (the
+// judged at the estimate and every check — the checks then include
+// TuneSettings::samples points of the fit's joint 95 % region
+// (tune/joint_region.h), which the robust rounds draw on too — all run to
+// the same end (the
 // longest move's end plus `settle`); the proposal is the tuned setting
 // with the lowest objective among those that meet the spec at every
 // check, else among all.
@@ -67,8 +70,12 @@ struct MoveSetting {
   // "peak_current", "ringing", in this order.
   std::vector<FigureSpread> spread;
   bool robust = false;  // every bound met at the estimate and every check
-  // "<check>: <violation>" ("V_L at low end: overshoot ...").
+  // "<check>: <violation>" ("V_L at low end: overshoot ..."); of the joint
+  // region's samples only the first that breaks a bound met at the estimate.
   std::vector<std::string> robust_violations;
+  // The samples of the fit's joint 95 % region judged (tune/joint_region.h,
+  // TuneSettings::samples) and those where every bound is met.
+  int samples = 0, samples_met = 0;
   MoveResponse response;             // at the estimate
   MoveResponse band_low, band_high;  // over the estimate and the checks
 };
