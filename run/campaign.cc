@@ -306,7 +306,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
                           const std::vector<SeedOutcome>& outcomes) {
   CampaignSummary s;
   int false_discoveries = 0, front_end = 0, right_first = 0, exact = 0, as_expected = 0, ok = 0;
-  int tuned = 0, spec_met = 0, moves = 0, move_met = 0;
+  int tuned = 0, spec_met = 0, moves = 0, move_met = 0, claimed = 0, claim_held = 0;
   std::vector<int> covered(config.truth_values.size(), 0);
   bool truth_names_front_end = false;
   for (const std::string& e : config.truth_effects) {
@@ -336,6 +336,8 @@ CampaignSummary Summarize(const CampaignConfig& config,
     spec_met += o.spec_met_true == 1;
     moves += o.move_spec_met_true >= 0;
     move_met += o.move_spec_met_true == 1;
+    claimed += o.move_robust == 1 && o.move_spec_met_true >= 0;
+    claim_held += o.move_robust == 1 && o.move_spec_met_true == 1;
     for (size_t k = 0; k < covered.size(); ++k) {
       const double truth = config.truth_values[k].second;
       covered[k] += o.ci95_low[k] <= truth && truth <= o.ci95_high[k];
@@ -365,6 +367,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
   if (!config.truth_verdict.empty()) s.verdict_as_expected = RateOf(as_expected, ok);
   if (tuned > 0) s.spec_met_true = RateOf(spec_met, tuned);
   if (moves > 0) s.move_spec_met_true = RateOf(move_met, moves);
+  if (claimed > 0) s.move_claim_held = RateOf(claim_held, claimed);
   return s;
 }
 
@@ -411,6 +414,10 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
     out << "| move spec met on the true axis (tune.move:, the proposed controller and move "
            "on the generating model) | "
         << FormatRate(s.move_spec_met_true) << " |\n";
+  }
+  if (s.move_claim_held.n) {
+    out << "| of those the tuning said meet the move spec at every check, met on the true axis | "
+        << FormatRate(s.move_claim_held) << " |\n";
   }
   out << "| verdicts | explained " << s.explained << ", incomplete " << s.incomplete
       << " |\n";
@@ -496,6 +503,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
   j["force_maps"] = s.force_maps;
   if (s.spec_met_true.n) j["spec_met_true"] = RateJson(s.spec_met_true);
   if (s.move_spec_met_true.n) j["move_spec_met_true"] = RateJson(s.move_spec_met_true);
+  if (s.move_claim_held.n) j["move_claim_held"] = RateJson(s.move_claim_held);
   WriteFileAtomic(dir + "/results.csv", csv.str());
   WriteFileAtomic(dir + "/summary.md", FormatCampaign(config, s, outcomes));
   WriteFileAtomic(dir + "/summary.json", j.dump(2) + "\n");

@@ -142,6 +142,10 @@ struct CampaignSummary {
   // of those tuned.
   Rate spec_met_true;
   Rate move_spec_met_true;  // with `tune.move:`, likewise
+  // With `tune.move:`: of the seeds whose proposal the tuning said meets
+  // the spec at the estimate and every check (MoveSetting::robust), those
+  // where it met it on the true axis: whether that claim holds.
+  Rate move_claim_held;
   int explained = 0, incomplete = 0;
   // Seeds per force map kept ("force_map.x_friction" → count), with
   // discover.force_map; empty without.

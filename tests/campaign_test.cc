@@ -342,6 +342,37 @@ TEST(CampaignTest, PooledCoverageCountsEveryValueOfEverySeed) {
   EXPECT_EQ(j["coverage_pooled"]["n"], 4);
 }
 
+// The tuning rows over four seeds: the move spec met on the true axis in
+// 2 of the 3 moves tuned (one seed did not tune the move); of the two
+// proposals the tuning called robust, one met it there (the claim held in
+// 1 of 2), in the table and in summary.json.
+TEST(CampaignTest, TheMoveClaimIsTalliedAgainstTheTrueAxis) {
+  CampaignConfig config;
+  config.path = "tune.yaml";
+  config.title = "tune";
+  config.discover = false;
+  std::vector<SeedOutcome> outcomes(4);
+  const int met[] = {1, 0, 1, -1}, robust[] = {1, 1, 0, -1};
+  for (int k = 0; k < 4; ++k) {
+    outcomes[k].seed = k + 1;
+    outcomes[k].move_spec_met_true = met[k];
+    outcomes[k].move_robust = robust[k];
+  }
+  const CampaignSummary s = Summarize(config, outcomes);
+  EXPECT_EQ(s.move_spec_met_true.k, 2);
+  EXPECT_EQ(s.move_spec_met_true.n, 3);
+  EXPECT_EQ(s.move_claim_held.k, 1);
+  EXPECT_EQ(s.move_claim_held.n, 2);
+  const std::string table = FormatCampaign(config, s, outcomes);
+  EXPECT_NE(table.find("met on the true axis | 1/2"), std::string::npos) << table;
+  const std::string dir = testing_files::TestTempDir() + "claim_out";
+  WriteCampaign(dir, config, s, outcomes);
+  std::ifstream in(dir + "/summary.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["move_claim_held"]["k"], 1);
+  EXPECT_EQ(j["move_claim_held"]["n"], 2);
+}
+
 TEST(CampaignTest, SeedOutcomeJsonRoundTrip) {
   SeedOutcome o;
   o.seed = 17;
