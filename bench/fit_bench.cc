@@ -153,8 +153,8 @@ BENCHMARK_CAPTURE(BM_Job, friction_patch_discover, "/configs/jobs/discover/frict
 // The tuning of the analog loop alone (issue 45; tune/analog_loop_tuning.h)
 // on the paper job's fit (configs/jobs/tune/x_axis_paper.yaml: a 10 V step
 // of 1.5 s at the fit's 100 µs step, 25 points of T_p, Brent, the
-// proposal and the current setting at the 8 interval ends): one spec on
-// one axis. The fit runs once, outside the timing.
+// proposal and the current setting at the 8 interval ends and 32 samples
+// of the fit's joint 95 % region): one spec on one axis. The fit runs once, outside the timing.
 void BM_TuneAnalogLoop(benchmark::State& state) {
   axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +
                                       "/configs/jobs/tune/x_axis_paper.yaml");
@@ -174,7 +174,8 @@ BENCHMARK(BM_TuneAnalogLoop)->Unit(benchmark::kMillisecond)->Iterations(5);
 // tune/move_tuning.h) on the paper job's fit with the analog loop as
 // proposed (configs/jobs/tune/x_axis_move.yaml: a 0.2 m move, trapezoid
 // and minimum-jerk, G_p and G_v and the speed, 160 simulations each, the
-// robust rounds, the judging at the interval ends). The fit and the
+// robust rounds, the judging at the interval ends and the joint region's
+// samples). The fit and the
 // analog tuning run once, outside the timing.
 void BM_TuneMove(benchmark::State& state) {
   axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +

@@ -109,13 +109,22 @@ class MoveTuner {
 
  private:
   // The tuned setting proposed: the lowest objective among those that meet
-  // the spec at the estimate and every check, else among all.
+  // the spec at the estimate and every check; where none does, the one
+  // that meets it at the most checks (the likeliest to hold on the axis: on
+  // the tune_sensor_delay campaign the fastest missed on a seed where the
+  // other profile, meeting more checks, held), then the lowest objective.
   size_t Choose() const {
     size_t best = 0;
     for (size_t k = 1; k < out_.tuned.size(); ++k) {
       const MoveSetting& a = out_.tuned[k];
       const MoveSetting& b = out_.tuned[best];
-      if (a.robust != b.robust ? a.robust : a.objective < b.objective) best = k;
+      if (a.robust != b.robust) {
+        if (a.robust) best = k;
+      } else if (!a.robust && a.checks_met != b.checks_met) {
+        if (a.checks_met > b.checks_met) best = k;
+      } else if (a.objective < b.objective) {
+        best = k;
+      }
     }
     return best;
   }
@@ -223,6 +232,12 @@ class MoveTuner {
   std::vector<Check> Violating(const MoveSetting& s) {
     std::vector<std::pair<double, const Check*>> broken;
     for (const Check& check : checks_) {
+      // The joint region's samples judge the setting (Judge) but do not
+      // steer the search: added as scenarios, the worst of them (out at
+      // the region's edge, farther than any interval end) made the tuned
+      // moves worse on the axes that made the records (tune_coulomb and
+      // tune_payload: move spec met 8/10 each, against 10/10 without).
+      if (check.sample) continue;
       ++simulations_;
       const MoveMetrics m = MeasureMove(
           SimulateMove(check.model, s.controller, s.reference, check.step, spec_.settle), spec_);
@@ -362,6 +377,7 @@ class MoveTuner {
       WidenMoveBand(r, &s->band_low, &s->band_high);
       const MoveMetrics m = MeasureMove(r, spec_);
       const std::vector<std::string> violations = MoveViolations(m, spec_);
+      s->checks_met += violations.empty();
       if (check.sample) {
         ++s->samples;
         s->samples_met += violations.empty();

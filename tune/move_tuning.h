@@ -27,11 +27,13 @@
 // half the budget. Each profile's tuned setting and the current one are
 // judged at the estimate and every check — the checks then include
 // TuneSettings::samples points of the fit's joint 95 % region
-// (tune/joint_region.h), which the robust rounds draw on too — all run to
+// (tune/joint_region.h), which judge but do not steer the robust rounds —
+// all run to
 // the same end (the
 // longest move's end plus `settle`); the proposal is the tuned setting
 // with the lowest objective among those that meet the spec at every
-// check, else among all.
+// check, else the one that meets it at the most checks (then the lowest
+// objective).
 #ifndef TUNE_MOVE_TUNING_H_
 #define TUNE_MOVE_TUNING_H_
 
@@ -76,6 +78,7 @@ struct MoveSetting {
   // The samples of the fit's joint 95 % region judged (tune/joint_region.h,
   // TuneSettings::samples) and those where every bound is met.
   int samples = 0, samples_met = 0;
+  int checks_met = 0;  // of all the checks (ends, samples, full loop), those where it holds
   MoveResponse response;             // at the estimate
   MoveResponse band_low, band_high;  // over the estimate and the checks
 };
