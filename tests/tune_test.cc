@@ -95,6 +95,38 @@ TEST(TuneTest, ThePapersSeriesOfStepsInTp) {
   EXPECT_GT(at(0.005).ringing_decay, decay_04);
 }
 
+// Section III as a tuning: T_p lowered until the transient is the
+// manual's, and no further because below about 0.04 s the ringing decays
+// too slowly. The paper gives neither the manual's response nor a number
+// for "too slowly"; as a spec, the ringing's e-folding time bounded at
+// 75 ms (on the paper's values it is about 70 ms at T_p = 0.049 s and
+// 80 ms at 0.037 s, and grows as T_p falls below 0.09 s) and nothing else
+// but the velocity gain. The tuning (the settling time minimised among the
+// settings that meet the spec: the trade-off curve, then Brent) on the
+// paper job's fit must stop at that edge, near the paper's 0.04 s — between
+// the curve's points around it — meet the spec there, and the next lower
+// point of the curve must break it.
+TEST(TuneTest, ThePapersProcedureStopsNearItsChoiceOfTp) {
+  FitJob job = LoadFitJob(kRoot + "/configs/jobs/tune/x_axis_paper.yaml");
+  job.solver.progress = false;
+  const FitResult result = FitParameters(job, nullptr);
+  job.tune.spec = TuneSpec{};
+  job.tune.spec.velocity_gain = 0.1;
+  job.tune.spec.max_ringing_decay = 0.075;
+  job.tune.samples = 0;
+  const AnalogLoopTuning t = TuneAnalogLoop(job, result);
+  ASSERT_TRUE(t.ran) << t.note;
+  EXPECT_TRUE(t.proposed.violations.empty());
+  EXPECT_GT(t.proposed.T_p, 0.03);
+  EXPECT_LT(t.proposed.T_p, 0.055);
+  // The curve's first point below the proposal decays too slowly.
+  for (const TuningPoint& p : t.curve) {
+    if (p.T_p >= t.proposed.T_p) continue;
+    EXPECT_GT(p.metrics.ringing_decay, 0.075) << "T_p " << p.T_p;
+    break;
+  }
+}
+
 // The paper's job with `tune:` (configs/jobs/tune/x_axis_paper.yaml):
 // the proposal meets the spec at the estimate and over the intervals, and
 // on the axis that made the records (the paper's values) too.
