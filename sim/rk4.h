@@ -54,6 +54,33 @@ AXIS_FLATTEN void Rk4Step(const F& f, double t, double h, State* y) {
   }
 }
 
+// As Rk4Step with a step length `h` of the state's scalar type (a
+// ceres::Jet whose derivative part is how the step's length moves with the
+// parameters: the rest of a step after an event located inside it,
+// sim/switched_rk4.h). The increments are computed with h itself, so their
+// derivative carries ∂y(t + h)/∂h·∂h/∂p; the stage times passed to f are
+// t + c·value(h), never differentiated (f's explicit time dependence, a
+// smooth input's, is left out of ∂/∂h). Slower than Rk4Step (scalar
+// products of two scalars); with a double h the two agree.
+// Never throws unless f does.
+template <typename State, typename Scalar, typename F>
+void Rk4StepOfLength(const F& f, double t, const Scalar& h, State* y) {
+  const int n = static_cast<int>(y->size());
+  const double hv = ScalarValue(h);
+  const Scalar half_h = 0.5 * h;
+  State k1, k2, k3, k4, stage;
+  f(t, *y, &k1);
+  for (int i = 0; i < n; ++i) stage[i] = (*y)[i] + half_h * k1[i];
+  f(t + 0.5 * hv, stage, &k2);
+  for (int i = 0; i < n; ++i) stage[i] = (*y)[i] + half_h * k2[i];
+  f(t + 0.5 * hv, stage, &k3);
+  for (int i = 0; i < n; ++i) stage[i] = (*y)[i] + h * k3[i];
+  f(t + hv, stage, &k4);
+  for (int i = 0; i < n; ++i) {
+    (*y)[i] += (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+  }
+}
+
 }  // namespace axis
 
 #endif  // SIM_RK4_H_

@@ -166,22 +166,30 @@ bool StateIsFinite(const AxisState<T>& y) {
   return true;
 }
 
+// The values of a parameter set as another scalar: the derivative parts of
+// Jets dropped (To = double), or zero (To a Jet).
+template <typename To, typename From>
+AxisParams<To> ParamsAs(const AxisParams<From>& p) {
+  AxisParams<To> out;
+  VisitParams([](const char*, const char*, const From& from, To& to) {
+    to = To(ScalarValue(from));
+  }, p, out);
+  return out;
+}
+
 // The values of a parameter set (drops the derivative parts of Jets).
 template <typename T>
 AxisParams<double> ParamValues(const AxisParams<T>& p) {
-  AxisParams<double> out;
-  VisitParams([](const char*, const char*, const T& from, double& to) {
-    to = ScalarValue(from);
-  }, p, out);
-  return out;
+  return ParamsAs<double>(p);
 }
 
 // The axis as a switched system for Rk4SwitchedStep, with two families of
 // regions: the branches of MODEL.md eq. 5 (GearContact −1, 0, +1, ordered by
 // X; guards X − H and X + H), if `gear` (gear coupling with backlash), and
 // the sides of the preamp limit of eq. 2 (PreampRegion −1, 0, +1, ordered by
-// y4 + T_z·y5; guards y4 + T_z·y5 ∓ V_L), if `preamp` (analog velocity loop
-// with the quasi-steady current loop, whose current rate carries V_c').
+// y4 + T_z·y5; guards y4 + T_z·y5 ∓ V_L), if `preamp` (analog velocity
+// loop: under the quasi-steady current loop the current's rate carries
+// V_c', under the full loop V_c has a corner there).
 // Guards are negated when crossing downwards. A family that is off stays in
 // its middle region and its branch is taken from the state. Mode =
 // 3·(contact + 1) + (side + 1). `input_at` maps t (s) to U as a T.
@@ -193,9 +201,24 @@ struct SwitchedAxis {
   const AxisCoefficients<T>& coeffs;
   const AxisParams<double>& values;
   const AxisCoefficients<double>& value_coeffs;
+  // The values again as EventTimeJet (zero derivative part), for the
+  // event-time sensitivity of sim/switched_rk4.h.
+  const AxisParams<EventTimeJet>& event_params;
+  const AxisCoefficients<EventTimeJet>& event_coeffs;
   const Input& input_at;
   bool gear = false;
   bool preamp = false;
+  // The event-time rule of sim/switched_rk4.h: the step's own for the
+  // preamp limit under the full current loop, where V_c has a corner (the
+  // flow's saltation is zero there, but the step's result depends on where
+  // the corner falls in it through the stiff current loop, h·λ ≈ −1.4 at
+  // 10 µs); the flow's saltation for the gear contacts and under the
+  // quasi-steady loop, where the field jumps and the two rules agree to the
+  // order of the step.
+  bool full_loop = false;
+  bool StepOwnEventSensitivity(int from, int to) const {
+    return full_loop && FamilyOf(from, to) == 1;
+  }
 
   static int ContactOf(int mode) { return mode / 3 - 1; }
   static int SideOf(int mode) { return mode % 3 - 1; }
@@ -215,6 +238,21 @@ struct SwitchedAxis {
                      ScalarValue(input_at(t)), dy,
                      static_cast<AxisAux<double>*>(nullptr), contact, side);
     }
+  }
+  void EventDerivative(double t, const EventTimeState<kNumStates>& y,
+                       int mode, EventTimeState<kNumStates>* dy) const {
+    const GearContact contact =
+        gear ? static_cast<GearContact>(ContactOf(mode)) : GearContact::kFromState;
+    const PreampRegion side =
+        preamp ? static_cast<PreampRegion>(SideOf(mode)) : PreampRegion::kFromState;
+    AxisDerivative(structure, event_params, event_coeffs, y,
+                   EventTimeJet(ScalarValue(input_at(t))), dy,
+                   static_cast<AxisAux<EventTimeJet>*>(nullptr), contact, side);
+  }
+  double GuardRate(const AxisState<double>& dy, int from, int to) const {
+    const double rate = FamilyOf(from, to) == 0 ? values.r_g * dy[2] - dy[0]
+                                                : dy[4] + values.T_z * dy[5];
+    return to > from ? rate : -rate;
   }
   int Mode(const AxisState<double>& y) const {
     const int contact =
@@ -252,12 +290,6 @@ struct SwitchedAxis {
     }
     return to > from ? g : S(-g);
   }
-  double GuardRate(const AxisState<double>&, const AxisState<double>& dy,
-                   int from, int to) const {
-    const double rate = FamilyOf(from, to) == 0 ? values.r_g * dy[2] - dy[0]
-                                                : dy[4] + values.T_z * dy[5];
-    return to > from ? rate : -rate;
-  }
 };
 
 }  // namespace internal
@@ -267,7 +299,7 @@ struct SwitchedAxis {
 // a piecewise-constant one (a held table, a step, zero) is held over each
 // step at its value at the step's start, as the controller output is (a
 // switch between grid points applies from the next step). Gear contacts
-// and, under the quasi-steady current loop, the preamp limits are events
+// and, with the analog velocity loop, the preamp limits are events
 // located inside the step (sim/switched_rk4.h). The sensor effects enabled
 // in structure.sensors act on the recorded channels: sensor_bias adds
 // b.<channel>; sensor_delay records the channel at t − tau_d.<channel>
@@ -364,22 +396,32 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
   // inside the step, with the sensitivities carried across them
   // (sim/switched_rk4.h). Without backlash (H = 0) the gear force is
   // continuous in the state and a plain RK4 step is exact to its order.
-  // Under the quasi-steady current loop the preamp limits of eq. 2 are
-  // events too: the current's rate carries V_c', which jumps there (the
-  // full loop sees only V_c, continuous in the state).
+  // The preamp limits of eq. 2 are events too: under the quasi-steady
+  // current loop the current's rate carries V_c', which jumps there; under
+  // the full loop V_c is continuous but has a corner, which inside a step
+  // made the cost rough at the scale of a standard error on records that
+  // saturate the preamp often (a ±6 V square wave: two local solves from
+  // nearby starts ended k_g and T_p more than a standard error apart).
   const AxisParams<double> values = internal::ParamValues(params);
   const bool gear_events =
       structure.coupling == Coupling::kGear && values.H > 0.0;
-  const bool preamp_events =
-      structure.amplifier == Amplifier::kAnalogVelocityLoop &&
-      structure.current_loop == CurrentLoop::kQuasiSteady;
+  const bool preamp_events = structure.amplifier == Amplifier::kAnalogVelocityLoop;
   const bool switched = gear_events || preamp_events;
   const AxisCoefficients<double> value_coeffs =
       switched ? MakeAxisCoefficients(structure, values)
                : AxisCoefficients<double>{};
+  AxisParams<EventTimeJet> event_params;
+  AxisCoefficients<EventTimeJet> event_coeffs;
+  if (switched) {
+    event_params = internal::ParamsAs<EventTimeJet>(values);
+    event_coeffs = MakeAxisCoefficients(structure, event_params);
+  }
   const internal::SwitchedAxis<T, decltype(input_at)> system{
-      structure, params, coeffs, values, value_coeffs, input_at,
-      gear_events, preamp_events};
+      structure, params, coeffs, values, value_coeffs, event_params,
+      event_coeffs, input_at,
+      gear_events, preamp_events,
+      structure.amplifier == Amplifier::kAnalogVelocityLoop &&
+          structure.current_loop == CurrentLoop::kFull};
   AxisState<double> y_values;
   for (int k = 0; k < kNumStates; ++k) y_values[k] = ScalarValue(y[k]);
   int contact = system.Mode(y_values);

@@ -1,9 +1,10 @@
 // Fixed-step RK4 across the switching surfaces of a piecewise-smooth system
-// (the backlash contacts of MODEL.md eq. 5, the preamp limit of eq. 2 under
-// the quasi-steady current loop), with each event located inside the step
-// and the sensitivities carried across it by the saltation rule of Hiskens &
-// Pai, "Trajectory sensitivity analysis of hybrid systems", IEEE Trans.
-// Circuits Syst. I 47(2), 2000, eq. (13)–(15).
+// (the backlash contacts of MODEL.md eq. 5, the preamp limit of eq. 2),
+// with each event located inside the step and the sensitivities carried
+// across it by the step's own event-time sensitivity: the discrete
+// counterpart of the saltation rule of Hiskens & Pai, "Trajectory
+// sensitivity analysis of hybrid systems", IEEE Trans. Circuits Syst. I
+// 47(2), 2000, eq. (13)–(15).
 //
 // Why: eq. 5 switches f_g between 0 and k_g·(X ∓ H) + b_g·(r_g·ω − v) when
 // the pinion–rack difference X crosses ±H, so the right-hand side jumps by
@@ -16,10 +17,14 @@
 // solver or a profile refit stops at their edges (issue 10, coverage_prbs:
 // the preamp output crossing ±V_L within one step). Here each mode's smooth
 // field is integrated up to the first located event, the mode is switched
-// there, and the sensitivities S = ∂y/∂p jump by
-//     S⁺ = S⁻ + (f⁺ − f⁻)·(g_y·S⁻ + g_p)/(g_y·f⁻)
-// where g is the guard (the switching function) and f⁻, f⁺ the fields before
-// and after. The simulated values also become more accurate (the event is no
+// there, and the event's time s solves g(Φ_s(y)) = 0 for the step's own
+// RK4 sub-step Φ_s, so ∂s/∂p = −(g_y·S + g_p)/(g_y·∂Φ_s/∂s): the state at
+// the event gains ∂Φ_s/∂s·∂s/∂p and the rest of the step, of length h − s,
+// is integrated with that length's derivative (Rk4StepOfLength, sim/rk4.h).
+// For the exact flow this is the saltation S⁺ = S⁻ + (f⁺ − f⁻)·(g_y·S⁻ +
+// g_p)/(g_y·f⁻) (g the guard, f⁻ and f⁺ the fields before and after); for
+// the RK4 step it is exact, which matters where a stiff mode makes
+// ∂Φ_s/∂s differ from f. The simulated values also become more accurate (the event is no
 // longer smeared over one step); with no event in a step this is Rk4Step.
 #ifndef SIM_SWITCHED_RK4_H_
 #define SIM_SWITCHED_RK4_H_
@@ -37,6 +42,65 @@ namespace axis {
 // the mode reached (a chattering contact would otherwise cost without bound).
 inline constexpr int kMaxEventsPerStep = 4;
 
+// The scalar of a sub-step differentiated in its own length s alone (value,
+// ∂/∂s): how the state at an event moves with the event's time. A type of
+// its own in the system's interface (EventDerivative below), never mixed
+// with the parameters' Jets even where those have one component too.
+using EventTimeJet = ceres::Jet<double, 1>;
+template <int N>
+using EventTimeState = Eigen::Matrix<EventTimeJet, N, 1>;
+
+namespace internal {
+
+// The step's own event-time rule (Rk4SwitchedStep): *y is the state at the
+// event, reached by the sub-step of length s_event from `start` (values) at
+// t0 in `mode`; g the guard there (T, its Jet part G_p). Adds
+// ∂Φ_s/∂s·∂s/∂p to *y and ∂s/∂p = −G_p/G_s to *s_t, ∂Φ_s/∂s computed
+// exactly: the sub-step's formula run with a step length that carries its
+// own derivative (forward mode in s alone).
+template <typename T, int N, typename System>
+void StepOwnEventJump(const System& system, double t0, double s_event,
+                      int mode, int next,
+                      const Eigen::Matrix<double, N, 1>& start, const T& g,
+                      Eigen::Matrix<T, N, 1>* y, T* s_t) {
+  EventTimeState<N> at_event;
+  for (int i = 0; i < N; ++i) at_event[i] = EventTimeJet(start[i]);
+  const auto event_field = [&system, mode](double tt,
+                                           const EventTimeState<N>& s,
+                                           EventTimeState<N>* ds) {
+    system.EventDerivative(tt, s, mode, ds);
+  };
+  Rk4StepOfLength(event_field, t0, EventTimeJet(s_event, 0), &at_event);
+  Eigen::Matrix<double, N, 1> dphi;
+  for (int i = 0; i < N; ++i) dphi[i] = at_event[i].v[0];
+  const double g_s = system.GuardRate(dphi, mode, next);
+  if (g_s == 0.0 || !std::isfinite(g_s)) return;
+  AddScaledDerivative(-1.0 / g_s, g, s_t);
+  for (int i = 0; i < N; ++i) {
+    if (dphi[i] != 0.0) AddScaledDerivative(-dphi[i] / g_s, g, &(*y)[i]);
+  }
+}
+
+// The flow's saltation at an event at time te from `mode` to `next`, *y the
+// state there and g the guard: S += (f⁺ − f⁻)·(dg/dp)/(dg/dt).
+template <typename T, int N, typename System>
+void SaltationJump(const System& system, double te, int mode, int next,
+                   const T& g, Eigen::Matrix<T, N, 1>* y) {
+  Eigen::Matrix<T, N, 1> before, after;
+  system.Derivative(te, *y, mode, &before);
+  system.Derivative(te, *y, next, &after);
+  Eigen::Matrix<double, N, 1> rate_along;
+  for (int i = 0; i < N; ++i) rate_along[i] = ScalarValue(before[i]);
+  const double rate = system.GuardRate(rate_along, mode, next);
+  if (rate == 0.0 || !std::isfinite(rate)) return;
+  for (int i = 0; i < N; ++i) {
+    const double jump = ScalarValue(after[i]) - ScalarValue(before[i]);
+    if (jump != 0.0) AddScaledDerivative(jump / rate, g, &(*y)[i]);
+  }
+}
+
+}  // namespace internal
+
 // Advances *y (N states of scalar T: double or ceres::Jet) from t to t + h
 // in `mode` and returns the mode at t + h. A mode is one region of each of
 // System::kFamilies independent switching families (e.g. gear contact ×
@@ -46,14 +110,19 @@ inline constexpr int kMaxEventsPerStep = 4;
 //                   Eigen::Matrix<S, N, 1>* dy) const;  // smooth in y
 //   S Guard(const Eigen::Matrix<S, N, 1>& y, int from, int to) const;
 // and
+//   void EventDerivative(double t, const EventTimeState<N>& y, int mode,
+//                        EventTimeState<N>* dy) const;  // Derivative at the
+//       // parameters' values, its Jet part ∂/∂s carried through y
+//   double GuardRate(const Eigen::Matrix<double, N, 1>& dy, int from,
+//                    int to) const;  // g_y·dy: the guard's rate along dy
+//   bool StepOwnEventSensitivity(int from, int to) const;  // the rule at
+//       // an event from `from` to `to`: true for the step's own, false for
+//       // the flow's saltation
 //   static constexpr int kFamilies;  // ≥ 1
 //   int Mode(const Eigen::Matrix<double, N, 1>& y) const;
 //   int Toward(int from, int to, int family) const;  // `from` with the
 //       // region of `family` moved one region toward that of `to`; `from`
 //       // itself where the two agree in that family
-//   double GuardRate(const Eigen::Matrix<double, N, 1>& y,
-//                    const Eigen::Matrix<double, N, 1>& dy, int from,
-//                    int to) const;  // dg/dt along dy
 // Guard(y, from, to) (`to` = Toward(from, ·, ·) ≠ from) is negative in
 // region `from`, positive in `to`, zero on their boundary, and may depend on
 // the parameters (its Jet part then carries ∂g/∂p). Where the step ends in
@@ -74,12 +143,20 @@ int Rk4SwitchedStep(const System& system, double t, double h, int mode,
   };
   double t0 = t;
   double remaining = h;
+  // The rest of the step as a T: after an event its derivative part is
+  // minus that of the event's time (below), zero before the first.
+  T remaining_t = T(h);
+  bool moved = false;  // an event has given remaining_t a derivative
   for (int events = 0;; ++events) {
     const auto field = [&system, &mode](double tt, const State& s, State* ds) {
       system.Derivative(tt, s, mode, ds);
     };
     State trial = *y;
-    Rk4Step(field, t0, remaining, &trial);
+    if (moved) {
+      Rk4StepOfLength(field, t0, remaining_t, &trial);
+    } else {
+      Rk4Step(field, t0, remaining, &trial);
+    }
     const int end_mode = system.Mode(values_of(trial));
     if (end_mode == mode || events == kMaxEventsPerStep) {
       *y = trial;
@@ -148,25 +225,30 @@ int Rk4SwitchedStep(const System& system, double t, double h, int mode,
     }
 
     if (s_event > 0.0) Rk4Step(field, t0, s_event, y);
-    // Saltation: S += (f⁺ − f⁻)·(dg/dp)/(dg/dt), dg/dp being the Jet part of
-    // the guard at the event (through the state's sensitivities and any
-    // parameter in the guard itself).
-    const double te = t0 + s_event;
-    State before, after;
-    system.Derivative(te, *y, mode, &before);
-    system.Derivative(te, *y, next, &after);
-    const double rate =
-        system.GuardRate(values_of(*y), values_of(before), mode, next);
+    // Two rules carry the sensitivities across the event (see the file's
+    // head). The step's own: the event's time s(p) solves G(s, p) =
+    // g(Φ_s(y(p)), p) = 0 for this RK4 sub-step Φ_s, so ∂s/∂p = −G_p/G_s,
+    // G_p being the Jet part of the guard at the event (through the state's
+    // sensitivities and any parameter in the guard itself) and G_s =
+    // g_y·∂Φ_s/∂s; the state at the event gains ∂Φ_s/∂s·∂s/∂p and the rest
+    // of the step, h − s, carries −∂s/∂p. It is the derivative of the
+    // simulated trace, and differs from the flow's saltation where the field
+    // is continuous but a stiff mode makes ∂Φ_s/∂s differ from f (the full
+    // current loop at 10 µs, h·λ ≈ −1.4). Stage times are not
+    // differentiated: a smooth input's rate at the event is left out.
     const T g = system.Guard(*y, mode, next);
-    if (rate != 0.0 && std::isfinite(rate)) {
-      for (int i = 0; i < N; ++i) {
-        const double jump = ScalarValue(after[i]) - ScalarValue(before[i]);
-        if (jump != 0.0) AddScaledDerivative(jump / rate, g, &(*y)[i]);
-      }
+    T s_t = T(s_event);
+    if (system.StepOwnEventSensitivity(mode, next)) {
+      internal::StepOwnEventJump(system, t0, s_event, mode, next,
+                                 start, g, y, &s_t);
+      moved = true;
+    } else {
+      internal::SaltationJump(system, t0 + s_event, mode, next, g, y);
     }
     mode = next;
-    t0 = te;
+    t0 += s_event;
     remaining -= s_event;
+    remaining_t = remaining_t - s_t;
     if (!(remaining > 1e-12 * h)) return mode;
   }
 }

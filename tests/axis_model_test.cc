@@ -671,7 +671,11 @@ void ExpectJetMatchesFiniteDifferences(const AxisParams<double>& p,
 // between steps of 1e-4 and 1e-7). Samples cover the gear ringing after the
 // first contact (0.02–0.1 s, where b_g and k_g matter) and the clamped rise
 // (where V_L and B_a do); t = 0.6 s is the final velocity. T_p has no effect
-// while the clamp holds: its derivative is exactly zero.
+// on the flow while the clamp holds; on the trace it moves only where the
+// clamp's entry falls inside its 10 µs step (~0.6 µs in), which the stiff
+// current loop carries (sim/switched_rk4.h, the step's own rule): central
+// differences put p·∂v/∂T_p at 1.5e-7 of the peak. It must stay below the
+// tolerance of the comparisons above, 5e-7 of the peak.
 TEST(JetSimulationTest, OpenLoopStepDerivativesMatchFiniteDifferences) {
   const AxisParams<double> p;
   const Drive drive = Step(10.0);
@@ -686,7 +690,10 @@ TEST(JetSimulationTest, OpenLoopStepDerivativesMatchFiniteDifferences) {
                                  AxisState<J5>::Zero().eval(), drive, options,
                                  MakeGrid(options, drive));
   const J5& v_final = jet[Channel::kV].back();
-  EXPECT_EQ(v_final.v[4], 0.0) << "dv/dT_p with the preamp clamped";
+  std::vector<double> v_values;
+  for (const J5& v : jet[Channel::kV]) v_values.push_back(v.a);
+  EXPECT_LT(std::abs(p.T_p * v_final.v[4]), 5e-7 * ChannelScale(v_values))
+      << "dv/dT_p with the preamp clamped";
   // The final velocity is set by the saturation current (V_L) and the arm
   // friction (B_a), MODEL.md §8 Fig. 4: p·∂v/∂p well above the FD noise.
   EXPECT_GT(2.7 * v_final.v[0], 0.5);

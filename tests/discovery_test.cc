@@ -526,7 +526,10 @@ TEST(DiscoveryTest, NoFalseDiscoveryOverTenNullSeeds) {
 // offset and its stand-in (58 s alone with the whole library, 37 s so); the
 // base fit's random starts are kept: without them it ends where the
 // offset's refit does not fail, and the retry is not exercised (checked:
-// SeedOutcome::retried).
+// SeedOutcome::retried). Since the full loop's preamp limits are events
+// (sim/switched_rk4.h) the refit that fails from the score step here is the
+// stand-in's (cogging) and the offset's succeeds: the retry is exercised on
+// it, and the seed must still end with the offset alone.
 TEST(DiscoveryTest, FailedRefitIsRetriedFromAShorterStep) {
   CampaignConfig config = LoadCampaign(kRoot + "/configs/campaigns/power_load_offset.yaml");
   YAML::Node job = YAML::LoadFile(config.job_path);
@@ -539,9 +542,8 @@ TEST(DiscoveryTest, FailedRefitIsRetriedFromAShorterStep) {
   std::ofstream(config.job_path) << YAML::Dump(job);
   const SeedOutcome o = RunCampaignSeed(config, 4, 2);
   ASSERT_EQ(o.error, "");
-  // The offset's refit was the one retried (the stand-in's may be too).
-  EXPECT_NE(std::find(o.retried.begin(), o.retried.end(), "load_offset"), o.retried.end())
-      << ::testing::PrintToString(o.retried);
+  // A refit failed from the score step and was retried.
+  EXPECT_FALSE(o.retried.empty());
   EXPECT_EQ(o.first_added, "load_offset");
   EXPECT_EQ(o.selected, std::vector<std::string>{"load_offset"});
   EXPECT_EQ(o.verdict, "explained");

@@ -127,7 +127,12 @@ TEST(MoveTuneTest, TheProposalMeetsTheSpecOnTheAxisThatMadeTheData) {
   EXPECT_TRUE(t.proposed.violations.empty()) << t.proposed.violations[0];
   EXPECT_TRUE(t.proposed.robust);
   ASSERT_EQ(t.tuned.size(), 2u);
-  EXPECT_LE(t.proposed.objective, std::min(t.tuned[0].objective, t.tuned[1].objective));
+  // The choice of tune/move_tuning.h: the lowest objective among the
+  // profiles that meet the spec at every check (a faster one that breaks it
+  // at some sample of the joint region is not proposed).
+  for (const MoveSetting& other : t.tuned) {
+    if (other.robust) EXPECT_LE(t.proposed.objective, other.objective) << other.profile;
+  }
   EXPECT_LE(t.proposed.speed, 1.0);
   EXPECT_GE(t.proposed.speed, 0.25);
   const AxisConfig truth = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
