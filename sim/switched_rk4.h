@@ -1,10 +1,10 @@
 // Fixed-step RK4 across the switching surfaces of a piecewise-smooth system
 // (the backlash contacts of MODEL.md eq. 5, the preamp limit of eq. 2),
 // with each event located inside the step and the sensitivities carried
-// across it by the step's own event-time sensitivity: the discrete
-// counterpart of the saltation rule of Hiskens & Pai, "Trajectory
-// sensitivity analysis of hybrid systems", IEEE Trans. Circuits Syst. I
-// 47(2), 2000, eq. (13)–(15).
+// across it by the saltation rule of Hiskens & Pai, "Trajectory sensitivity
+// analysis of hybrid systems", IEEE Trans. Circuits Syst. I 47(2), 2000,
+// eq. (13)–(15), or by its discrete counterpart, the step's own event-time
+// sensitivity.
 //
 // Why: eq. 5 switches f_g between 0 and k_g·(X ∓ H) + b_g·(r_g·ω − v) when
 // the pinion–rack difference X crosses ±H, so the right-hand side jumps by
@@ -17,15 +17,24 @@
 // solver or a profile refit stops at their edges (issue 10, coverage_prbs:
 // the preamp output crossing ±V_L within one step). Here each mode's smooth
 // field is integrated up to the first located event, the mode is switched
-// there, and the event's time s solves g(Φ_s(y)) = 0 for the step's own
-// RK4 sub-step Φ_s, so ∂s/∂p = −(g_y·S + g_p)/(g_y·∂Φ_s/∂s): the state at
-// the event gains ∂Φ_s/∂s·∂s/∂p and the rest of the step, of length h − s,
-// is integrated with that length's derivative (Rk4StepOfLength, sim/rk4.h).
-// For the exact flow this is the saltation S⁺ = S⁻ + (f⁺ − f⁻)·(g_y·S⁻ +
-// g_p)/(g_y·f⁻) (g the guard, f⁻ and f⁺ the fields before and after); for
-// the RK4 step it is exact, which matters where a stiff mode makes
-// ∂Φ_s/∂s differ from f. The simulated values also become more accurate (the event is no
-// longer smeared over one step); with no event in a step this is Rk4Step.
+// there, and the sensitivities S = ∂y/∂p jump by the flow's saltation
+//     S⁺ = S⁻ + (f⁺ − f⁻)·(g_y·S⁻ + g_p)/(g_y·f⁻)
+// (g the guard, the switching function; f⁻, f⁺ the fields before and
+// after), or, where the system asks for it (StepOwnEventSensitivity), by
+// the step's own rule: the event's time s solves g(Φ_s(y)) = 0 for the
+// step's RK4 sub-step Φ_s, so ∂s/∂p = −(g_y·S + g_p)/(g_y·∂Φ_s/∂s); the
+// state at the event gains ∂Φ_s/∂s·∂s/∂p and the rest of the step, of
+// length h − s, is integrated with that length's derivative
+// (Rk4StepOfLength, sim/rk4.h). The step's own rule is the derivative of
+// the RK4 trace, which matters where f is continuous across the guard (the
+// saltation is zero) but the step's result depends on where a corner of f
+// falls in it through a stiff mode (the full current loop's preamp limit).
+// Where f⁺ = f⁻ it also gives a parameter that only moves the event a tiny,
+// non-physical column, which a trust-region step then follows far along a
+// flat direction; where f jumps the two rules agree to the order of the
+// step. So each is used where it is the better one. The simulated values
+// also become more accurate (the event is no longer smeared over one
+// step); with no event in a step this is Rk4Step.
 #ifndef SIM_SWITCHED_RK4_H_
 #define SIM_SWITCHED_RK4_H_
 
