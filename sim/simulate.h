@@ -222,14 +222,20 @@ struct SwitchedAxis {
 
   static int ContactOf(int mode) { return mode / 3 - 1; }
   static int SideOf(int mode) { return mode % 3 - 1; }
+  // The branches a mode fixes for AxisDerivative (kFromState where the
+  // family is off).
+  GearContact ContactIn(int mode) const {
+    return gear ? static_cast<GearContact>(ContactOf(mode)) : GearContact::kFromState;
+  }
+  PreampRegion SideIn(int mode) const {
+    return preamp ? static_cast<PreampRegion>(SideOf(mode)) : PreampRegion::kFromState;
+  }
 
   template <typename S>
   void Derivative(double t, const AxisState<S>& y, int mode,
                   AxisState<S>* dy) const {
-    const GearContact contact =
-        gear ? static_cast<GearContact>(ContactOf(mode)) : GearContact::kFromState;
-    const PreampRegion side =
-        preamp ? static_cast<PreampRegion>(SideOf(mode)) : PreampRegion::kFromState;
+    const GearContact contact = ContactIn(mode);
+    const PreampRegion side = SideIn(mode);
     if constexpr (std::is_same<S, T>::value) {
       AxisDerivative(structure, params, coeffs, y, input_at(t), dy,
                      static_cast<AxisAux<T>*>(nullptr), contact, side);
@@ -241,10 +247,8 @@ struct SwitchedAxis {
   }
   void EventDerivative(double t, const EventTimeState<kNumStates>& y,
                        int mode, EventTimeState<kNumStates>* dy) const {
-    const GearContact contact =
-        gear ? static_cast<GearContact>(ContactOf(mode)) : GearContact::kFromState;
-    const PreampRegion side =
-        preamp ? static_cast<PreampRegion>(SideOf(mode)) : PreampRegion::kFromState;
+    const GearContact contact = ContactIn(mode);
+    const PreampRegion side = SideIn(mode);
     AxisDerivative(structure, event_params, event_coeffs, y,
                    EventTimeJet(ScalarValue(input_at(t))), dy,
                    static_cast<AxisAux<EventTimeJet>*>(nullptr), contact, side);
