@@ -296,8 +296,15 @@ void DiscoveryLoop::RunBatch() {
   if (batch_.empty()) return;  // the call after the loop, all run already
   ShowBatchStatus();
   ScreenBatch();
+  CutAfterScreen();
   RunAgainstLevel();
-  for (size_t b = 0; b < batch_.size(); ++b) JudgeCandidate(b);
+  for (size_t b = 0; b < batch_.size(); ++b) {
+    if (goes_on_[b]) {
+      JudgeCandidate(b);
+    } else {
+      RecordCut(b);
+    }
+  }
   batch_.clear();
 }
 
@@ -326,6 +333,7 @@ void DiscoveryLoop::ScreenBatch() {
   order_ = std::vector<size_t>(batch_.size());
   std::iota(order_.begin(), order_.end(), size_t{0});
   screen_seconds_.assign(batch_.size(), 0.0);
+  screen_bound_.assign(batch_.size(), std::numeric_limits<double>::infinity());
   // The screen's shorter horizons, per candidate and start, which its
   // refit goes on after instead of running them again
   // (FitControl::resume): the same points, costs and stops, up to
@@ -350,7 +358,28 @@ void DiscoveryLoop::ScreenBatch() {
     }
     std::stable_sort(order_.begin(), order_.end(),
                      [&](size_t x, size_t y) { return key[x] < key[y]; });
+    screen_bound_ = key;
   }
+}
+
+// By the lowest BIC rule (by_refit_) only the candidates GoOnPastScreen
+// names (discovery/screen.h): the top `tries` by score or by the screen's
+// bound, and those whose screen failed.
+void DiscoveryLoop::CutAfterScreen() {
+  const size_t n = batch_.size();
+  screen_rank_.assign(n, 0);
+  for (size_t r = 0; r < n; ++r) screen_rank_[order_[r]] = r + 1;
+  goes_on_.assign(n, true);
+  if (by_refit_) {
+    std::vector<size_t> score_rank(n);
+    for (size_t b = 0; b < n; ++b) score_rank[b] = ScoreRank(b);
+    goes_on_ = GoOnPastScreen(score_rank, screen_bound_,
+                              static_cast<size_t>(std::max(1, settings_.tries)));
+  }
+  going_on_ = static_cast<size_t>(std::count(goes_on_.begin(), goes_on_.end(), true));
+  order_.erase(std::remove_if(order_.begin(), order_.end(),
+                              [&](size_t c) { return !goes_on_[c]; }),
+               order_.end());
 }
 
 // The refits in that order. The leading one, the first candidate's (every
@@ -415,6 +444,34 @@ void DiscoveryLoop::SetLevelFromLeader() {
       level_ = {fit.bic, q.candidate.name + "'s BIC"};
     }
   }
+}
+
+size_t DiscoveryLoop::ScoreRank(size_t b) const {
+  return static_cast<size_t>(batch_[b].score - ranking_.scores.data()) + 1;
+}
+
+void DiscoveryLoop::RecordCut(size_t b) {
+  const Pending& q = batch_[b];
+  DiscoveryStep record;
+  record.effect = q.candidate.name;
+  record.rule = rule_;
+  record.chi2 = q.score->chi2;
+  record.dof = q.score->dof;
+  record.p_value = q.score->p_value;
+  record.bic_before = result_->bic;
+  record.bic_after = screen_bound_[b];
+  record.seconds = screen_seconds_[b];
+  std::ostringstream why;
+  why << std::setprecision(4) << "after the screen: BIC >= " << screen_bound_[b] << " at the "
+      << first_horizon_ * std::pow(2.0, kScreenStages - 1) << " s horizon, "
+      << screen_rank_[b] << " of " << batch_.size() << " there, and " << ScoreRank(b)
+      << " by score: only the top " << std::max(1, settings_.tries)
+      << " by either went on to the whole record";
+  record.stopped = why.str();
+  record.kept = false;
+  report_.steps.push_back(record);
+  PrintRefit(q, record);
+  rejected_ += (rejected_.empty() ? "" : ", ") + q.candidate.name;
 }
 
 // Candidate b's refit as a step of the report; one that improved BIC

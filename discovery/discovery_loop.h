@@ -91,13 +91,21 @@ class DiscoveryLoop {
   // ---- a batch of refits (batch_)
   void RunBatch();
   void ShowBatchStatus() const;
-  void ScreenBatch();      // order_, screen_seconds_, resume_
+  void ScreenBatch();      // order_, screen_seconds_, screen_bound_, resume_
+  // Which refits go on past the screen (goes_on_): all, but by the lowest
+  // BIC rule only the top `tries` by score, the top `tries` by the screen's
+  // bound, and those whose screen failed.
+  void CutAfterScreen();
   void RunAgainstLevel();  // the leader, then the others against its level
   // Fits candidates [from, to) of order_ against the current level.
   void RunCandidates(std::vector<size_t>::const_iterator from,
                      std::vector<size_t>::const_iterator to);
   void SetLevelFromLeader();
   void JudgeCandidate(size_t b);
+  // Candidate b's step when it did not go on past the screen.
+  void RecordCut(size_t b);
+  // Candidate b's place in the step's score ranking (1-based).
+  size_t ScoreRank(size_t b) const;
   // Candidate b's start to keep (its lowest BIC): retried from a tenth of
   // the step if every start failed, its search bounds widened if it ended
   // on one; fills the record's timing and notes.
@@ -145,8 +153,17 @@ class DiscoveryLoop {
   Level level_;
 
   // ---- the batch's state
-  std::vector<size_t> order_;  // the order the refits run in
+  // The order the refits run in: the screen's, by bound, lowest first;
+  // after the leader, those that go on are reordered by screen time.
+  std::vector<size_t> order_;
   std::vector<double> screen_seconds_;
+  // Per candidate: the screen's BIC bound (lowest over its starts; +inf if
+  // every start failed or nothing was screened), whether its refit goes on
+  // past the screen, and where it stands in the screen's order (1-based).
+  std::vector<double> screen_bound_;
+  std::vector<bool> goes_on_;
+  std::vector<size_t> screen_rank_;
+  size_t going_on_ = 0;  // how many go on
   // The screen's shorter horizons, per candidate and start, which its
   // refit goes on after instead of running them again (FitControl::resume).
   std::vector<std::vector<std::shared_ptr<const HorizonCheckpoint>>> resume_;

@@ -1,8 +1,10 @@
 #include "discovery/screen.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
@@ -36,6 +38,32 @@ std::vector<ScreenedFit> ScreenFits(std::vector<FitJob> jobs, int threads) {
     out[k].checkpoint = fits[k].checkpoint;
   }
   return out;
+}
+
+std::vector<bool> GoOnPastScreen(const std::vector<size_t>& score_rank,
+                                 const std::vector<double>& bound, size_t top) {
+  if (score_rank.size() != bound.size() || top == 0) {
+    throw std::invalid_argument("GoOnPastScreen: expected score_rank and bound of one length "
+                                "and top > 0, got " + std::to_string(score_rank.size()) +
+                                ", " + std::to_string(bound.size()) + " and " +
+                                std::to_string(top));
+  }
+  const size_t n = bound.size();
+  std::vector<bool> goes_on(n, true);
+  if (n <= 2 * top) return goes_on;
+  std::vector<size_t> by_bound(n);
+  std::iota(by_bound.begin(), by_bound.end(), size_t{0});
+  const auto key = [&](size_t b) {
+    return std::isfinite(bound[b]) ? bound[b] : std::numeric_limits<double>::infinity();
+  };
+  std::stable_sort(by_bound.begin(), by_bound.end(),
+                   [&](size_t x, size_t y) { return key(x) < key(y); });
+  std::vector<size_t> screen_rank(n);
+  for (size_t r = 0; r < n; ++r) screen_rank[by_bound[r]] = r + 1;
+  for (size_t b = 0; b < n; ++b) {
+    goes_on[b] = score_rank[b] <= top || screen_rank[b] <= top || !std::isfinite(bound[b]);
+  }
+  return goes_on;
 }
 
 std::string StoppedText(const FitResult& fit, double level, const std::string& level_name) {

@@ -37,6 +37,25 @@ constexpr double kStopFactor = 2.0;
 // others stop at the first horizon.
 constexpr int kScreenStages = 4;
 
+// Which of a batch's competing refits go on past the screen when the lowest
+// BIC among them decides (the discovery loop far from a model that explains
+// the data, s² > 2). Neither judge ranks reliably alone there: the score
+// test is a linearisation at a model far from the data (the payload ninth
+// by score on its own data, power_payload), and the screen sees the first
+// horizons only (EMPS: the bounds of all nine candidates within 5 % at
+// 0.4 s, Coulomb friction sixth of them, then the step's winner by a
+// factor 5 in BIC). So the union goes on: candidate b goes on if
+// score_rank[b] <= top (1-based place in the step's score ranking), if its
+// screen bound is among the `top` lowest finite ones (ties by index), or if
+// its bound is not finite (the screen failed: its refit goes on to its
+// retry). One rung of successive halving (Jamieson & Talwalkar 2016,
+// "Non-stochastic best arm identification and hyperparameter
+// optimization", AISTATS) with two judges. All go on when there are at most
+// 2·top. Shapes: score_rank and bound of the same length n; returns n
+// flags. Throws std::invalid_argument if the lengths differ or top is 0.
+std::vector<bool> GoOnPastScreen(const std::vector<size_t>& score_rank,
+                                 const std::vector<double>& bound, size_t top);
+
 // What the screen left of one refit.
 struct ScreenedFit {
   // The lower bound of the BIC the refit can end with, from its last
