@@ -367,8 +367,6 @@ void DiscoveryLoop::ScreenBatch() {
 // bound, and those whose screen failed.
 void DiscoveryLoop::CutAfterScreen() {
   const size_t n = batch_.size();
-  screen_rank_.assign(n, 0);
-  for (size_t r = 0; r < n; ++r) screen_rank_[order_[r]] = r + 1;
   goes_on_.assign(n, true);
   if (by_refit_) {
     std::vector<size_t> score_rank(n);
@@ -376,7 +374,6 @@ void DiscoveryLoop::CutAfterScreen() {
     goes_on_ = GoOnPastScreen(score_rank, screen_bound_,
                               static_cast<size_t>(std::max(1, settings_.tries)));
   }
-  going_on_ = static_cast<size_t>(std::count(goes_on_.begin(), goes_on_.end(), true));
   order_.erase(std::remove_if(order_.begin(), order_.end(),
                               [&](size_t c) { return !goes_on_[c]; }),
                order_.end());
@@ -452,19 +449,13 @@ size_t DiscoveryLoop::ScoreRank(size_t b) const {
 
 void DiscoveryLoop::RecordCut(size_t b) {
   const Pending& q = batch_[b];
-  DiscoveryStep record;
-  record.effect = q.candidate.name;
-  record.rule = rule_;
-  record.chi2 = q.score->chi2;
-  record.dof = q.score->dof;
-  record.p_value = q.score->p_value;
-  record.bic_before = result_->bic;
+  DiscoveryStep record = StepOf(q);
   record.bic_after = screen_bound_[b];
   record.seconds = screen_seconds_[b];
   std::ostringstream why;
   why << std::setprecision(4) << "after the screen: BIC >= " << screen_bound_[b] << " at the "
-      << first_horizon_ * std::pow(2.0, kScreenStages - 1) << " s horizon, "
-      << screen_rank_[b] << " of " << batch_.size() << " there, and " << ScoreRank(b)
+      << ScreenHorizon(first_horizon_) << " s horizon, " << RanksByBound(screen_bound_)[b]
+      << " of " << batch_.size() << " there, and " << ScoreRank(b)
       << " by score: only the top " << std::max(1, settings_.tries)
       << " by either went on to the whole record";
   record.stopped = why.str();
@@ -481,7 +472,7 @@ void DiscoveryLoop::JudgeCandidate(size_t b) {
   const size_t n = q.starts.size();
   const size_t first = pos_[b];  // q's first start in fits_
   std::vector<FitResult> own(fits_.begin() + first, fits_.begin() + first + n);
-  DiscoveryStep record;
+  DiscoveryStep record = StepOf(q);
   record.seconds = screen_seconds_[b];
   for (size_t k = 0; k < n; ++k) record.seconds += seconds_[first + k];
   const size_t best = ChooseStart(b, &own, &record);
@@ -570,14 +561,19 @@ void DiscoveryLoop::WidenIfOnBound(size_t b, size_t best, std::vector<FitResult>
   }
 }
 
+DiscoveryStep DiscoveryLoop::StepOf(const Pending& q) const {
+  DiscoveryStep record;
+  record.effect = q.candidate.name;
+  record.rule = rule_;
+  record.chi2 = q.score->chi2;
+  record.dof = q.score->dof;
+  record.p_value = q.score->p_value;
+  record.bic_before = result_->bic;
+  return record;
+}
+
 void DiscoveryLoop::RecordRefit(const Pending& q, const Level& level, const FitResult& refit,
                                 const FitJob& refit_job, DiscoveryStep* record) const {
-  record->effect = q.candidate.name;
-  record->rule = rule_;
-  record->chi2 = q.score->chi2;
-  record->dof = q.score->dof;
-  record->p_value = q.score->p_value;
-  record->bic_before = result_->bic;
   record->bic_after = refit.bic;
   record->stopped = StoppedText(refit, level.bic, level.name);
   if (record->stopped.empty()) {

@@ -115,6 +115,10 @@ class DiscoveryLoop {
                          size_t best) const;
   void WidenIfOnBound(size_t b, size_t best, std::vector<FitResult>* own,
                       DiscoveryStep* record);
+  // The step's fields that come from the candidate and its score (effect,
+  // rule, chi2, dof, p_value, bic_before); RecordRefit or RecordCut add the
+  // rest.
+  DiscoveryStep StepOf(const Pending& q) const;
   void RecordRefit(const Pending& q, const Level& level, const FitResult& refit,
                    const FitJob& refit_job, DiscoveryStep* record) const;
   void PrintRefit(const Pending& q, const DiscoveryStep& record) const;
@@ -159,11 +163,9 @@ class DiscoveryLoop {
   std::vector<double> screen_seconds_;
   // Per candidate: the screen's BIC bound (lowest over its starts; +inf if
   // every start failed or nothing was screened), whether its refit goes on
-  // past the screen, and where it stands in the screen's order (1-based).
+  // past the screen.
   std::vector<double> screen_bound_;
   std::vector<bool> goes_on_;
-  std::vector<size_t> screen_rank_;
-  size_t going_on_ = 0;  // how many go on
   // The screen's shorter horizons, per candidate and start, which its
   // refit goes on after instead of running them again (FitControl::resume).
   std::vector<std::vector<std::shared_ptr<const HorizonCheckpoint>>> resume_;

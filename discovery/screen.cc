@@ -25,8 +25,7 @@ std::vector<ScreenedFit> ScreenFits(std::vector<FitJob> jobs, int threads) {
   }
   std::vector<FitControl> controls(jobs.size());
   for (size_t k = 0; k < jobs.size(); ++k) {
-    controls[k].stop_after_horizon =
-        jobs[k].solver.first_horizon * std::pow(2.0, kScreenStages - 1);
+    controls[k].stop_after_horizon = ScreenHorizon(jobs[k].solver.first_horizon);
   }
   std::vector<double> seconds;
   const std::vector<FitResult> fits = FitConcurrently(jobs, threads, &seconds, controls);
@@ -40,6 +39,24 @@ std::vector<ScreenedFit> ScreenFits(std::vector<FitJob> jobs, int threads) {
   return out;
 }
 
+double ScreenHorizon(double first_horizon) {
+  return first_horizon * std::pow(2.0, kScreenStages - 1);
+}
+
+std::vector<size_t> RanksByBound(const std::vector<double>& bound) {
+  const size_t n = bound.size();
+  std::vector<size_t> by_bound(n);
+  std::iota(by_bound.begin(), by_bound.end(), size_t{0});
+  const auto key = [&](size_t b) {
+    return std::isfinite(bound[b]) ? bound[b] : std::numeric_limits<double>::infinity();
+  };
+  std::stable_sort(by_bound.begin(), by_bound.end(),
+                   [&](size_t x, size_t y) { return key(x) < key(y); });
+  std::vector<size_t> rank(n);
+  for (size_t r = 0; r < n; ++r) rank[by_bound[r]] = r + 1;
+  return rank;
+}
+
 std::vector<bool> GoOnPastScreen(const std::vector<size_t>& score_rank,
                                  const std::vector<double>& bound, size_t top) {
   if (score_rank.size() != bound.size() || top == 0) {
@@ -51,15 +68,7 @@ std::vector<bool> GoOnPastScreen(const std::vector<size_t>& score_rank,
   const size_t n = bound.size();
   std::vector<bool> goes_on(n, true);
   if (n <= 2 * top) return goes_on;
-  std::vector<size_t> by_bound(n);
-  std::iota(by_bound.begin(), by_bound.end(), size_t{0});
-  const auto key = [&](size_t b) {
-    return std::isfinite(bound[b]) ? bound[b] : std::numeric_limits<double>::infinity();
-  };
-  std::stable_sort(by_bound.begin(), by_bound.end(),
-                   [&](size_t x, size_t y) { return key(x) < key(y); });
-  std::vector<size_t> screen_rank(n);
-  for (size_t r = 0; r < n; ++r) screen_rank[by_bound[r]] = r + 1;
+  const std::vector<size_t> screen_rank = RanksByBound(bound);
   for (size_t b = 0; b < n; ++b) {
     goes_on[b] = score_rank[b] <= top || screen_rank[b] <= top || !std::isfinite(bound[b]);
   }

@@ -37,6 +37,14 @@ constexpr double kStopFactor = 2.0;
 // others stop at the first horizon.
 constexpr int kScreenStages = 4;
 
+// The screen's last horizon for a continuation from `first_horizon` (s):
+// first_horizon·2^(kScreenStages−1). Never throws.
+double ScreenHorizon(double first_horizon);
+
+// Each entry's 1-based place when `bound` is sorted lowest first, a
+// non-finite bound taken as +inf and ties kept in index order. Never throws.
+std::vector<size_t> RanksByBound(const std::vector<double>& bound);
+
 // Which of a batch's competing refits go on past the screen when the lowest
 // BIC among them decides (the discovery loop far from a model that explains
 // the data, s² > 2). Neither judge ranks reliably alone there: the score
@@ -46,7 +54,7 @@ constexpr int kScreenStages = 4;
 // 0.4 s, Coulomb friction sixth of them, then the step's winner by a
 // factor 5 in BIC). So the union goes on: candidate b goes on if
 // score_rank[b] <= top (1-based place in the step's score ranking), if its
-// screen bound is among the `top` lowest finite ones (ties by index), or if
+// screen bound is among the `top` lowest (RanksByBound), or if
 // its bound is not finite (the screen failed: its refit goes on to its
 // retry). One rung of successive halving (Jamieson & Talwalkar 2016,
 // "Non-stochastic best arm identification and hyperparameter

@@ -18,8 +18,8 @@ struct DiscoverySettings {
   // kMisspecifiedS2, discovery/discovery_loop.cc): the top `misspecified_tries`
   // significant candidates, all screened (discovery/screen.h), those
   // GoOnPastScreen names (the top `tries` by score or by screen bound)
-  // refitted to the whole record (concurrently), the lowest BIC wins. The default exceeds the number of candidates: all significant
-  // ones. On power_payload (20 seeds) with the top 3 only the payload was
+  // refitted to the whole record (concurrently), the lowest BIC wins. The
+  // default exceeds the number of candidates: all significant ones. On power_payload (20 seeds) with the top 3 only the payload was
   // never first (ninth by score on the case's data, its refit BIC 1.19e4
   // against 1.03e5 for the best of the others).
   int misspecified_tries = 20;

@@ -1,5 +1,6 @@
-// GoOnPastScreen (discovery/screen.h): which competing refits go on past the
-// screen under the lowest-BIC rule, against rankings worked out by hand.
+// GoOnPastScreen and RanksByBound (discovery/screen.h): which competing refits
+// go on past the screen under the lowest-BIC rule, against rankings worked out
+// by hand.
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -55,6 +56,12 @@ TEST(GoOnPastScreenTest, TiesInTheBoundGoByIndex) {
   // Top 1 by score: 0; the lowest bound is shared, the first index (1) wins.
   const std::vector<bool> expected = {true, true, false, false, false};
   EXPECT_EQ(GoOnPastScreen(score_rank, bound, 1), expected);
+}
+
+TEST(RanksByBoundTest, LowestFirstNonFiniteLastTiesByIndex) {
+  const std::vector<double> bound = {3.0, std::nan(""), 1.0, 3.0, kInf, 2.0};
+  const std::vector<size_t> expected = {3, 5, 1, 4, 6, 2};
+  EXPECT_EQ(RanksByBound(bound), expected);
 }
 
 TEST(GoOnPastScreenTest, ThrowsOnMismatchedLengthsOrZeroTop) {
