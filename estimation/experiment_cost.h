@@ -106,7 +106,8 @@ class ExperimentCost {
   ExperimentCost(const ExperimentCost&) = delete;
   ExperimentCost& operator=(const ExperimentCost&) = delete;
 
-  // Residuals (ŷ − y)/σ, channel by channel in experiment.fitted order.
+  // Residuals (ŷ − y)/σ, channel by channel in experiment.fitted order (σ_k
+  // per sample where FittedChannel::sample_sigma holds them).
   // Returns false, so that Ceres rejects the trial step, if the simulation
   // or a residual is not finite, or if a residual's sensitivity to θ exceeds
   // kMaxSensitivity. Residual-only evaluations (T = double) simulate with a
@@ -175,8 +176,10 @@ class ExperimentCost {
       const std::vector<T>& simulated = trace[f.channel];
       const std::vector<double>& measured = experiment_.Measured(f.channel);
       const double inv_sigma = 1.0 / f.sigma;
+      const bool per_sample = f.sample_sigma.size() == measured.size();
       for (size_t k = 0; k < measured.size(); ++k) {
-        residuals[r] = (simulated[k] - measured[k]) * inv_sigma;
+        residuals[r] = (simulated[k] - measured[k]) *
+                       (per_sample ? 1.0 / f.sample_sigma[k] : inv_sigma);
         if (!AllFinite(residuals[r]) ||
             MaxAbsDerivative(residuals[r]) > kMaxSensitivity) {
           return false;

@@ -30,7 +30,12 @@ namespace axis {
 // kAutoStartsAbove, random starts are added (FitResult::auto_starts_note):
 // kMisfitProbeStarts first, the rest of solver.auto_starts only unless all
 // of those end at the job's cost (a misfit of the model, not a wrong
-// minimum: estimation/start_agreement.h). Then the optimum check
+// minimum: estimation/start_agreement.h). With the instant accelerometer
+// the samples of `a` whose window holds a backlash contact are then
+// weighted by σ_k and the fit re-solved under them
+// (estimation/instant_sample_sigma.h, FitResult::sample_sigma_note; a fit
+// of the whole record alone starts under the weights at its start). Then
+// the optimum check
 // (solver.probe_rounds; on a cost rough below the standard-error scale
 // lower points count only past χ² = s², estimation/rough_optimum.h), the
 // covariance, the local restarts (solver.local_starts) and the intervals

@@ -19,6 +19,9 @@ FitExperiment Truncate(const FitExperiment& e, double horizon) {
   if (n >= e.t.size()) return out;
   out.t.resize(n);
   for (auto& m : out.measured) m.resize(n);
+  for (FittedChannel& f : out.fitted) {
+    if (!f.sample_sigma.empty()) f.sample_sigma.resize(n);
+  }
   out.options.duration = out.t.back();
   return out;
 }

@@ -158,6 +158,10 @@ struct FitResult {
   // SolverSettings::auto_starts random starts were added (job/fit_job.h): what
   // s² it ended with and which start won. Empty otherwise.
   std::string auto_starts_note;
+  // Set when the instant accelerometer's samples at a backlash contact were
+  // weighted by σ_k (estimation/instant_sample_sigma.h): how many, the
+  // largest σ_k/σ and the re-solves. Empty otherwise.
+  std::string sample_sigma_note;
   // Set when the fit ends with s² = residual_variance above
   // kAutoStartsAbove (job/fit_job.h): the residual RMS more than twice the
   // declared σ, i.e. a local minimum the starts did not leave, an effect

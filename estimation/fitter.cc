@@ -24,7 +24,9 @@
 #include "estimation/fit_notes.h"
 #include "estimation/fit_problem.h"
 #include "estimation/fit_result.h"
+#include "estimation/cost_at.h"
 #include "estimation/horizon_checkpoint.h"
+#include "estimation/instant_sample_sigma.h"
 #include "estimation/optimum_check.h"
 #include "estimation/phase_timer.h"
 #include "estimation/uncertainty.h"
@@ -44,6 +46,8 @@ const std::vector<double> kRatioSteps = {0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16};
 constexpr int kRatioPasses = 3;
 // How often the local restarts may run (each time one ended lower).
 constexpr int kLocalPasses = 3;
+// How often the instant accelerometer's weights may re-solve the fit.
+constexpr int kReweightPasses = 2;
 
 }  // namespace
 
@@ -56,6 +60,9 @@ FitResult Fitter::Run() {
   SetSolverOptions();
   DrawStarts();
   CheckControl();
+  // A fit of the whole record alone (a warm refit: AsWarmRefit) starts next
+  // to its estimate: its solve runs under the weights there.
+  if (stages_.size() == 1) SetInstantSampleSigmas(p_.theta);
   RunShorterStages();
   if (!RankFinalists()) return StoppedResult(runs_[abandoned_]);
   RunFinalists();
@@ -71,6 +78,7 @@ FitResult Fitter::Run() {
   std::copy(best_.begin(), best_.end(), p_.theta.begin());
   dof_ = std::max(1, num_residuals_ - theta_size_);
   if (NeedsAutoStarts()) AutoStarts();
+  WeighInstantSamples();
   ChooseChecks();
   CheckOptimum();
   EstimateUncertainty();
@@ -610,11 +618,11 @@ double Fitter::LowerThanEstimate() const {
 
 // Restarts the final stage from `point` (cost `point_cost`) and keeps the
 // solver's end if it is no worse, else the point itself.
-void Fitter::RestartFrom(const std::vector<double>& point, double point_cost) {
+void Fitter::RestartFrom(const std::vector<double>& point, double point_cost, bool near) {
   const std::vector<double> from = best_;
   std::copy(point.begin(), point.end(), p_.theta.begin());
   ceres::Solver::Summary summary;
-  ceres::Solve(options_, full_problem_, &summary);
+  ceres::Solve(near ? near_options_ : options_, full_problem_, &summary);
   if (summary.IsSolutionUsable() && summary.final_cost <= point_cost) {
     best_cost_ = summary.final_cost;
     best_summary_ = summary;
@@ -624,6 +632,62 @@ void Fitter::RestartFrom(const std::vector<double>& point, double point_cost) {
   }
   best_ = p_.theta;
   for (int k = 0; k < theta_size_; ++k) best_step_[k] = best_[k] - from[k];
+}
+
+// ------------------------------------- the instant accelerometer's contacts
+
+bool Fitter::SetInstantSampleSigmas(const std::vector<double>& theta) {
+  const AxisParams<double> params = p_.map->Apply(theta.data());
+  HorizonStage& full = stages_.back();
+  double moved = 0.0;
+  int weighted = 0;
+  largest_sigma_ratio_ = 1.0;
+  for (size_t j = 0; j < full.experiments.size(); ++j) {
+    FitExperiment& e = full.experiments[j];
+    AxisState<double> y0 = e.initial_state;
+    if (state_index_[j] >= 0) {
+      y0[0] = theta[state_index_[j]];
+      y0[1] = theta[state_index_[j] + 1];
+      y0[2] = y0[0] / params.r_g;
+      y0[3] = y0[1] / params.r_g;
+    }
+    std::vector<double> sigma = InstantSampleSigmas(job_.model.structure, params, y0, e);
+    for (FittedChannel& f : e.fitted) {
+      if (f.channel != Channel::kA) continue;
+      for (size_t k = 0; k < std::max(sigma.size(), f.sample_sigma.size()); ++k) {
+        const double before = k < f.sample_sigma.size() ? f.sample_sigma[k] : f.sigma;
+        const double after = k < sigma.size() ? sigma[k] : f.sigma;
+        moved = std::max(moved, std::abs(after - before) / f.sigma);
+        if (after > f.sigma * 1.005) ++weighted;
+        largest_sigma_ratio_ = std::max(largest_sigma_ratio_, after / f.sigma);
+      }
+      f.sample_sigma = std::move(sigma);
+    }
+  }
+  sigma_log_term_ = SampleSigmaLogTerm(full.experiments);
+  weighted_samples_ = weighted;
+  return moved > 0.1;
+}
+
+void Fitter::WeighInstantSamples() {
+  if (!std::isfinite(best_cost_) ||
+      job_.model.structure.accelerometer != AccelerometerSampling::kInstant) {
+    return;
+  }
+  PhaseTimer timer("instant accelerometer weights", p_.counter, &result_);
+  int passes = 0;
+  while (passes < kReweightPasses && SetInstantSampleSigmas(best_)) {
+    ++passes;
+    RestartFrom(best_, CostAt(full_problem_, best_, job_.solver.threads, &p_.theta), true);
+  }
+  if (weighted_samples_ == 0) return;
+  std::ostringstream note;
+  note << weighted_samples_ << " sample(s) of the instant accelerometer have a backlash "
+       << "contact in their window and are weighted by sigma_k = sqrt(sigma^2 + D_k^2), "
+       << "D_k the window mean's distance from y1' at the instant (largest sigma_k/sigma "
+       << "= " << std::setprecision(3) << largest_sigma_ratio_ << "; MODEL.md section 6); "
+       << passes << " re-solve(s)";
+  result_.sample_sigma_note = note.str();
 }
 
 // The cost of the model as specified is piecewise smooth: besides the
@@ -905,8 +969,9 @@ FitResult Fitter::Finish() {
   // Every fitted entry of θ counts: the free parameters and the estimated
   // initial states.
   const int n = theta_size_;
-  result_.aic = 2.0 * best_cost_ + 2.0 * n;
-  result_.bic = 2.0 * best_cost_ + n * std::log(static_cast<double>(num_residuals_));
+  result_.aic = 2.0 * best_cost_ + sigma_log_term_ + 2.0 * n;
+  result_.bic = 2.0 * best_cost_ + sigma_log_term_ +
+                n * std::log(static_cast<double>(num_residuals_));
   EvaluateExperiments(fitted);
   result_.model_note = QuasiSteadyDelayNote(job_, result_);
   result_.residual_note = ResidualNote(result_.residual_variance);

@@ -133,10 +133,21 @@ class Fitter {
   std::vector<double> RunRandomBatch(const std::vector<std::vector<double>>& starts,
                                      size_t first);
 
+  // ---- the instant accelerometer at the contacts
+  // Per-sample σ_k on the whole record's stage (at the start too where that
+  // stage is the only one: a warm refit) for the samples of `a` whose window holds a contact
+  // (estimation/instant_sample_sigma.h) at the estimate, and the final stage
+  // re-solved from it under them if they moved; again from its end while some σ_k moved by
+  // more than 10 % of σ, kReweightPasses times at most. Fills
+  // result_.sample_sigma_note.
+  void WeighInstantSamples();
+  bool SetInstantSampleSigmas(const std::vector<double>& theta);  // true if some σ_k moved
+
   // ---- the optimum check and the uncertainty
   void ChooseChecks();         // what they run (discovery: less)
   double LowerThanEstimate() const;
-  void RestartFrom(const std::vector<double>& point, double point_cost);
+  // `near`: with near_options_ (a point next to the minimum), else options_.
+  void RestartFrom(const std::vector<double>& point, double point_cost, bool near = false);
   void CheckOptimum();
   void EstimateUncertainty();  // covariance, local restarts, intervals
   bool LocalRestarts();        // true if one ended lower (then checked again)
@@ -232,6 +243,9 @@ class Fitter {
   size_t winner_ = 0;
   int extra_simulations_ = 0;
   int extra_jacobians_ = 0;
+  double sigma_log_term_ = 0.0;  // SampleSigmaLogTerm of the final stage
+  int weighted_samples_ = 0;       // samples with σ_k above σ by 0.5 %
+  double largest_sigma_ratio_ = 1.0;
 };
 
 }  // namespace axis

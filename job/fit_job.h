@@ -26,7 +26,12 @@ namespace axis {
 // A fitted channel and the σ its residual is divided by (channel unit).
 struct FittedChannel {
   Channel channel;
-  double sigma = 1.0;
+  double sigma = 1.0;  // the channel's noise σ (channel unit), > 0
+  // Per-sample σ_k (channel unit, one per sample, each ≥ sigma) where the
+  // model itself is uncertain at some samples, else empty (σ_k = sigma):
+  // set by the fit at its estimate, never by the job (estimation/
+  // instant_sample_sigma.h, MODEL.md §6).
+  std::vector<double> sample_sigma;
 };
 
 // One recorded experiment, loaded and cut to its window. Times are relative

@@ -514,7 +514,7 @@ void ExperimentParser::ParseFitted() {
                        "a channel listed under 'channels' (measured)",
                        "'" + name + "'");
     }
-    e_.fitted.push_back({c, fit.Number(name, Range::kFinitePositive)});
+    e_.fitted.push_back({c, fit.Number(name, Range::kFinitePositive), {}});
   }
   fit.Finish();
   if (e_.fitted.empty()) {

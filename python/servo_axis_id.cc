@@ -538,6 +538,10 @@ void DefineFitResultFigures(py::class_<JobRun>& c) {
           "auto_starts_note", [](const JobRun& r) { return r.result.auto_starts_note; },
           "set when the job's start ended above s^2 = 4 and solver.auto_starts were added")
       .def_property_readonly(
+          "sample_sigma_note", [](const JobRun& r) { return r.result.sample_sigma_note; },
+          "set when samples of an instant accelerometer at a backlash contact were weighted "
+          "by sigma_k (MODEL.md section 6), else ''")
+      .def_property_readonly(
           "residual_note", [](const JobRun& r) { return r.result.residual_note; },
           "a warning when the fit ends above s^2 = 4 (residual RMS over twice sigma), else ''");
 }

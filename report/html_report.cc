@@ -738,6 +738,7 @@ std::string SummaryHtml(const HtmlReportInput& input) {
   item("optimum", HtmlEscape(r.optimum_check.empty() ? "not checked" : r.optimum_check));
   if (!r.model_note.empty()) item("note", HtmlEscape(r.model_note));
   if (!r.auto_starts_note.empty()) item("starts", HtmlEscape(r.auto_starts_note));
+  if (!r.sample_sigma_note.empty()) item("weights", HtmlEscape(r.sample_sigma_note));
   if (!r.residual_note.empty()) item("warning", HtmlEscape(r.residual_note));
   item("uncertainty", HtmlEscape((r.uncertainty_method.empty() ? "-" : r.uncertainty_method) +
                                  ": " + r.uncertainty_note));

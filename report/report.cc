@@ -432,6 +432,7 @@ void WriteParamsMarkdown(const std::string& path, const FitResult& result,
   if (!result.stop_note.empty()) out += "- note: " + result.stop_note + "\n";
   if (!result.model_note.empty()) out += "- note: " + result.model_note + "\n";
   if (!result.auto_starts_note.empty()) out += "- starts: " + result.auto_starts_note + "\n";
+  if (!result.sample_sigma_note.empty()) out += "- weights: " + result.sample_sigma_note + "\n";
   if (!result.residual_note.empty()) out += "- warning: " + result.residual_note + "\n";
   if (!result.misspecification_note.empty()) {
     out += "- misspecification: " + result.misspecification_note + "\n";
@@ -557,6 +558,7 @@ void AddFigures(const FitResult& result, Json* out) {
   j["stop_note"] = result.stop_note;
   j["model_note"] = result.model_note;
   j["auto_starts_note"] = result.auto_starts_note;
+  j["sample_sigma_note"] = result.sample_sigma_note;
   j["residual_note"] = result.residual_note;
   j["integration"] = result.integration;
 }

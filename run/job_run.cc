@@ -427,6 +427,7 @@ class JobPipeline {
     out_ << "integration: " << result.integration << "\n";
     if (!result.model_note.empty()) out_ << "note: " << result.model_note << "\n";
     if (!result.auto_starts_note.empty()) out_ << "starts: " << result.auto_starts_note << "\n";
+    if (!result.sample_sigma_note.empty()) out_ << "weights: " << result.sample_sigma_note << "\n";
     if (!run_.sampling_check.note.empty()) out_ << "note: " << run_.sampling_check.note << "\n";
     if (!result.residual_note.empty()) out_ << "warning: " << result.residual_note << "\n";
     out_ << result.optimum_check << "\n";

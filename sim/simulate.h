@@ -66,6 +66,11 @@ struct SimulationOptions {
   double step = 1e-5;           // RK4 step h, s, > 0
   double output_period = 1e-3;  // s, multiple of step
   std::vector<Channel> channels;  // recorded channels (t is always recorded)
+  // With the instant accelerometer (MODEL.md §6) and `a` recorded: also
+  // record y1' itself at the sample instants, through the same front end
+  // (Trace::a_point), for the window's spread (estimation/
+  // instant_sample_sigma.h). Costs a derivative evaluation per RK4 step.
+  bool point_acceleration = false;
 };
 
 // The integer grid derived from SimulationOptions.
@@ -97,6 +102,9 @@ struct Trace {
   std::vector<double> t;
   std::array<std::vector<T>, kNumChannels> values;
   bool finite = true;
+  // SimulationOptions::point_acceleration: y1' at t[k] (m/s², no window),
+  // through the delay, low-pass filters and bias of `a`; else empty.
+  std::vector<T> a_point;
 
   const std::vector<T>& operator[](Channel c) const {
     return values[static_cast<int>(c)];
@@ -131,6 +139,25 @@ inline bool StageInputsCover(const StageInputs* s, const SimulationGrid& grid) {
 }
 
 namespace internal {
+
+// Channel c's samples at `times` from its values `s` on the RK4 grid (step
+// h): the low-pass filters, then the delay, of MODEL.md §6.
+template <typename T>
+std::vector<T> FrontEndSamples(const AxisStructure& structure, const AxisParams<T>& params,
+                               int c, double h, const std::vector<double>& times,
+                               std::vector<T> s) {
+  if (structure.sensors.lowpass[c]) s = LowPassOnGrid(s, h, 1, params.tau_lp[c], T(1.0));
+  if (structure.sensors.lowpass2[c]) {
+    s = LowPassOnGrid(s, h, 2, params.tau_lp2[c], params.zeta_lp2[c]);
+  }
+  std::vector<T> out(times.size());
+  for (size_t j = 0; j < times.size(); ++j) {
+    T time(times[j]);
+    if (structure.sensors.delay[c]) time -= params.tau_d[c];
+    out[j] = ValueOnGrid(s, h, time);
+  }
+  return out;
+}
 
 template <typename T>
 T ChannelValue(Channel c, const AxisStructure& s, const AxisParams<T>& p,
@@ -339,6 +366,10 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
       aux_every_step = aux_every_step || k != kA;
     }
   }
+  // y1' itself beside the instant accelerometer's window (Trace::a_point).
+  const bool point = options.point_acceleration && wanted[kA] && !a_mean;
+  if (point) aux_every_step = any_on_grid = true;
+  std::vector<T> fine_point;
   std::array<std::vector<T>, kNumChannels> fine;  // per-step history
   for (int k = 0; k < kNumChannels; ++k) {
     if (on_grid[k]) fine[k].reserve(grid.num_steps + 1);
@@ -461,6 +492,7 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
                 : internal::ChannelValue(static_cast<Channel>(c), structure,
                                          params, y, aux, u, ref, t);
         if (c == kA && n == 0) a_initial = aux.a;
+        if (c == kA && point) fine_point.push_back(aux.a);
         if (on_grid[c]) fine[c].push_back(value);
         if (record) trace.values[c].push_back(value);
       }
@@ -503,16 +535,10 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
                                        InstantWindowSteps(structure.instant_window, h),
                                        a_initial)
                   : std::move(fine[c]);
-      if (structure.sensors.lowpass[c]) {
-        s = LowPassOnGrid(s, h, 1, params.tau_lp[c], T(1.0));
-      }
-      if (structure.sensors.lowpass2[c]) {
-        s = LowPassOnGrid(s, h, 2, params.tau_lp2[c], params.zeta_lp2[c]);
-      }
-      for (size_t j = 0; j < out.size(); ++j) {
-        T time(trace.t[j]);
-        if (structure.sensors.delay[c]) time -= params.tau_d[c];
-        out[j] = ValueOnGrid(s, h, time);
+      out = internal::FrontEndSamples(structure, params, c, h, trace.t, std::move(s));
+      if (c == kA && point) {
+        trace.a_point =
+            internal::FrontEndSamples(structure, params, c, h, trace.t, std::move(fine_point));
       }
     } else if (c == kA && a_mean) {
       // The period mean from v at the output samples; y1'(0) at t = 0.
@@ -521,6 +547,9 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
     }
     if (structure.sensors.bias[c]) {
       for (T& value : out) value += params.b[c];
+      if (c == kA) {
+        for (T& value : trace.a_point) value += params.b[c];
+      }
     }
   }
   return trace;
