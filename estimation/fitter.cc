@@ -682,11 +682,11 @@ void Fitter::WeighInstantSamples() {
   }
   if (weighted_samples_ == 0) return;
   std::ostringstream note;
-  note << weighted_samples_ << " sample(s) of the instant accelerometer have a backlash "
-       << "contact in their window and are weighted by sigma_k = sqrt(sigma^2 + D_k^2), "
-       << "D_k the window mean's distance from y1' at the instant (largest sigma_k/sigma "
-       << "= " << std::setprecision(3) << largest_sigma_ratio_ << "; MODEL.md section 6); "
-       << passes << " re-solve(s)";
+  note << weighted_samples_ << " sample(s) of the instant accelerometer weighted by "
+       << "sigma_k = sqrt(sigma^2 + D_k^2) above sigma by more than 0.5 %, D_k the window "
+       << "mean's distance from y1' at the instant (a backlash contact in the window; largest "
+       << "sigma_k/sigma = " << std::setprecision(3) << largest_sigma_ratio_
+       << "; MODEL.md section 6); " << passes << " re-solve(s)";
   result_.sample_sigma_note = note.str();
 }
 
