@@ -99,7 +99,7 @@ void DropInsignificant(double level, FitJob* job, FitResult* result,
     // an independent-data PRBS record, had a Wald p above the level), and a
     // refit stopped on its BIC bound has no estimate to adopt.
     // χ² of the refit's fixed parameters, scaled by s² as the Wald test is.
-    const double ratio = 2.0 * (refit.final_cost - result->final_cost) /
+    const double ratio = (Deviance(refit) - Deviance(*result)) /
                          std::max(1.0, result->residual_variance);
     const int fixed = std::max(1, static_cast<int>(EffectParameters(candidate).size()));
     const bool failed = record.stopped.empty() && !std::isfinite(ratio);

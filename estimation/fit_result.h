@@ -162,6 +162,9 @@ struct FitResult {
   // weighted by σ_k (estimation/instant_sample_sigma.h): how many, the
   // largest σ_k/σ and the re-solves. Empty otherwise.
   std::string sample_sigma_note;
+  // Σ log(σ_k²/σ²) over the per-sample σ_k of the final cost (0 without
+  // them): what −2·log-likelihood adds to 2·final_cost (Deviance).
+  double sample_sigma_log_term = 0.0;
   // Set when the fit ends with s² = residual_variance above
   // kAutoStartsAbove (job/fit_job.h): the residual RMS more than twice the
   // declared σ, i.e. a local minimum the starts did not leave, an effect
@@ -195,6 +198,14 @@ struct FitResult {
   // Where the time went, in the order the phases first ran.
   std::vector<FitPhase> phases;
 };
+
+// 2·final_cost + sample_sigma_log_term: −2·log-likelihood of `result` up to
+// the constant every fit of the same records shares, so that fits under
+// different per-sample σ_k (estimation/instant_sample_sigma.h) compare as
+// χ² do. Never throws.
+inline double Deviance(const FitResult& result) {
+  return 2.0 * result.final_cost + result.sample_sigma_log_term;
+}
 
 }  // namespace axis
 

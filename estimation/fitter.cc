@@ -661,6 +661,7 @@ bool Fitter::SetInstantSampleSigmas(const std::vector<double>& theta) {
         if (after > f.sigma * 1.005) ++weighted;
         largest_sigma_ratio_ = std::max(largest_sigma_ratio_, after / f.sigma);
       }
+      if (sigma != f.sample_sigma) weights_changed_ = true;
       f.sample_sigma = std::move(sigma);
     }
   }
@@ -675,10 +676,19 @@ void Fitter::WeighInstantSamples() {
     return;
   }
   PhaseTimer timer("instant accelerometer weights", p_.counter, &result_);
+  weights_changed_ = false;  // best_cost_ is under the weights set so far
   int passes = 0;
   while (passes < kReweightPasses && SetInstantSampleSigmas(best_)) {
     ++passes;
     RestartFrom(best_, CostAt(full_problem_, best_, job_.solver.threads, &p_.theta), true);
+    weights_changed_ = false;
+  }
+  // Weights that moved by less than σ/10 (or after the last pass) are kept
+  // without a re-solve; the cost at the estimate is then taken under them.
+  if (weights_changed_) {
+    const double at_best = CostAt(full_problem_, best_, job_.solver.threads, &p_.theta);
+    std::copy(best_.begin(), best_.end(), p_.theta.begin());
+    if (std::isfinite(at_best)) best_cost_ = at_best;
   }
   if (weighted_samples_ == 0) return;
   std::ostringstream note;
@@ -969,6 +979,7 @@ FitResult Fitter::Finish() {
   // Every fitted entry of θ counts: the free parameters and the estimated
   // initial states.
   const int n = theta_size_;
+  result_.sample_sigma_log_term = sigma_log_term_;
   result_.aic = 2.0 * best_cost_ + sigma_log_term_ + 2.0 * n;
   result_.bic = 2.0 * best_cost_ + sigma_log_term_ +
                 n * std::log(static_cast<double>(num_residuals_));

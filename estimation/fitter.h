@@ -245,6 +245,7 @@ class Fitter {
   int extra_jacobians_ = 0;
   double sigma_log_term_ = 0.0;  // SampleSigmaLogTerm of the final stage
   int weighted_samples_ = 0;       // samples with σ_k above σ by 0.5 %
+  bool weights_changed_ = false;   // since best_cost_ was last evaluated
   double largest_sigma_ratio_ = 1.0;
 };
 

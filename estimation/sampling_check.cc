@@ -62,12 +62,13 @@ FitJob WithConventionAndDelays(const FitJob& job, AccelerometerSampling conventi
   return out;
 }
 
-// Σ(r/σ)² of a warm refit of `job` (AsWarmRefit); the fit into *fit if not null.
+// Σ(r/σ)² of a warm refit of `job` (AsWarmRefit), with Σ log(σ_k²/σ²) where
+// its fit weighted samples (Deviance); the fit into *fit if not null.
 double WarmRefitChi2(FitJob job, FitResult* fit) {
   AsWarmRefit(&job);
   job.solver.progress = false;
   FitResult r = FitParameters(job, nullptr);
-  const double chi2 = 2.0 * r.final_cost;
+  const double chi2 = Deviance(r);
   if (fit != nullptr) *fit = std::move(r);
   return chi2;
 }
@@ -141,7 +142,7 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   check.declared = ConventionName(at.model.structure.accelerometer);
   check.other = ConventionName(other);
   check.samples = SamplesOfA(at);
-  check.chi2_declared = 2.0 * result.final_cost;
+  check.chi2_declared = Deviance(result);
   check.chi2_other = std::numeric_limits<double>::quiet_NaN();
   int added = 0;
   const AccelerometerSampling declared = at.model.structure.accelerometer;
