@@ -4,7 +4,7 @@
 //
 // Estimates the free parameters of a model from recorded traces (estimation/fit.h).
 // Exit codes: 0 success, 2 bad input (command line, job, data), 1 other,
-// 130/143 interrupted by SIGINT/SIGTERM (nothing written; sim/interrupt.h).
+// 130/143 interrupted by SIGINT/SIGTERM (nothing written; io/interrupt.h).
 #include <unistd.h>
 
 #include <cstdio>
@@ -17,7 +17,7 @@
 
 #include "common/progress.h"
 #include "run/fit_params.h"
-#include "sim/interrupt.h"
+#include "io/interrupt.h"
 
 int main(int argc, char** argv) {
   // Ceres logs through glog; fit-params reports solver trouble itself

@@ -4,7 +4,7 @@
 // Simulates one experiment file (configs/experiments/*.yaml) and writes the
 // recorded channels as CSV. Exit codes: 0 success, 2 bad input (command
 // line, config, data file), 1 other failures, 130/143 interrupted by
-// SIGINT/SIGTERM (nothing written; sim/interrupt.h).
+// SIGINT/SIGTERM (nothing written; io/interrupt.h).
 #include <unistd.h>
 
 #include <cstdio>
@@ -16,7 +16,7 @@
 #include "apps/integer_option.h"
 #include "sim/config.h"
 #include "sim/experiment.h"
-#include "sim/interrupt.h"
+#include "io/interrupt.h"
 
 int main(int argc, char** argv) {
   axis::InstallInterruptHandlers("simulate-axis");

@@ -23,7 +23,7 @@
 #include "job/fit_job.h"
 #include "sim/channels.h"
 #include "sim/config.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 #include "sim/simulate.h"
 
 namespace axis {

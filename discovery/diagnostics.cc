@@ -12,7 +12,7 @@
 #include "estimation/evaluate_experiment.h"
 #include "estimation/fit_result.h"
 #include "job/fit_job.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 
 namespace axis {
 namespace {

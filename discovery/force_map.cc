@@ -9,7 +9,7 @@
 #include "discovery/channel_changes.h"
 #include "discovery/force_map_step.h"
 #include "discovery/force_map_text.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 
 namespace axis {
 namespace {

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/output_staging.h"
+#include "io/output_staging.h"
 #include "run/campaign.h"
 
 namespace axis {

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "common/format.h"
-#include "common/output_staging.h"
+#include "io/output_staging.h"
 
 namespace axis {
 namespace {

@@ -21,7 +21,7 @@
 #include "run/write_job_run.h"
 #include "sim/channels.h"
 #include "sim/config.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 
 namespace axis {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 namespace axis {
 namespace {

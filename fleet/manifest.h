@@ -2,7 +2,7 @@
 // section 5): the jobs of one fleet run of fit-fleet (issue 12). Jobs are
 // explicit fit-job files, and/or one job template applied to every log (data
 // file) of every axis, an axis being one model config and its logs. One
-// strict loader in the style of the other formats (sim/yaml_util.h).
+// strict loader in the style of the other formats (io/yaml_util.h).
 //
 // The manifest is checked when loaded; the jobs themselves (the job files,
 // the template filled in, the data) are loaded only when they run

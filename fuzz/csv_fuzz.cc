@@ -1,10 +1,10 @@
-// libFuzzer target: the CSV reader (sim/csv.h ParseCsv, the parser behind
+// libFuzzer target: the CSV reader (io/csv.h ParseCsv, the parser behind
 // ReadCsv) on arbitrary bytes.
 #include <cstddef>
 #include <cstdint>
 
 #include "fuzz/fuzz_common.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   axis::fuzz::Expect(data, size, [](const std::string& text) {

@@ -6,7 +6,7 @@
 
 #include "fuzz/fuzz_common.h"
 #include "job/load_fit_job.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   axis::fuzz::Expect(data, size, [](const std::string& text) {

@@ -1,4 +1,4 @@
-// libFuzzer target: the MAT file reader (sim/mat_file.h ReadMatFile, through
+// libFuzzer target: the MAT file reader (io/mat_file.h ReadMatFile, through
 // libmatio and HDF5) on arbitrary bytes. matio reads files only, so each
 // input is written to a temporary file of this process first. The seed
 // corpus (fuzz/corpus/mat_file/) holds small level 4, 5 (plain and
@@ -16,8 +16,8 @@
 #include <string>
 
 #include "fuzz/fuzz_common.h"
-#include "sim/csv.h"
-#include "sim/mat_file.h"
+#include "io/csv.h"
+#include "io/mat_file.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 
 #include "fuzz/fuzz_common.h"
 #include "sim/config.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   axis::fuzz::Expect(data, size, [](const std::string& text) {

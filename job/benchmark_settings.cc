@@ -5,12 +5,12 @@
 #include <stdexcept>
 
 #include "common/format.h"
-#include "common/output_staging.h"
+#include "io/output_staging.h"
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
 #include "sim/channels.h"
 #include "sim/config.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 namespace axis {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "common/format.h"
 #include "sim/config.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 namespace axis {
 namespace {

@@ -70,7 +70,7 @@ std::vector<std::pair<std::string, YAML::Node>> JobExperiments(YAML::Node root);
 // an unknown effect name, a verdict other than explained / incomplete, an
 // outside_library force that is not a generator-only one or that no
 // generating config switches on; LoadYamlFile's and LoadExperiment's
-// errors (sim/yaml_util.h, sim/config.h).
+// errors (io/yaml_util.h, sim/config.h).
 CampaignConfig LoadCampaignSettings(const std::string& path,
                                     std::vector<YAML::Node>* truth_value_keys);
 

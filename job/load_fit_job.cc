@@ -18,8 +18,8 @@
 #include "job/fit_job.h"
 #include "job/published_reference.h"
 #include "job/solver_settings.h"
-#include "sim/csv.h"
-#include "sim/data_table.h"
+#include "io/csv.h"
+#include "io/data_table.h"
 #include "sim/preflight.h"
 
 namespace axis {

@@ -15,7 +15,7 @@ namespace axis {
 
 // Loads and checks a job: all files, columns and names are resolved here, so
 // that fitting cannot fail on input. An experiment's `data:` is a CSV file,
-// or a MAT file if its name ends in .mat (ReadDataTable, sim/data_table.h:
+// or a MAT file if its name ends in .mat (ReadDataTable, io/data_table.h:
 // variables are columns). Throws std::invalid_argument naming the file, line
 // and key (YAML), file and line (CSV) or file and variable (MAT): unknown
 // keys, a missing column, NaN or empty cells, time not strictly increasing,

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "common/format.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 namespace axis {
 namespace {

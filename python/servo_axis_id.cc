@@ -21,7 +21,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "common/output_staging.h"
+#include "io/output_staging.h"
 #include "common/progress.h"
 #include "discovery/discovery.h"
 #include "estimation/fit_result.h"
@@ -36,7 +36,7 @@
 #include "sim/channels.h"
 #include "sim/config.h"
 #include "sim/experiment.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 namespace py = pybind11;
 

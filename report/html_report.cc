@@ -27,7 +27,7 @@
 #include "report/report.h"
 #include "report/tuning_report.h"
 #include "sim/channels.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 
 namespace axis {
 namespace {

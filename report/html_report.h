@@ -87,7 +87,7 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
                              std::vector<std::string>* warnings);
 
 // Writes RenderHtmlReport(input) to `path` atomically (WriteFileAtomic,
-// sim/csv.h), with its temporary files in path's folder. Throws as
+// io/csv.h), with its temporary files in path's folder. Throws as
 // RenderHtmlReport, and std::runtime_error naming `path` if it cannot be
 // written.
 void WriteHtmlReport(const std::string& path, const HtmlReportInput& input,

@@ -31,7 +31,7 @@
 #include "common/format.h"
 #include "common/gnuplot.h"
 #include "estimation/fit_result.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 
 extern char** environ;
 

@@ -2,7 +2,7 @@
 // (params.md, params.csv, report.json, fit_<experiment>.csv/.png).
 //
 // Every file is written atomically (to a temporary in the same directory,
-// then renamed over the target; see WriteFileAtomic in sim/csv.h), so a
+// then renamed over the target; see WriteFileAtomic in io/csv.h), so a
 // reader sees either the previous file or the complete new one, and a failed
 // write leaves no partial file. Write errors are std::runtime_error naming
 // the path.

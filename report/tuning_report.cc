@@ -7,7 +7,7 @@
 
 #include "common/format.h"
 #include "sim/config.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 
 namespace axis {
 namespace {

@@ -17,7 +17,7 @@
 #include "run/write_job_run.h"
 #include "sim/channels.h"
 #include "sim/config.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 namespace axis {
 namespace {

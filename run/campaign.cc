@@ -31,9 +31,9 @@
 #include "job/load_fit_job.h"
 #include "run/job_run.h"
 #include "sim/config.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 #include "sim/experiment.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 #include "tune/analog_loop_tuning.h"
 #include "tune/move_tuning.h"
 

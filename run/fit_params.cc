@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "common/output_staging.h"
+#include "io/output_staging.h"
 #include "common/progress.h"
 #include "estimation/fit_result.h"
 #include "job/fit_job.h"
@@ -12,7 +12,7 @@
 #include "run/benchmark.h"
 #include "run/job_run.h"
 #include "run/write_job_run.h"
-#include "sim/interrupt.h"
+#include "io/interrupt.h"
 
 namespace axis {
 

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "common/output_staging.h"
+#include "io/output_staging.h"
 #include "design/experiment_design.h"
 #include "discovery/diagnostics.h"
 #include "discovery/force_map.h"
@@ -14,7 +14,7 @@
 #include "estimation/at_estimate.h"
 #include "run/job_run.h"
 #include "sim/config.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 
 namespace axis {
 namespace {

@@ -1,7 +1,7 @@
 // Writing a job run (run/job_run.h) into its output folder: the fit's
 // files (report/report.h), report.html (report/html_report.h), the
 // discovery and force-map files and the proposed experiment, all staged
-// and moved into place when complete (common/output_staging.h).
+// and moved into place when complete (io/output_staging.h).
 #ifndef RUN_WRITE_JOB_RUN_H_
 #define RUN_WRITE_JOB_RUN_H_
 

@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "sim/csv.h"
-#include "sim/interrupt.h"
+#include "io/csv.h"
+#include "io/interrupt.h"
 #include "sim/random.h"
 
 namespace axis {
@@ -73,7 +73,7 @@ void SimulateAxis(const SimulateAxisOptions& options) {
   CheckOutputFile(options.out_path);  // before the simulation, not after it
   const std::vector<Channel> channels = e.options.channels;
   const Trace<double> trace = SimulateExperiment(std::move(e), options);
-  DeferInterrupts defer;  // no temporary file left behind (sim/interrupt.h)
+  DeferInterrupts defer;  // no temporary file left behind (io/interrupt.h)
   WriteTraceCsv(options.out_path, trace, channels);
   defer.Committed();
 }

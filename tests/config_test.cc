@@ -14,7 +14,7 @@
 
 #include "sim/config.h"
 #include "sim/preflight.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 #include "tests/test_files.h"
 
 namespace axis {

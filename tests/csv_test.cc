@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sim/csv.h"
+#include "io/csv.h"
 
 namespace axis {
 namespace {

@@ -14,7 +14,7 @@
 #include "estimation/fit_result.h"
 #include "job/load_fit_job.h"
 #include "sim/config.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 #include "sim/experiment.h"
 #include "tests/test_files.h"
 

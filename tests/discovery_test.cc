@@ -26,7 +26,7 @@
 #include "run/campaign.h"
 #include "run/job_run.h"
 #include "run/write_job_run.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 #include "sim/experiment.h"
 #include "tests/test_files.h"
 

@@ -19,7 +19,7 @@
 #include "fleet/fleet_table.h"
 #include "fleet/manifest.h"
 #include "job/fit_job.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 #include "tests/fleet_checks.h"
 #include "tests/test_files.h"
 

@@ -19,7 +19,7 @@
 #include "sim/config.h"
 #include "sim/force_map.h"
 #include "sim/preflight.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 namespace axis {
 namespace {

@@ -35,7 +35,7 @@ if grep -rlF -e "$source" -e "$build" "$package_dir"; then
 fi
 
 # Headers: the layer folders, each project include found in the prefix.
-for h in sim/simulate.h sim/mat_file.h estimation/fit.h job/fit_job.h; do
+for h in sim/simulate.h io/mat_file.h estimation/fit.h job/fit_job.h; do
   [[ -f $prefix/include/$h ]] || fail "header $h not installed"
 done
 while IFS= read -r line; do

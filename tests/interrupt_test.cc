@@ -1,4 +1,4 @@
-// SIGINT and SIGTERM (sim/interrupt.h): exit 130/143 with one line saying
+// SIGINT and SIGTERM (io/interrupt.h): exit 130/143 with one line saying
 // what was not written, outputs held back while they are being committed,
 // and no partial output left by the command-line tools.
 #include <fcntl.h>
@@ -19,7 +19,7 @@
 #include <sys/wait.h>
 #include <gtest/gtest.h>
 
-#include "sim/interrupt.h"
+#include "io/interrupt.h"
 #include "tests/test_files.h"
 
 extern char** environ;

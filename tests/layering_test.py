@@ -2,7 +2,7 @@
 """The layers point only downwards (docs/architecture.md).
 
 Every `#include "<folder>/<file>.h"` in a library folder must name a folder
-of the same or a lower layer: sim < common < job < estimation < discovery <
+of the same or a lower layer: io < sim < common < job < estimation < discovery <
 design < tune < report < run < fleet; apps/, python/ and bench/ sit on top and may
 include any layer. CMake links static libraries whatever their includes
 say, so this test is what keeps a cycle from coming back. It also checks
@@ -16,7 +16,7 @@ import os
 import re
 import sys
 
-LAYERS = ["sim", "common", "job", "estimation", "discovery", "design", "tune", "report",
+LAYERS = ["io", "sim", "common", "job", "estimation", "discovery", "design", "tune", "report",
           "run", "fleet"]
 TOP = ["apps", "python", "bench", "fuzz", "tests"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([\w.-]+)/[\w./-]+"', re.M)

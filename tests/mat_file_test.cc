@@ -1,4 +1,4 @@
-// MATLAB MAT files as experiment data (sim/mat_file.h, issue 13): the EMPS
+// MATLAB MAT files as experiment data (io/mat_file.h, issue 13): the EMPS
 // benchmark's original files give the CSVs' samples bit for bit and the same
 // fit; bad files (a missing variable, a matrix where a vector is expected,
 // unequal lengths, a non-numeric variable, a truncated file, a file that is
@@ -25,9 +25,9 @@
 #include "estimation/fit_result.h"
 #include "job/fit_job.h"
 #include "job/load_fit_job.h"
-#include "sim/csv.h"
-#include "sim/data_table.h"
-#include "sim/mat_file.h"
+#include "io/csv.h"
+#include "io/data_table.h"
+#include "io/mat_file.h"
 #include "tests/test_files.h"
 
 namespace axis {

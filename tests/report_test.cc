@@ -17,10 +17,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "common/output_staging.h"
+#include "io/output_staging.h"
 #include "estimation/fit_result.h"
 #include "report/report.h"
-#include "sim/csv.h"
+#include "io/csv.h"
 #include "tests/fit_result_fixture.h"
 #include "tests/test_files.h"
 

@@ -17,7 +17,7 @@
 #include "sim/config.h"
 #include "sim/sensor_front_end.h"
 #include "sim/simulate.h"
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 namespace axis {
 namespace {

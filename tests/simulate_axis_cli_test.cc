@@ -16,7 +16,7 @@
 #include <sys/wait.h>
 #include <gtest/gtest.h>
 
-#include "sim/csv.h"
+#include "io/csv.h"
 #include "tests/test_files.h"
 
 namespace {

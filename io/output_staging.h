@@ -1,8 +1,8 @@
 // Output folders that hold one run's complete outputs: checked before the
 // work, written into a staging folder and moved into place when complete
-// (interrupts held meanwhile, sim/interrupt.h).
-#ifndef COMMON_OUTPUT_STAGING_H_
-#define COMMON_OUTPUT_STAGING_H_
+// (interrupts held meanwhile, io/interrupt.h).
+#ifndef IO_OUTPUT_STAGING_H_
+#define IO_OUTPUT_STAGING_H_
 
 #include <functional>
 #include <string>
@@ -12,7 +12,7 @@ namespace axis {
 
 // A run's outputs are written into a staging folder and moved into place
 // only when all of them are complete, so that a failure or an interrupt
-// (sim/interrupt.h) leaves no partial output folder.
+// (io/interrupt.h) leaves no partial output folder.
 //
 // Checks, before any work, that the outputs can go to `dir`: `dir`, if it
 // exists, and the nearest existing folder above it (where the staging
@@ -27,6 +27,14 @@ void CheckOutputDirectory(const std::string& dir, bool staged = true);
 // (creating the parents of `dir` if missing; removing a stale staging folder
 // of the same name). Throws std::runtime_error naming the folder.
 std::string MakeStagingDirectory(const std::string& dir);
+
+// Removes the staging folders "<dir>.partial.<pid>" beside `dir` whose
+// process <pid> no longer exists (a run killed with SIGKILL, which no
+// handler can catch, while writing its outputs), and returns their paths,
+// sorted. A folder whose process still runs (another run writing the same
+// output), or that cannot be removed, is left. Never throws (except
+// std::bad_alloc).
+std::vector<std::string> RemoveStaleStagingDirectories(const std::string& dir);
 
 // Moves the outputs of `staging` to `dir`: a single rename if `dir` does not
 // exist, else file by file (each rename atomic; a subfolder that exists in
@@ -44,9 +52,11 @@ void CommitStagingDirectory(const std::string& staging, const std::string& dir);
 inline constexpr const char* kOutputList = ".outputs";
 
 // Calls `write(staging, &warnings)` on a staging folder of `dir`
-// (MakeStagingDirectory) and moves its contents into place when it returns
+// (MakeStagingDirectory), after removing the stale staging folders of
+// earlier runs (RemoveStaleStagingDirectories; each removal is a warning),
+// and moves its contents into place when it returns
 // (CommitStagingDirectory); an interrupt meanwhile is held
-// (sim/interrupt.h DeferInterrupts). On an exception the staging folder is
+// (io/interrupt.h DeferInterrupts). On an exception the staging folder is
 // removed and the exception passed on. Returns the warnings with the
 // staging folder's path replaced by `dir`. Throws std::runtime_error as
 // MakeStagingDirectory and CommitStagingDirectory.
@@ -56,4 +66,4 @@ std::vector<std::string> WriteStaged(
 
 }  // namespace axis
 
-#endif  // COMMON_OUTPUT_STAGING_H_
+#endif  // IO_OUTPUT_STAGING_H_

@@ -3,8 +3,8 @@
 // and range. Errors are std::invalid_argument with the message
 //   "<file>:<line>: key '<path>': expected <what>, got <value>"
 // so that a user can find the offending line.
-#ifndef SIM_YAML_UTIL_H_
-#define SIM_YAML_UTIL_H_
+#ifndef IO_YAML_UTIL_H_
+#define IO_YAML_UTIL_H_
 
 #include <set>
 #include <string>
@@ -16,7 +16,7 @@ namespace axis {
 
 // Loads a YAML file. Throws std::invalid_argument "<file>: cannot read",
 // "<file>:<line>: invalid YAML: <reason>", CheckUtf8Text's error for a file
-// that is not UTF-8 text (sim/utf8_text.h), "<file>:<line>: expected one
+// that is not UTF-8 text (io/utf8_text.h), "<file>:<line>: expected one
 // YAML document, got a second one ('---') …" (the loaders read the first
 // and ignored the rest), or, for a key repeated in any mapping of the
 // document (yaml-cpp keeps both; the loaders would read one and ignore the
@@ -112,6 +112,10 @@ class YamlMap {
 bool InRange(double x, YamlMap::Range range);
 const char* RangeText(YamlMap::Range range);
 
+// `x` as a std::ostream prints it by default (6 significant digits), for
+// the "got …" of messages.
+std::string NumberText(double x);
+
 // Directory part of a path ("." if none), and `relative` resolved against it
 // (absolute paths are kept).
 std::string DirectoryOf(const std::string& path);
@@ -128,4 +132,4 @@ std::string OutputDirectory(YamlMap* output, const std::string& base_dir);
 
 }  // namespace axis
 
-#endif  // SIM_YAML_UTIL_H_
+#endif  // IO_YAML_UTIL_H_

@@ -1,4 +1,4 @@
-#include "sim/mat_file.h"
+#include "io/mat_file.h"
 
 #include <matio.h>
 

@@ -3,8 +3,8 @@
 // number as shells report it, and one line on stderr saying what was not
 // written; outputs are committed inside a DeferInterrupts scope, so that an
 // interrupt never leaves a partial file or output folder behind.
-#ifndef SIM_INTERRUPT_H_
-#define SIM_INTERRUPT_H_
+#ifndef IO_INTERRUPT_H_
+#define IO_INTERRUPT_H_
 
 #include <string>
 
@@ -39,4 +39,4 @@ class DeferInterrupts {
 
 }  // namespace axis
 
-#endif  // SIM_INTERRUPT_H_
+#endif  // IO_INTERRUPT_H_

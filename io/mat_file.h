@@ -2,13 +2,13 @@
 // DATA_EMPS.mat), read with libmatio: levels 4 and 5, and 7.3 (HDF5) where
 // matio was built with HDF5 (Debian's libmatio-dev is). Each variable that is
 // a numeric vector as long as the time variable is a column of the table,
-// exactly as a CSV file's columns (sim/data_table.h, sim/csv.h).
-#ifndef SIM_MAT_FILE_H_
-#define SIM_MAT_FILE_H_
+// exactly as a CSV file's columns (io/data_table.h, io/csv.h).
+#ifndef IO_MAT_FILE_H_
+#define IO_MAT_FILE_H_
 
 #include <string>
 
-#include "sim/data_table.h"
+#include "io/data_table.h"
 
 namespace axis {
 
@@ -42,4 +42,4 @@ DataTable ReadMatFile(const std::string& path, const std::string& time_variable)
 
 }  // namespace axis
 
-#endif  // SIM_MAT_FILE_H_
+#endif  // IO_MAT_FILE_H_

@@ -1,4 +1,4 @@
-#include "sim/yaml_util.h"
+#include "io/yaml_util.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 
 #include <yaml-cpp/eventhandler.h>
 
-#include "sim/utf8_text.h"
+#include "io/utf8_text.h"
 
 namespace axis {
 namespace {
@@ -197,6 +197,12 @@ void ThrowConfigError(const std::string& file, const YAML::Node& node,
                       const std::string& got) {
   throw std::invalid_argument(Location(file, node) + ": key '" + key +
                               "': expected " + expected + ", got " + got);
+}
+
+std::string NumberText(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
 }
 
 std::string Describe(const YAML::Node& node) {

@@ -7,18 +7,19 @@
 // (lines are 1-based, the header is line 1) so that a user can find the
 // offending cell. Writing goes through a temporary file and a rename, so a
 // reader never sees a half-written file.
-#ifndef SIM_CSV_H_
-#define SIM_CSV_H_
+#ifndef IO_CSV_H_
+#define IO_CSV_H_
 
 #include <cstddef>
 #include <string>
 #include <vector>
 
-#include "sim/data_table.h"
+#include "io/atomic_file.h"
+#include "io/data_table.h"
 
 namespace axis {
 
-// The table ReadCsv returns (sim/data_table.h): format kCsv, one column per
+// The table ReadCsv returns (io/data_table.h): format kCsv, one column per
 // header field.
 using CsvTable = DataTable;
 
@@ -41,7 +42,7 @@ using CsvTable = DataTable;
 // as 1e999); malformed quoting; a line break inside a quoted field (each row
 // must be one line, so that row i is line i + 2); bytes that are not UTF-8
 // text (a NUL byte, a UTF-16 file; Utf8Checker's "<path>:<line>: expected
-// UTF-8 text, got … at byte offset N (not UTF-8 text …)", sim/utf8_text.h).
+// UTF-8 text, got … at byte offset N (not UTF-8 text …)", io/utf8_text.h).
 // Blank trailing lines are ignored. Throws std::bad_alloc if memory runs out.
 CsvTable ReadCsv(const std::string& path);
 
@@ -59,24 +60,6 @@ CsvTable ParseCsv(const std::string& text, const std::string& name);
 // ..." (DataTable::RowLocation). Throws as DataTable::ColumnIndex if there
 // is no such column.
 void CheckStrictlyIncreasing(const CsvTable& table, const std::string& column);
-
-// Writes `contents` to `path` atomically: to a temporary file
-// "<path>.tmp.<pid>.<n>" in the same directory (created with mode 0666 minus
-// the umask), flushed to disk, then std::rename over `path` (replacing an
-// existing file, or a symbolic link itself rather than its target). On any
-// failure removes the temporary and throws std::runtime_error naming `path`
-// and the system error. Never leaves a partial file at `path`: readers see
-// either the old file or the complete new one.
-void WriteFileAtomic(const std::string& path, const std::string& contents);
-
-// Checks, before any work, that WriteFileAtomic can write `path`: a
-// non-empty path that is not a folder (a symbolic link is replaced, not
-// followed), in an existing folder this process may write into (the
-// temporary file is made there). Throws std::invalid_argument "<path>:
-// expected an output file (a path in an existing folder this process may
-// write into), got …" naming the folder in the way, the missing folder or
-// the one that cannot be written into.
-void CheckOutputFile(const std::string& path);
 
 // `text` as one CSV field: as is, or in double quotes (inner quotes
 // doubled) if it holds a comma, a quote or a line break; what WriteCsvAtomic
@@ -101,4 +84,4 @@ void WriteCsvAtomic(const std::string& path,
 
 }  // namespace axis
 
-#endif  // SIM_CSV_H_
+#endif  // IO_CSV_H_

@@ -1,4 +1,4 @@
-#include "sim/interrupt.h"
+#include "io/interrupt.h"
 
 #include <unistd.h>
 

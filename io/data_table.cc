@@ -1,12 +1,12 @@
-#include "sim/data_table.h"
+#include "io/data_table.h"
 
 #include <cctype>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 
-#include "sim/csv.h"
-#include "sim/mat_file.h"
+#include "io/csv.h"
+#include "io/mat_file.h"
 
 namespace axis {
 

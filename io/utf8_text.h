@@ -2,8 +2,8 @@
 // UTF-16 file or bytes of another encoding are refused with the byte offset
 // and line of the first such byte, before any parser sees them (a NUL cut
 // the parsers' messages short, and other bytes went into them raw).
-#ifndef SIM_UTF8_TEXT_H_
-#define SIM_UTF8_TEXT_H_
+#ifndef IO_UTF8_TEXT_H_
+#define IO_UTF8_TEXT_H_
 
 #include <cstddef>
 #include <string>
@@ -54,4 +54,4 @@ void CheckUtf8Text(const std::string& text, const std::string& name);
 
 }  // namespace axis
 
-#endif  // SIM_UTF8_TEXT_H_
+#endif  // IO_UTF8_TEXT_H_

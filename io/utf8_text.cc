@@ -1,4 +1,4 @@
-#include "sim/utf8_text.h"
+#include "io/utf8_text.h"
 
 #include <cstdio>
 #include <stdexcept>

@@ -1,8 +1,10 @@
-#include "common/output_staging.h"
+#include "io/output_staging.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -10,8 +12,8 @@
 #include <system_error>
 #include <vector>
 
-#include "sim/csv.h"
-#include "sim/interrupt.h"
+#include "io/atomic_file.h"
+#include "io/interrupt.h"
 
 namespace axis {
 namespace {
@@ -47,6 +49,36 @@ void CheckOutputDirectory(const std::string& dir, bool staged) {
     above = above.parent_path();
   }
   check(above);
+}
+
+std::vector<std::string> RemoveStaleStagingDirectories(const std::string& dir) {
+  fs::path target = fs::path(dir);
+  if (!target.has_filename()) target = target.parent_path();  // "out/" → "out"
+  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string prefix = target.filename().string() + ".partial.";
+  std::vector<std::string> removed;
+  std::error_code ec;
+  fs::directory_iterator it(folder, ec);
+  if (ec) return removed;
+  for (const fs::directory_entry& entry : it) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) {
+      continue;
+    }
+    const long pid = std::stol(digits);
+    if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+    // kill(pid, 0): ESRCH when no such process exists; EPERM means it
+    // runs under another user, so it is alive.
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code remove_ec;
+    if (!entry.is_directory(remove_ec)) continue;
+    fs::remove_all(entry.path(), remove_ec);
+    if (!remove_ec) removed.push_back(entry.path().string());
+  }
+  std::sort(removed.begin(), removed.end());
+  return removed;
 }
 
 std::string MakeStagingDirectory(const std::string& dir) {
@@ -159,6 +191,11 @@ std::vector<std::string> WriteStaged(
     const std::string& dir,
     const std::function<void(const std::string&, std::vector<std::string>*)>& write) {
   std::vector<std::string> warnings;
+  for (const std::string& stale : RemoveStaleStagingDirectories(dir)) {
+    warnings.push_back("removed " + stale +
+                       ", the staging folder of an earlier run whose process is gone (it "
+                       "ended before moving its outputs into place)");
+  }
   DeferInterrupts defer;
   const std::string staging = MakeStagingDirectory(dir);
   try {

@@ -1,10 +1,10 @@
 // A recorded experiment's data: named columns of equal length, read from a
-// CSV file (sim/csv.h ReadCsv: the header names the columns) or a MATLAB MAT
-// file (sim/mat_file.h ReadMatFile: each variable that is a numeric vector
+// CSV file (io/csv.h ReadCsv: the header names the columns) or a MATLAB MAT
+// file (io/mat_file.h ReadMatFile: each variable that is a numeric vector
 // as long as the time variable is a column). ReadDataTable picks the reader
 // by the file name's extension.
-#ifndef SIM_DATA_TABLE_H_
-#define SIM_DATA_TABLE_H_
+#ifndef IO_DATA_TABLE_H_
+#define IO_DATA_TABLE_H_
 
 #include <cstddef>
 #include <string>
@@ -66,8 +66,8 @@ struct DataTable {
   std::string DescribeName(const std::string& name) const;
 };
 
-// Reads a data file: a MAT file (ReadMatFile, sim/mat_file.h) if `path`
-// ends in ".mat" (any case), else a CSV file (ReadCsv, sim/csv.h).
+// Reads a data file: a MAT file (ReadMatFile, io/mat_file.h) if `path`
+// ends in ".mat" (any case), else a CSV file (ReadCsv, io/csv.h).
 // `time_column` names the time column or variable; only the MAT reader uses
 // it (to know how long a column must be). Throws std::invalid_argument as
 // the reader does.
@@ -75,4 +75,4 @@ DataTable ReadDataTable(const std::string& path, const std::string& time_column)
 
 }  // namespace axis
 
-#endif  // SIM_DATA_TABLE_H_
+#endif  // IO_DATA_TABLE_H_

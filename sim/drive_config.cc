@@ -1,0 +1,181 @@
+#include "sim/drive_config.h"
+
+#include <cmath>
+#include <cstdint>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "io/csv.h"
+
+namespace axis {
+
+namespace {
+
+using Range = YamlMap::Range;
+
+}  // namespace
+
+void RequireColumn(const YamlMap& map, const YAML::Node& node,
+                   const std::string& key, const CsvTable& table,
+                   const std::string& column) {
+  if (table.HasColumn(column)) return;
+  ThrowConfigError(map.file(), node, key, table.ColumnExpectation(),
+                   table.DescribeName(column));
+}
+
+void MakeCubicOrThrow(YamlMap& map, InputSignal* s) {
+  try {
+    MakeCubic(s);
+  } catch (const std::invalid_argument& e) {
+    ThrowConfigError(map.file(), map.Optional("interpolation"), map.KeyPath("interpolation"),
+                     "samples a cubic can pass through (" + std::string(e.what()) + ")",
+                     "cubic");
+  }
+}
+
+InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir) {
+  InputSignal s;
+  s.kind = InputSignal::Kind::kTable;
+  const std::string file = ResolvePath(base_dir, map.String("file"));
+  const std::string time_col = map.String("time", "t");
+  const std::string value_col = map.String("column");
+  const double scale = map.Number("scale", 1.0);
+  s.offset = map.Number("offset", 0.0);
+  const std::string mode = map.Choice("interpolation", {"linear", "hold", "cubic"}, "linear");
+  s.hold = mode == "hold";
+  const DataTable table = ReadDataTable(file, time_col);
+  RequireColumn(map, map.node(), map.KeyPath("time"), table, time_col);
+  RequireColumn(map, map.node(), map.KeyPath("column"), table, value_col);
+  CheckStrictlyIncreasing(table, time_col);
+  s.times = table.Column(time_col);
+  s.values = table.Column(value_col);
+  for (double& v : s.values) v *= scale;
+  if (mode == "cubic") MakeCubicOrThrow(map, &s);
+  return s;
+}
+
+InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
+                             double duration) {
+  const std::string type = map.Choice(
+      "type", {"zero", "step", "ramp", "sine", "chirp", "prbs", "table", "column"});
+  InputSignal s;
+  s.offset = map.Number("offset", 0.0);
+  if (type == "zero") {
+    s.kind = InputSignal::Kind::kZero;
+  } else if (type == "step") {
+    s.kind = InputSignal::Kind::kStep;
+    s.amplitude = map.Number("amplitude");
+    s.start = map.Number("start", 0.0, Range::kNonNegative);
+  } else if (type == "ramp") {
+    s.kind = InputSignal::Kind::kRamp;
+    s.slope = map.Number("slope");
+    s.start = map.Number("start", 0.0, Range::kNonNegative);
+  } else if (type == "sine") {
+    s.kind = InputSignal::Kind::kSine;
+    s.amplitude = map.Number("amplitude");
+    s.frequency = map.Number("frequency", Range::kFinitePositive);
+    s.phase = map.Number("phase", 0.0);
+    s.start = map.Number("start", 0.0, Range::kNonNegative);
+  } else if (type == "chirp") {
+    s.kind = InputSignal::Kind::kChirp;
+    s.amplitude = map.Number("amplitude");
+    s.f0 = map.Number("f0", Range::kNonNegative);
+    s.f1 = map.Number("f1", Range::kNonNegative);
+    s.sweep_time = map.Number("sweep_time", Range::kFinitePositive);
+    s.start = map.Number("start", 0.0, Range::kNonNegative);
+  } else if (type == "prbs") {
+    const double amplitude = map.Number("amplitude");
+    const double bit_time = map.Number("bit_time", Range::kFinitePositive);
+    const int order = static_cast<int>(map.Integer("order", 10, 2, 20));
+    const long seed = map.Integer("seed", 1, 1, 1L << 30);
+    const double bits = PrbsTableBits(duration, bit_time);
+    if (!(bits <= kMaxPrbsBits)) {
+      std::ostringstream got;
+      got << std::setprecision(3) << bits << " bits (duration " << duration << " s / bit_time "
+          << bit_time << " s): lengthen bit_time or shorten the duration";
+      ThrowConfigError(map.file(), map.Optional("bit_time"), map.KeyPath("bit_time"),
+                       "a PRBS of at most 1e+08 bits", got.str());
+    }
+    s = MakePrbs(amplitude, s.offset, bit_time, order,
+                 static_cast<std::uint32_t>(seed), duration);
+  } else if (type == "table") {
+    s.kind = InputSignal::Kind::kTable;
+    const YAML::Node points = map.Required("points");
+    const std::string key = map.KeyPath("points");
+    if (!points.IsSequence() || points.size() < 1) {
+      ThrowConfigError(map.file(), points, key,
+                       "a list of [time, value] pairs", Describe(points));
+    }
+    for (const YAML::Node& point : points) {
+      if (!point.IsSequence() || point.size() != 2) {
+        ThrowConfigError(map.file(), point, key, "a [time, value] pair",
+                         Describe(point));
+      }
+      const double t = map.NumberFrom(point[0], key, Range::kAny);
+      if (!s.times.empty() && !(t > s.times.back())) {
+        ThrowConfigError(map.file(), point, key,
+                         "strictly increasing times",
+                         NumberText(t) + " after " + NumberText(s.times.back()));
+      }
+      s.times.push_back(t);
+      s.values.push_back(map.NumberFrom(point[1], key, Range::kAny));
+    }
+    const std::string mode = map.Choice("interpolation", {"linear", "hold", "cubic"}, "linear");
+    s.hold = mode == "hold";
+    if (mode == "cubic") MakeCubicOrThrow(map, &s);
+  } else {  // column
+    s = ParseColumnSignal(map, base_dir);
+  }
+  map.Finish();
+  return s;
+}
+
+Reference ParseReference(YamlMap& map, const std::string& base_dir,
+                         double origin) {
+  Reference r;
+  const std::string type = map.Choice("type", {"trapezoid", "min_jerk", "column"});
+  if (type != "column") {
+    r.kind = type == "min_jerk" ? Reference::Kind::kMinJerk : Reference::Kind::kTrapezoid;
+    r.distance = map.Number("distance");
+    r.velocity = map.Number("velocity", Range::kFinitePositive);
+    r.acceleration = map.Number("acceleration", Range::kFinitePositive);
+    if (r.kind == Reference::Kind::kMinJerk) {
+      r.jerk = map.Number("jerk", HUGE_VAL, Range::kPositiveOrInfinite);
+    }
+    r.start = map.Number("start", 0.0, Range::kNonNegative);
+    r.origin = map.Number("origin", origin);
+  } else {
+    r.kind = Reference::Kind::kTable;
+    r.table = ParseColumnSignal(map, base_dir);
+  }
+  map.Finish();
+  return r;
+}
+
+ControllerConfig ParseController(YamlMap& map, const ControllerConfig& d) {
+  ControllerConfig c;
+  c.T_s = map.Number("T_s", d.T_s, Range::kFinitePositive);
+  c.T_track = map.Number("T_track", d.T_track, Range::kFinitePositive);
+  c.G_ff = map.Number("G_ff", d.G_ff);
+  c.G_p = map.Number("G_p", d.G_p);
+  c.G_i = map.Number("G_i", d.G_i);
+  c.G_v = map.Number("G_v", d.G_v);
+  c.alpha = map.Number("alpha", d.alpha, Range::kNonNegative);
+  if (c.alpha > 1.0) {
+    ThrowConfigError(map.file(), map.Optional("alpha"), map.KeyPath("alpha"),
+                     "a number in [0, 1]", NumberText(c.alpha));
+  }
+  c.U_max = map.Number("U_max", d.U_max, Range::kPositive);
+  c.delay_samples = static_cast<int>(
+      map.Integer("delay_samples", d.delay_samples, 0, 1000));
+  c.counts_per_rev = map.Number("counts_per_rev", d.counts_per_rev,
+                                Range::kNonNegative);
+  c.load_quantum = map.Number("load_quantum", d.load_quantum,
+                              Range::kNonNegative);
+  map.Finish();
+  return c;
+}
+
+}  // namespace axis

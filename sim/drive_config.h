@@ -1,0 +1,60 @@
+// The loaders of what drives an experiment (configs/README.md): input
+// signals (step, ramp, sine, chirp, PRBS, tables, data columns), controller
+// references (trapezoid, minimum-jerk, a column) and the sampled position
+// controller's settings (MODEL.md §5). Strict: unknown keys, wrong types and
+// out-of-range values are std::invalid_argument naming file, line and key
+// (io/yaml_util.h).
+#ifndef SIM_DRIVE_CONFIG_H_
+#define SIM_DRIVE_CONFIG_H_
+
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "io/data_table.h"
+#include "io/yaml_util.h"
+#include "sim/controller.h"
+#include "sim/input_signal.h"
+
+namespace axis {
+
+// An input signal from a mapping with `type:` step | ramp | sine | chirp |
+// prbs | table | column (see configs/README.md); `duration` bounds the PRBS.
+// Data files are resolved against `base_dir`.
+InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
+                             double duration);
+
+// MakeCubic(s) (sim/input_signal.h) for the mapping `map` that set
+// `interpolation: cubic`; its error becomes a config error naming the file,
+// line and key.
+void MakeCubicOrThrow(YamlMap& map, InputSignal* s);
+
+// Throws the config error "<file>:<line>: key '<key>': expected a column of
+// <data file> (<its columns>), got '<column>'" unless `table` has `column`
+// (for a MAT file "expected a variable of <file> that is a real numeric
+// vector of N finite values ... (<its columns>), got 'kp' (a 1x1 double)",
+// DataTable::ColumnExpectation and DescribeName); `node` locates the line.
+void RequireColumn(const YamlMap& map, const YAML::Node& node,
+                   const std::string& key, const DataTable& table,
+                   const std::string& column);
+
+// A column of a data file (keys file, time, column, scale, offset,
+// interpolation; a CSV or, named *.mat, a MAT file: ReadDataTable) as a
+// table signal; does not call Finish(). Throws std::invalid_argument naming
+// the key if a column does not exist, and the errors of ReadCsv (file, line)
+// or ReadMatFile (file, variable).
+InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir);
+
+// A controller reference (MODEL.md §5): `type: trapezoid` (distance,
+// velocity, acceleration, start, origin), `type: min_jerk` (the same and
+// jerk, optional) or `type: column` (the keys of
+// ParseColumnSignal). Calls Finish(). Throws std::invalid_argument.
+Reference ParseReference(YamlMap& map, const std::string& base_dir,
+                         double origin);
+
+// The controller settings of MODEL.md §5, starting from `defaults`.
+ControllerConfig ParseController(YamlMap& map, const ControllerConfig& defaults);
+
+}  // namespace axis
+
+#endif  // SIM_DRIVE_CONFIG_H_
