@@ -10,9 +10,9 @@
 #include "discovery/discovery.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/discovery_settings.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "discovery/discovery_settings.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "run/job_run.h"
 #include "tune/analog_loop_tuning.h"
 #include "tune/move_tuning.h"
@@ -22,12 +22,12 @@ namespace {
 void BM_PaperJob(benchmark::State& state) {
   axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +
                                       "/configs/jobs/x_axis_paper.yaml");
-  job.solver.progress = false;
-  job.solver.starts = 0;
-  job.validate.clear();  // the benchmark times the fit itself
+  job.problem.solver.progress = false;
+  job.problem.solver.starts = 0;
+  job.problem.validate.clear();  // the benchmark times the fit itself
   axis::FitResult result;
   for (auto _ : state) {
-    result = axis::FitParameters(job);
+    result = axis::FitParameters(job.problem);
     benchmark::DoNotOptimize(result);
   }
   state.counters["simulations"] = result.simulations;
@@ -47,13 +47,13 @@ namespace {
 void BM_PaperJobWithDiscovery(benchmark::State& state) {
   axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +
                                       "/configs/jobs/x_axis_paper.yaml");
-  job.solver.progress = false;
-  job.validate.clear();
+  job.problem.solver.progress = false;
+  job.problem.validate.clear();
   axis::DiscoveryReport report;
   for (auto _ : state) {
     axis::FitJob j = job;
-    axis::FitResult result = axis::FitParameters(j);
-    report = axis::Discover(axis::DiscoverySettings{}, &j,
+    axis::FitResult result = axis::FitParameters(j.problem);
+    report = axis::Discover(axis::DiscoverySettings{}, &j.problem,
                             &result, nullptr);
     benchmark::DoNotOptimize(report);
   }
@@ -69,13 +69,13 @@ BENCHMARK(BM_PaperJobWithDiscovery)->Unit(benchmark::kMillisecond)->Iterations(2
 // discovery case of tests/discovery_test.cc). RunDiscover fits `job` and
 // runs the loop on it, once per iteration.
 void RunDiscover(benchmark::State& state, axis::FitJob job) {
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   job.discover.enabled = true;
   axis::DiscoveryReport report;
   for (auto _ : state) {
     axis::FitJob j = job;
-    axis::FitResult result = axis::FitParameters(j);
-    report = axis::Discover(j.discover, &j, &result, nullptr);
+    axis::FitResult result = axis::FitParameters(j.problem);
+    report = axis::Discover(j.discover, &j.problem, &result, nullptr);
     benchmark::DoNotOptimize(report);
   }
   state.counters["effects_added"] = report.selected.size();
@@ -89,8 +89,8 @@ void BM_Discover(benchmark::State& state, const char* job_file) {
 // quasi-steady loop at 50 µs: sim/axis_params.h CurrentLoop).
 void BM_DiscoverFullLoop(benchmark::State& state, const char* job_file) {
   axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) + job_file);
-  job.model.structure.current_loop = axis::CurrentLoop::kFull;
-  for (std::vector<axis::FitExperiment>* list : {&job.experiments, &job.validate}) {
+  job.problem.model.structure.current_loop = axis::CurrentLoop::kFull;
+  for (std::vector<axis::FitExperiment>* list : {&job.problem.experiments, &job.problem.validate}) {
     for (axis::FitExperiment& e : *list) e.options.step = 1e-5;
   }
   RunDiscover(state, job);
@@ -124,7 +124,7 @@ BENCHMARK_CAPTURE(BM_Discover, emps, "/configs/jobs/emps.yaml")
 //   the force map.
 void BM_Job(benchmark::State& state, const char* job_file, bool discover) {
   axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) + job_file);
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   axis::JobRun run;
   for (auto _ : state) {
     std::ostringstream out;
@@ -158,11 +158,11 @@ BENCHMARK_CAPTURE(BM_Job, friction_patch_discover, "/configs/jobs/discover/frict
 void BM_TuneAnalogLoop(benchmark::State& state) {
   axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +
                                       "/configs/jobs/tune/x_axis_paper.yaml");
-  job.solver.progress = false;
-  const axis::FitResult result = axis::FitParameters(job);
+  job.problem.solver.progress = false;
+  const axis::FitResult result = axis::FitParameters(job.problem);
   axis::AnalogLoopTuning tuning;
   for (auto _ : state) {
-    tuning = axis::TuneAnalogLoop(job, result);
+    tuning = axis::TuneAnalogLoop(job.problem, result, job.tune);
     benchmark::DoNotOptimize(tuning);
   }
   state.counters["simulations"] = tuning.simulations;
@@ -180,12 +180,12 @@ BENCHMARK(BM_TuneAnalogLoop)->Unit(benchmark::kMillisecond)->Iterations(5);
 void BM_TuneMove(benchmark::State& state) {
   axis::FitJob job = axis::LoadFitJob(std::string(PROJECT_SOURCE_DIR) +
                                       "/configs/jobs/tune/x_axis_move.yaml");
-  job.solver.progress = false;
-  const axis::FitResult result = axis::FitParameters(job);
-  const axis::AnalogLoopTuning analog = axis::TuneAnalogLoop(job, result);
+  job.problem.solver.progress = false;
+  const axis::FitResult result = axis::FitParameters(job.problem);
+  const axis::AnalogLoopTuning analog = axis::TuneAnalogLoop(job.problem, result, job.tune);
   axis::MoveTuning tuning;
   for (auto _ : state) {
-    tuning = axis::TuneMove(job, result, &analog);
+    tuning = axis::TuneMove(job.problem, result, job.tune, &analog);
     benchmark::DoNotOptimize(tuning);
   }
   state.counters["simulations"] = tuning.simulations;

@@ -19,8 +19,8 @@
 #include "estimation/experiment_cost.h"
 #include "estimation/fit_result.h"
 #include "estimation/stacked_jacobian.h"
-#include "job/design_settings.h"
-#include "job/fit_job.h"
+#include "design/design_settings.h"
+#include "estimation/estimation_problem.h"
 #include "sim/channels.h"
 #include "sim/config.h"
 #include "io/csv.h"
@@ -188,7 +188,7 @@ std::vector<DesignCandidate> ClosedLoopFamily(const DesignSettings& d, double pe
 // The proposed record as a fitted experiment of `job` (channels, σ, step,
 // output period of its first experiment), from rest at x0; its measured
 // values are zeros (only Jacobians are taken from it).
-FitExperiment ProposedExperiment(const FitJob& job, const InputSignal& input, double duration,
+FitExperiment ProposedExperiment(const EstimationProblem& job, const InputSignal& input, double duration,
                                  double x0) {
   const FitExperiment& ref = job.experiments.front();
   FitExperiment e;
@@ -249,7 +249,7 @@ Eigen::MatrixXd Stack(const Eigen::MatrixXd& top, const Eigen::MatrixXd& bottom)
 }
 
 // Relative standard errors s·sqrt(diag (JᵀJ)⁻¹) in value units over |value|.
-std::vector<double> RelativeErrors(const FitJob& job, const Eigen::MatrixXd& j, double s2) {
+std::vector<double> RelativeErrors(const EstimationProblem& job, const Eigen::MatrixXd& j, double s2) {
   const ParameterMap map(job.model.params, job.free);
   const Eigen::MatrixXd info = j.transpose() * j;
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(info, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -312,14 +312,16 @@ std::string InputYaml(const DesignCandidate& c) {
 }
 
 // The search of ProposeExperiment as a sequence of named steps, its state in
-// members (as estimation/fitter.h): the job at the estimates, the records'
+// members (as estimation/internal/fitter.h): the job at the estimates, the records'
 // Jacobians, the pair to decide (else the parameters known too poorly), the
 // criterion's columns, then every input of the family scored.
 class ExperimentDesigner {
  public:
   // `job_in`, `result` and `progress` (may be null) must outlive it.
-  ExperimentDesigner(const FitJob& job_in, const FitResult& result, std::ostream* progress)
-      : job_in_(job_in), result_(result), progress_(progress), d_(job_in.design) {}
+  ExperimentDesigner(const EstimationProblem& job_in, const FitResult& result,
+                     const DesignSettings& design, const DiscoverySettings& discover,
+                     std::ostream* progress)
+      : job_in_(job_in), result_(result), progress_(progress), d_(design), discover_(discover) {}
   ExperimentDesigner(const ExperimentDesigner&) = delete;
   ExperimentDesigner& operator=(const ExperimentDesigner&) = delete;
 
@@ -339,13 +341,14 @@ class ExperimentDesigner {
   const Candidate& Named(const std::string& name) const;
   ExperimentProposal Done();  // the wall time; the proposal
 
-  const FitJob& job_in_;
+  const EstimationProblem& job_in_;
   const FitResult& result_;
   std::ostream* progress_;
   const DesignSettings& d_;
+  const DiscoverySettings& discover_;
   Clock::time_point start_;
   ExperimentProposal p_;
-  FitJob job_;       // at the estimates
+  EstimationProblem job_;       // at the estimates
   double s2_ = 0.0;  // the residual variance (at least 1e-300)
 
   Eigen::VectorXd r_;
@@ -363,7 +366,7 @@ class ExperimentDesigner {
   Candidate ca_, cb_;
   Eigen::MatrixXd ja_old_, jb_old_;
   Eigen::VectorXd beta_a_, beta_b_;  // the score steps (T)
-  FitJob job_a_, job_b_;             // the current model plus a, plus b (T)
+  EstimationProblem job_a_, job_b_;             // the current model plus a, plus b (T)
 
   std::vector<DesignCandidate> family_;
   size_t best_ = 0;  // family_.size() while none is feasible
@@ -407,10 +410,10 @@ void ExperimentDesigner::RecordJacobians() {
 // What to decide: a pair the data cannot tell apart, else a parameter known
 // too poorly.
 void ExperimentDesigner::FindPair() {
-  candidates_ = ListCandidates(job_, job_.discover.candidates);
-  ranking_ = RankCandidates(job_, candidates_, job_.discover.alpha);
-  level_ = job_.discover.alpha / std::max<size_t>(1, candidates_.size());
-  // The pair the loop stops on (discovery/discovery_loop.cc DiscoveryLoop): the most
+  candidates_ = ListCandidates(job_, discover_.candidates);
+  ranking_ = RankCandidates(job_, candidates_, discover_.alpha);
+  level_ = discover_.alpha / std::max<size_t>(1, candidates_.size());
+  // The pair the loop stops on (discovery/internal/discovery_loop.cc DiscoveryLoop): the most
   // significant candidate with an indistinguishable twin of at most its
   // size, and that twin; not front-end terms of one channel, which the loop
   // refits together (SameChannelFrontEnd).
@@ -516,7 +519,7 @@ void ExperimentDesigner::ScoreCandidate(size_t k) {
   }
   c.feasible = finite && c.x_min >= d_.travel_low && c.x_max <= d_.travel_high;
   if (!c.feasible) return;
-  FitJob proposed = job_;
+  EstimationProblem proposed = job_;
   proposed.experiments = {e};
   Eigen::VectorXd re;
   Eigen::MatrixXd je;
@@ -558,9 +561,10 @@ ExperimentProposal ExperimentDesigner::Done() {
 
 }  // namespace
 
-ExperimentProposal ProposeExperiment(const FitJob& job_in, const FitResult& result,
-                                     std::ostream* progress) {
-  return ExperimentDesigner(job_in, result, progress).Run();
+ExperimentProposal ProposeExperiment(const EstimationProblem& job_in, const FitResult& result,
+                                     const DesignSettings& design,
+                                     const DiscoverySettings& discover, std::ostream* progress) {
+  return ExperimentDesigner(job_in, result, design, discover, progress).Run();
 }
 
 std::string FormatProposal(const ExperimentProposal& p) {
@@ -645,13 +649,13 @@ nlohmann::json ProposalToJson(const ExperimentProposal& p) {
   return j;
 }
 
-void WriteProposal(const std::string& dir, const FitJob& job_in, const FitResult& result,
-                   const ExperimentProposal& p) {
+void WriteProposal(const std::string& dir, const EstimationProblem& job_in, const std::string& title,
+                   const FitResult& result, const ExperimentProposal& p) {
   if (!p.proposed) return;
-  FitJob job = AtEstimate(job_in, result);
+  EstimationProblem job = AtEstimate(job_in, result);
   AxisConfig model = job.model;
   model.name = job.model.name + "_fitted";
-  model.source = "fit-params on " + job.title + " (the estimates the design was made at)";
+  model.source = "fit-params on " + title + " (the estimates the design was made at)";
   const FitExperiment& ref = job.experiments.front();
   const bool closed_loop = ref.drive.closed_loop;
   if (closed_loop) {

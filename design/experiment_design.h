@@ -43,7 +43,9 @@
 #include <nlohmann/json.hpp>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "design/design_settings.h"
+#include "discovery/discovery_settings.h"
+#include "estimation/estimation_problem.h"
 #include "sim/input_signal.h"
 
 namespace axis {
@@ -91,18 +93,19 @@ struct ExperimentProposal {
 };
 
 // Proposes the next experiment for `job` at the estimates of `result` (the
-// final model of the loop). T-optimal for the pair the loop would stop on
-// (its most significant candidate with a twin) in a fresh score ranking at
-// the final model (ListCandidates with
-// job.discover.candidates, RankCandidates at job.discover.alpha) in which
-// one member is significant; else D-optimal if a free parameter's relative
-// standard error exceeds job.design.rel_se > 0; else nothing (reason says
-// why). Needs job.design.enabled; the fitted channels and σ of the proposal
-// are those of job.experiments[0], its step and output period too, and in
-// closed loop its controller. Throws std::invalid_argument if the job has
-// no fitted experiment; std::runtime_error if the simulation at the
-// estimates fails.
-ExperimentProposal ProposeExperiment(const FitJob& job, const FitResult& result,
+// final model of the loop), within `design`. T-optimal for the pair the
+// loop would stop on (its most significant candidate with a twin) in a
+// fresh score ranking at the final model (ListCandidates with
+// discover.candidates, RankCandidates at discover.alpha) in which one
+// member is significant; else D-optimal if a free parameter's relative
+// standard error exceeds design.rel_se > 0; else nothing (reason says
+// why). The fitted channels and σ of the proposal are those of
+// job.experiments[0], its step and output period too, and in closed loop
+// its controller. Throws std::invalid_argument if the job has no fitted
+// experiment; std::runtime_error if the simulation at the estimates fails.
+ExperimentProposal ProposeExperiment(const EstimationProblem& job, const FitResult& result,
+                                     const DesignSettings& design,
+                                     const DiscoverySettings& discover,
                                      std::ostream* progress = nullptr);
 
 // The proposal as text (params.md section "Next experiment") and as JSON
@@ -121,10 +124,10 @@ nlohmann::json ProposalToJson(const ExperimentProposal& proposal);
 // the reference position, which the experiment file reads as a column),
 // each atomically (RunJob's writer stages the
 // folder, so a failure leaves none of them).
-// Nothing is written unless proposal.proposed. Throws std::runtime_error
-// if a file cannot be written.
-void WriteProposal(const std::string& dir, const FitJob& job, const FitResult& result,
-                   const ExperimentProposal& proposal);
+// `title` names the job in the model's source. Nothing is written unless
+// proposal.proposed. Throws std::runtime_error if a file cannot be written.
+void WriteProposal(const std::string& dir, const EstimationProblem& job, const std::string& title,
+                   const FitResult& result, const ExperimentProposal& proposal);
 
 }  // namespace axis
 

@@ -7,7 +7,7 @@
 namespace axis {
 
 std::optional<DiscoveryStep> AdoptAccelerometerConvention(const SamplingCheck& check,
-                                                          FitJob* job, FitResult* result) {
+                                                          EstimationProblem* job, FitResult* result) {
   if (check.note.empty() || !std::isfinite(check.refit.final_cost) ||
       !(check.refit.bic < result->bic)) {
     return std::nullopt;

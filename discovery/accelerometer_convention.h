@@ -17,7 +17,7 @@
 #include "discovery/discovery_report.h"
 #include "estimation/fit_result.h"
 #include "estimation/sampling_check.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -30,7 +30,7 @@ namespace axis {
 // that much; the channels' RMS before and after). Else changes nothing and
 // returns nullopt. Never throws (except std::bad_alloc).
 std::optional<DiscoveryStep> AdoptAccelerometerConvention(const SamplingCheck& check,
-                                                          FitJob* job, FitResult* result);
+                                                          EstimationProblem* job, FitResult* result);
 
 // Whether `name` is the step AdoptAccelerometerConvention returns
 // ("accelerometer.…"), which has no parameter of its own. Never throws.

@@ -6,10 +6,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "discovery/find_estimate.h"
-#include "discovery/score_test.h"
+#include "discovery/internal/find_estimate.h"
+#include "discovery/score.h"
 #include "estimation/experiment_cost.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "sim/config.h"
 
 namespace axis {
@@ -68,7 +68,7 @@ AxisStructure WithEffect(AxisStructure s, const Candidate& c, bool on = true) {
 }  // namespace
 
 // The candidate's Jacobian columns (m × k), stacked like StackedJacobian.
-Eigen::MatrixXd CandidateColumns(const FitJob& job, const Candidate& c, int m) {
+Eigen::MatrixXd CandidateColumns(const EstimationProblem& job, const Candidate& c, int m) {
   Eigen::MatrixXd out(m, c.columns.size());
   const AxisStructure structure = WithEffect(job.model.structure, c);
   for (size_t col = 0; col < c.columns.size(); ++col) {
@@ -147,7 +147,7 @@ std::string StartLabel(const Candidate& c, size_t start) {
 
 // Switches candidate `c` on in `job` and frees its parameters, starting from
 // the score step; `start` < StartsOf(c) picks the start.
-void AddEffect(const Candidate& c, const Score& s, size_t start, FitJob* job) {
+void AddEffect(const Candidate& c, const Score& s, size_t start, EstimationProblem* job) {
   job->model.structure = WithEffect(job->model.structure, c);
   AxisParams<double>& p = job->model.params;
   std::vector<FreeParameter> added;
@@ -221,7 +221,7 @@ SearchSides SearchBoundSides(const FreeParameter& f) {
 
 // Switches candidate `c` off in `job` and fixes its parameters `params`.
 void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
-                  FitJob* job) {
+                  EstimationProblem* job) {
   job->model.structure = WithEffect(job->model.structure, c, false);
   std::vector<FreeParameter> kept;
   for (const FreeParameter& f : job->free) {
@@ -264,7 +264,7 @@ std::vector<std::string> EffectParameters(const Candidate& c) {
 }
 
 bool WidenSearchBounds(const FitResult& fit, const std::vector<std::string>& names,
-                       FitJob* job) {
+                       EstimationProblem* job) {
   bool widened = false;
   for (FreeParameter& f : job->free) {
     if (std::find(names.begin(), names.end(), f.name) == names.end()) continue;
@@ -287,14 +287,14 @@ std::vector<std::string> FreedParameters(const std::string& effect) {
   return EffectParameters(CandidateNamed(effect));
 }
 
-FitJob JobWithout(const FitJob& job, const std::string& effect) {
+EstimationProblem JobWithout(const EstimationProblem& job, const std::string& effect) {
   const Candidate c = CandidateNamed(effect);
-  FitJob out = job;
+  EstimationProblem out = job;
   RemoveEffect(c, EffectParameters(c), &out);
   return out;
 }
 
-std::vector<Candidate> ListCandidates(const FitJob& job,
+std::vector<Candidate> ListCandidates(const EstimationProblem& job,
                                       const std::vector<std::string>& only) {
   std::vector<Candidate> all;
   const bool has_motor = job.model.structure.amplifier != Amplifier::kForceSource;

@@ -13,13 +13,13 @@
 #include <Eigen/Core>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "sim/channels.h"
 #include "sim/force_map.h"
 
 namespace axis {
 
-struct Score;  // discovery/score_test.h
+struct Score;  // discovery/score.h
 
 // One Jacobian column of a candidate: the derivative of the residual with
 // respect to `param` at its current (off) value, with `settings` applied to
@@ -49,7 +49,7 @@ struct Candidate {
 // names (effect names, or "sensor_delay.a" style); throws
 // std::invalid_argument "expected an effect of MODEL.md section 7 (…), got
 // 'x'" for an unknown name.
-std::vector<Candidate> ListCandidates(const FitJob& job,
+std::vector<Candidate> ListCandidates(const EstimationProblem& job,
                                       const std::vector<std::string>& only = {});
 
 // The parameters the loop frees when it adds `effect` (a Candidate::name,
@@ -61,21 +61,21 @@ std::vector<std::string> FreedParameters(const std::string& effect);
 // `job` with `effect` (a Candidate::name, e.g. "coulomb", "sensor_delay.a")
 // switched off and the parameters the loop frees for it fixed. Throws
 // std::invalid_argument for a name that is not an effect.
-FitJob JobWithout(const FitJob& job, const std::string& effect);
+EstimationProblem JobWithout(const EstimationProblem& job, const std::string& effect);
 
 // The candidate's Jacobian columns (m × number of columns) at the job's
 // model values, stacked like StackedJacobian (m its number of rows): the
 // derivative of the σ-weighted residuals with respect to each column's
 // parameter in its own unit, the effect switched on at the column's
 // settings. A column whose simulation fails is zero. Never throws.
-Eigen::MatrixXd CandidateColumns(const FitJob& job, const Candidate& c, int m);
+Eigen::MatrixXd CandidateColumns(const EstimationProblem& job, const Candidate& c, int m);
 
 // Switches candidate `c` on in `job` and frees its parameters, starting from
 // the score step of `s`; `start` < the number of starts of `c` (Stribeck:
 // one per v_st of its grid; 1 for the others) picks the start.
-void AddEffect(const Candidate& c, const Score& s, size_t start, FitJob* job);
+void AddEffect(const Candidate& c, const Score& s, size_t start, EstimationProblem* job);
 
-// ---- used by the loop's refits (discovery/discovery_loop.h,
+// ---- used by the loop's refits (discovery/internal/discovery_loop.h,
 // discovery/removal.h)
 
 // How many starts the refit of candidate `c` takes (AddEffect's `start`):
@@ -104,7 +104,7 @@ std::vector<std::string> EffectParameters(const Candidate& c);
 // Switches candidate `c` off in `job` and fixes its parameters `params`.
 // Never throws.
 void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
-                  FitJob* job);
+                  EstimationProblem* job);
 
 // Widens 100-fold each side of the search interval AddEffect gave the
 // parameters `names` of `job` on which `fit` ended (within 1e-6 of the
@@ -112,7 +112,7 @@ void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
 // search interval around the score step, not a physical bound, are
 // widened. Never throws.
 bool WidenSearchBounds(const FitResult& fit, const std::vector<std::string>& names,
-                       FitJob* job);
+                       EstimationProblem* job);
 
 }  // namespace axis
 

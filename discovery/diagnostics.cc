@@ -11,7 +11,7 @@
 #include "common/statistics.h"
 #include "estimation/evaluate_experiment.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "io/csv.h"
 
 namespace axis {
@@ -87,7 +87,7 @@ std::string SignificantRanges(const BinnedResidual& b, double threshold) {
 
 }  // namespace
 
-std::vector<ChannelDiagnostics> DiagnoseResiduals(const FitJob& job) {
+std::vector<ChannelDiagnostics> DiagnoseResiduals(const EstimationProblem& job) {
   std::vector<ChannelDiagnostics> out;
   for (const FitExperiment& e : job.experiments) {
     const ExperimentFit fit = EvaluateExperiment(job.model.structure, job.model.params, e);

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -49,7 +49,7 @@ struct ChannelDiagnostics {
 // Diagnoses the fitted channels of every fitted experiment of `job` at the
 // job's current parameter values (job.model.params). Throws
 // std::runtime_error if a simulation fails.
-std::vector<ChannelDiagnostics> DiagnoseResiduals(const FitJob& job);
+std::vector<ChannelDiagnostics> DiagnoseResiduals(const EstimationProblem& job);
 
 // A table: per experiment and channel, Ljung–Box p, cross-correlation peak
 // and lag, and per variable the χ² p-value and the largest |bin mean|.

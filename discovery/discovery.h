@@ -11,7 +11,7 @@
 // test (discovery/score_test.h), the significance and plausibility of an
 // effect (discovery/significance.h), the removal of an effect
 // (discovery/removal.h), the report (discovery/discovery_report.h), the
-// loop's steps (discovery/discovery_loop.h).
+// loop's steps (discovery/internal/discovery_loop.h).
 #ifndef DISCOVERY_DISCOVERY_H_
 #define DISCOVERY_DISCOVERY_H_
 
@@ -19,8 +19,8 @@
 
 #include "discovery/discovery_report.h"
 #include "estimation/fit_result.h"
-#include "job/discovery_settings.h"
-#include "job/fit_job.h"
+#include "discovery/discovery_settings.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -38,7 +38,7 @@ namespace axis {
 // (DiscoveryStep::stopped); when several candidates are refitted at once
 // (s² far above 1), a screen of their first four horizons orders them, and
 // the lowest there runs first and alone to set that level.
-DiscoveryReport Discover(const DiscoverySettings& settings, FitJob* job,
+DiscoveryReport Discover(const DiscoverySettings& settings, EstimationProblem* job,
                          FitResult* result, std::ostream* progress);
 
 }  // namespace axis

@@ -7,8 +7,8 @@
 #include "common/format.h"
 #include "common/gnuplot.h"
 #include "discovery/channel_changes.h"
-#include "discovery/force_map_step.h"
-#include "discovery/force_map_text.h"
+#include "discovery/internal/force_map_step.h"
+#include "discovery/internal/force_map_text.h"
 #include "io/csv.h"
 
 namespace axis {
@@ -19,7 +19,7 @@ std::string Number(double x, int digits = 4) { return FormatNumber(x, digits); }
 }  // namespace
 
 ForceMapReport AddForceMap(const DiscoverySettings& settings, const DiscoveryReport& loop,
-                           FitJob* job, FitResult* result, std::ostream* progress) {
+                           EstimationProblem* job, FitResult* result, std::ostream* progress) {
   ForceMapStep step(settings, loop, job, result, progress);
   return step.Run();
 }

@@ -12,7 +12,7 @@
 #include "common/statistics.h"
 #include "discovery/accelerometer_convention.h"
 #include "discovery/channel_changes.h"
-#include "discovery/screen.h"
+#include "discovery/internal/screen.h"
 #include "discovery/significance.h"
 #include "estimation/at_estimate.h"
 #include "estimation/fit.h"
@@ -32,8 +32,8 @@ double SecondsSince(Clock::time_point start) {
 
 std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
                                                  const std::vector<std::string>& params,
-                                                 FitJob* job, const FitResult& result,
-                                                 FitJob* without) {
+                                                 EstimationProblem* job, const FitResult& result,
+                                                 EstimationProblem* without) {
   ApplyEstimates(result, job);
   *without = *job;
   RemoveEffect(c, params, without);
@@ -61,7 +61,7 @@ std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
   return {record, refit};
 }
 
-void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, FitJob* job,
+void DropEffect(const std::string& name, EstimationProblem&& without, FitResult&& refit, EstimationProblem* job,
                 FitResult* result, DiscoveryReport* report) {
   report->removed.push_back(name);
   report->selected.erase(std::find(report->selected.begin(), report->selected.end(), name));
@@ -69,7 +69,7 @@ void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, Fi
   *result = std::move(refit);
 }
 
-void DropInsignificant(double level, FitJob* job, FitResult* result,
+void DropInsignificant(double level, EstimationProblem* job, FitResult* result,
                        DiscoveryReport* report, std::ostream* progress) {
   if (!(level > 0.0)) {
     throw std::invalid_argument("DropInsignificant: expected a level > 0, got " +
@@ -90,7 +90,7 @@ void DropInsignificant(double level, FitJob* job, FitResult* result,
                          " (not significant)",
                      std::numeric_limits<double>::quiet_NaN());
     }
-    FitJob without;
+    EstimationProblem without;
     auto [record, refit] =
         RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);
     // The likelihood ratio of the same refit must agree: a Wald test is not

@@ -13,7 +13,7 @@
 #include "discovery/candidates.h"
 #include "discovery/discovery_report.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -26,13 +26,13 @@ namespace axis {
 // Throws as FitParameters does.
 std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
                                                  const std::vector<std::string>& params,
-                                                 FitJob* job, const FitResult& result,
-                                                 FitJob* without);
+                                                 EstimationProblem* job, const FitResult& result,
+                                                 EstimationProblem* without);
 
 // Drops `name` (which must be in report->selected) from the selected
 // effects (to report->removed) and adopts the model without it (`without`,
 // fitted as `refit`) as `job` and `result`.
-void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, FitJob* job,
+void DropEffect(const std::string& name, EstimationProblem&& without, FitResult&& refit, EstimationProblem* job,
                 FitResult* result, DiscoveryReport* report);
 
 // The stand-in rule of Discover (issue 10), on its own: each effect of
@@ -51,7 +51,7 @@ void DropEffect(const std::string& name, FitJob&& without, FitResult&& refit, Fi
 // report->significance (the effects left); a level above 1 keeps every
 // effect. Throws std::invalid_argument for a level ≤ 0 or an unknown effect
 // name.
-void DropInsignificant(double level, FitJob* job, FitResult* result,
+void DropInsignificant(double level, EstimationProblem* job, FitResult* result,
                        DiscoveryReport* report, std::ostream* progress);
 
 }  // namespace axis

@@ -18,7 +18,7 @@ Eigen::MatrixXd Basis(const Eigen::MatrixXd& a) {
   return q;
 }
 
-Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates,
+Ranking RankCandidates(const EstimationProblem& job, const std::vector<Candidate>& candidates,
                        double alpha) {
   Eigen::VectorXd r;
   Eigen::MatrixXd jf;

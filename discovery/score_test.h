@@ -14,24 +14,10 @@
 #include <Eigen/Core>
 
 #include "discovery/candidates.h"
-#include "job/fit_job.h"
+#include "discovery/score.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
-
-// Score test of one candidate at the current fit.
-struct Score {
-  std::string name;
-  double chi2 = 0.0;   // rᵀJ⊥(J⊥ᵀJ⊥)⁻¹J⊥ᵀr / s², s² the residual variance
-  int dof = 0;         // number of columns
-  double p_value = 1.0;
-  double log_p_value = 0.0;  // natural log; finite where p_value is 0
-  std::vector<double> step;  // Gauss–Newton step of the columns' parameters
-  // The step of each column alone (−gₖ/Iₖₖ: the others held at zero), a
-  // start for a refit from one column's shape (Stribeck: one per v_st of
-  // the grid, where the joint step of nearly parallel columns can be far
-  // larger than any of them).
-  std::vector<double> single_step;
-};
 
 // Two candidates whose projected columns are nearly parallel (largest
 // canonical cosine > 0.95). The residual may still prefer one: the
@@ -60,7 +46,7 @@ struct Ranking {
 // Pairs are checked for indistinguishability when one of them is
 // significant at `alpha` / number of candidates. Throws std::runtime_error
 // if a simulation at the current point fails.
-Ranking RankCandidates(const FitJob& job, const std::vector<Candidate>& candidates,
+Ranking RankCandidates(const EstimationProblem& job, const std::vector<Candidate>& candidates,
                        double alpha = 1e-3);
 
 // Orthonormal basis (m × rank) of the columns of `a` (Eigen's

@@ -8,7 +8,7 @@
 
 #include "common/statistics.h"
 #include "discovery/candidates.h"
-#include "discovery/find_estimate.h"
+#include "discovery/internal/find_estimate.h"
 
 namespace axis {
 
@@ -60,7 +60,7 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
 }
 
 std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
-                             const FitJob& job) {
+                             const EstimationProblem& job) {
   const auto value = [&](const std::string& name) {
     const ParameterEstimate* e = FindEstimate(fit, name);
     return e ? e->value : std::numeric_limits<double>::quiet_NaN();

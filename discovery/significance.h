@@ -6,7 +6,7 @@
 #include <string>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -38,7 +38,7 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit);
 // at any length, sub-sample included — are physical at any value within
 // their bounds. `job` is not read (kept for rules that need the record).
 std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
-                             const FitJob& job);
+                             const EstimationProblem& job);
 
 }  // namespace axis
 

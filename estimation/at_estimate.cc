@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -14,7 +14,7 @@ void SetArmState(const std::array<double, 2>& y, double r_g, FitExperiment* e) {
   e->initial_state[3] = y[1] / r_g;
 }
 
-void ApplyEstimates(const FitResult& result, FitJob* job) {
+void ApplyEstimates(const FitResult& result, EstimationProblem* job) {
   for (FreeParameter& f : job->free) {
     for (const ParameterEstimate& e : result.parameters) {
       if (e.free && e.name == f.name) {
@@ -30,8 +30,8 @@ void ApplyEstimates(const FitResult& result, FitJob* job) {
   }
 }
 
-FitJob AtEstimate(const FitJob& job, const FitResult& result) {
-  FitJob out = job;
+EstimationProblem AtEstimate(const EstimationProblem& job, const FitResult& result) {
+  EstimationProblem out = job;
   ApplyEstimates(result, &out);
   return out;
 }

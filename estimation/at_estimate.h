@@ -7,7 +7,7 @@
 #include <array>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -22,11 +22,11 @@ void SetArmState(const std::array<double, 2>& y, double r_g, FitExperiment* e);
 // initial states (FitResult::initial_states) into its experiments with
 // `initial_state: estimate`: the model at the estimate, for the score test
 // and the diagnostics, and the warm start of the next fit. Never throws.
-void ApplyEstimates(const FitResult& result, FitJob* job);
+void ApplyEstimates(const FitResult& result, EstimationProblem* job);
 
 // A copy of `job` with ApplyEstimates(result) applied: the model at the
 // estimate (for its residual diagnostics, or warm refits). Never throws.
-FitJob AtEstimate(const FitJob& job, const FitResult& result);
+EstimationProblem AtEstimate(const EstimationProblem& job, const FitResult& result);
 
 }  // namespace axis
 

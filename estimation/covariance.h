@@ -1,7 +1,7 @@
 // The covariance of a fit's estimate: (JᵀJ)⁻¹ of θ by ceres::Covariance
 // (DENSE_SVD), the pseudo-inverse when JᵀJ is rank deficient, and the free
 // parameters in the Jacobian's numerical null space (not determined by the
-// data). Scaled to physical units and by s² in estimation/fitter.cc.
+// data). Scaled to physical units and by s² in estimation/internal/fitter.cc.
 #ifndef ESTIMATION_COVARIANCE_H_
 #define ESTIMATION_COVARIANCE_H_
 

@@ -13,14 +13,14 @@
 #include "estimation/evaluate_experiment.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "sim/channels.h"
 #include "sim/preflight.h"
 
 namespace axis {
 
-FitJob WithFullLoop(const FitJob& job, double* step) {
-  FitJob full = job;
+EstimationProblem WithFullLoop(const EstimationProblem& job, double* step) {
+  EstimationProblem full = job;
   full.model.structure.current_loop = CurrentLoop::kFull;
   const Rk4StabilityLimit limit = Rk4StabilityLimitOf(full.model.structure, full.model.params);
   const double largest = std::min(kFullLoopStep, kFullLoopStabilityMargin * limit.max_step);
@@ -46,7 +46,7 @@ FitJob WithFullLoop(const FitJob& job, double* step) {
   return full;
 }
 
-CurrentLoopCheck CheckCurrentLoop(const FitJob& job, const FitResult& result) {
+CurrentLoopCheck CheckCurrentLoop(const EstimationProblem& job, const FitResult& result) {
   CurrentLoopCheck check;
   const AxisStructure& s = job.model.structure;
   if (s.amplifier != Amplifier::kAnalogVelocityLoop ||
@@ -61,9 +61,9 @@ CurrentLoopCheck CheckCurrentLoop(const FitJob& job, const FitResult& result) {
   check.shift_in_se.assign(n_free, nan);
   // The quasi-steady job at the estimate, its fitted records replaced by the
   // full loop's noise-free traces there.
-  FitJob refit = AtEstimate(job, result);
+  EstimationProblem refit = AtEstimate(job, result);
   try {
-    const FitJob full = WithFullLoop(refit, &check.full_step);
+    const EstimationProblem full = WithFullLoop(refit, &check.full_step);
     for (size_t i = 0; i < refit.experiments.size(); ++i) {
       FitExperiment& e = refit.experiments[i];
       const ExperimentFit trace =

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -61,7 +61,7 @@ struct CurrentLoopCheck {
 // 19.5 µs on the X axis, so 10 µs at 1 kHz). *step, if not null, receives
 // the smallest step used. Throws std::runtime_error naming the limit if
 // that step would be below kMinFullLoopStep or the limit is not finite.
-FitJob WithFullLoop(const FitJob& job, double* step = nullptr);
+EstimationProblem WithFullLoop(const EstimationProblem& job, double* step = nullptr);
 
 // For a job whose model has an analog_velocity_loop fitted with
 // `current_loop: quasi_steady` (else ran = false, nothing computed):
@@ -76,7 +76,7 @@ FitJob WithFullLoop(const FitJob& job, double* step = nullptr);
 // cannot be integrated (WithFullLoop), its trace leaves the finite
 // numbers, or the refit fails, ran is true, the shifts NaN, measured false
 // and the note says why. Never throws (except std::bad_alloc).
-CurrentLoopCheck CheckCurrentLoop(const FitJob& job, const FitResult& result);
+CurrentLoopCheck CheckCurrentLoop(const EstimationProblem& job, const FitResult& result);
 
 }  // namespace axis
 

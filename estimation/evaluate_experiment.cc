@@ -6,7 +6,7 @@
 
 #include "common/statistics.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "sim/channels.h"
 #include "sim/simulate.h"
 

@@ -5,7 +5,7 @@
 #define ESTIMATION_EVALUATE_EXPERIMENT_H_
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "sim/axis_params.h"
 
 namespace axis {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 namespace {
@@ -43,10 +43,12 @@ ExperimentCost::ExperimentCost(const AxisStructure& structure,
                                const ParameterMap& map,
                                const FitExperiment& experiment,
                                int theta_size, int state_index,
-                               EvaluationCounter* counter)
+                               EvaluationCounter* counter,
+                               const SampleSigmas* sample_sigma)
     : structure_(structure),
       map_(map),
       experiment_(experiment),
+      sample_sigma_(sample_sigma),
       grid_(MakeGrid(experiment.options, experiment.drive)),
       state_index_(state_index),
       theta_size_(theta_size),
@@ -66,10 +68,10 @@ ceres::CostFunction* ExperimentCost::Create(const AxisStructure& structure,
                                             const ParameterMap& map,
                                             const FitExperiment& experiment,
                                             int theta_size, int state_index,
-                                            EvaluationCounter* counter) {
-  auto* functor =
-      new ExperimentCost(structure, map, experiment, theta_size, state_index,
-                         counter);
+                                            EvaluationCounter* counter,
+                                            const SampleSigmas* sample_sigma) {
+  auto* functor = new ExperimentCost(structure, map, experiment, theta_size, state_index,
+                                     counter, sample_sigma);
   // Strides instantiated: each is a full Jet instantiation of the simulator.
   if (theta_size <= 4) return MakeDynamic<4>(functor, theta_size);
   if (theta_size <= 5) return MakeDynamic<5>(functor, theta_size);

@@ -13,7 +13,7 @@
 
 #include <ceres/ceres.h>
 
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "sim/simulate.h"
 
 namespace axis {
@@ -80,6 +80,12 @@ struct EvaluationCounter {
   std::atomic<bool> guard{true};
 };
 
+// Per-sample σ_k of one experiment's fitted channels, in experiment.fitted
+// order: each empty (σ_k = the channel's σ) or one per sample, each ≥ σ
+// (estimation/internal/instant_sample_sigma.h). Set by the fit at its estimate,
+// never by the problem.
+using SampleSigmas = std::vector<std::vector<double>>;
+
 // Cost functor of one experiment (one per experiment; the experiments of a
 // job share the parameter block θ).
 class ExperimentCost {
@@ -92,22 +98,27 @@ class ExperimentCost {
   // (StageInputsCover), the cost copies the drive at creation with its
   // input sampled at the grid's stage times (MakeStageInputs), and later
   // changes to the experiment's drive are not seen. The number of residuals
-  // is Σ over fitted channels of the sample count.
+  // is Σ over fitted channels of the sample count. `sample_sigma`, if not
+  // null, holds the per-sample σ_k the residuals are divided by where it
+  // has one per sample for a channel (read at each evaluation: the fit may
+  // change it between solves); it must outlive the cost.
   static ceres::CostFunction* Create(const AxisStructure& structure,
                                      const ParameterMap& map,
                                      const FitExperiment& experiment,
                                      int theta_size, int state_index,
-                                     EvaluationCounter* counter);
+                                     EvaluationCounter* counter,
+                                     const SampleSigmas* sample_sigma = nullptr);
 
   ExperimentCost(const AxisStructure& structure, const ParameterMap& map,
                  const FitExperiment& experiment, int theta_size,
-                 int state_index, EvaluationCounter* counter);
+                 int state_index, EvaluationCounter* counter,
+                 const SampleSigmas* sample_sigma = nullptr);
   // drive_ may point into the object itself.
   ExperimentCost(const ExperimentCost&) = delete;
   ExperimentCost& operator=(const ExperimentCost&) = delete;
 
   // Residuals (ŷ − y)/σ, channel by channel in experiment.fitted order (σ_k
-  // per sample where FittedChannel::sample_sigma holds them).
+  // per sample where the cost's SampleSigmas hold them).
   // Returns false, so that Ceres rejects the trial step, if the simulation
   // or a residual is not finite, or if a residual's sensitivity to θ exceeds
   // kMaxSensitivity. Residual-only evaluations (T = double) simulate with a
@@ -172,14 +183,19 @@ class ExperimentCost {
     const Trace<T> trace = Simulate(structure_, p, y0, *drive_, experiment_.options, grid_);
     if (!trace.finite) return false;
     size_t r = 0;
-    for (const FittedChannel& f : experiment_.fitted) {
+    for (size_t i = 0; i < experiment_.fitted.size(); ++i) {
+      const FittedChannel& f = experiment_.fitted[i];
       const std::vector<T>& simulated = trace[f.channel];
       const std::vector<double>& measured = experiment_.Measured(f.channel);
       const double inv_sigma = 1.0 / f.sigma;
-      const bool per_sample = f.sample_sigma.size() == measured.size();
+      const std::vector<double>* per_sample =
+          sample_sigma_ != nullptr && i < sample_sigma_->size() &&
+                  (*sample_sigma_)[i].size() == measured.size()
+              ? &(*sample_sigma_)[i]
+              : nullptr;
       for (size_t k = 0; k < measured.size(); ++k) {
         residuals[r] = (simulated[k] - measured[k]) *
-                       (per_sample ? 1.0 / f.sample_sigma[k] : inv_sigma);
+                       (per_sample != nullptr ? 1.0 / (*per_sample)[k] : inv_sigma);
         if (!AllFinite(residuals[r]) ||
             MaxAbsDerivative(residuals[r]) > kMaxSensitivity) {
           return false;
@@ -193,6 +209,7 @@ class ExperimentCost {
   const AxisStructure& structure_;
   const ParameterMap& map_;
   const FitExperiment& experiment_;
+  const SampleSigmas* sample_sigma_;
   SimulationGrid grid_;
   // The drive simulated: experiment_.drive if its stage inputs cover the
   // grid (FitParameters shares one table per experiment with its horizon

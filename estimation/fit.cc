@@ -10,14 +10,14 @@
 #include "common/concurrency.h"
 #include "estimation/fit_control.h"
 #include "estimation/fit_result.h"
-#include "estimation/fitter.h"
+#include "estimation/internal/fitter.h"
 #include "estimation/shared_level.h"
-#include "job/fit_job.h"
-#include "job/solver_settings.h"
+#include "estimation/estimation_problem.h"
+#include "estimation/solver_settings.h"
 
 namespace axis {
 
-FitResult FitParameters(const FitJob& job, std::ostream* progress, const FitControl& control) {
+FitResult FitParameters(const EstimationProblem& job, std::ostream* progress, const FitControl& control) {
   SharedLevel* publish = control.publish_level.get();
   if (publish == nullptr) return Fitter(job, control, progress).Run();
   // The fits waiting for this level must get one whatever happens here.
@@ -33,7 +33,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress, const FitCont
   }
 }
 
-void AsWarmRefit(FitJob* job) {
+void AsWarmRefit(EstimationProblem* job) {
   job->solver.starts = 0;
   job->solver.auto_starts = 0;
   job->solver.probe_rounds = 0;
@@ -41,7 +41,7 @@ void AsWarmRefit(FitJob* job) {
   job->uncertainty.method = UncertaintySettings::Method::kGaussNewton;
 }
 
-std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int threads,
+std::vector<FitResult> FitConcurrently(const std::vector<EstimationProblem>& jobs, int threads,
                                        std::vector<double>* seconds,
                                        const std::vector<FitControl>& controls) {
   const size_t n = jobs.size();
@@ -58,7 +58,7 @@ std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int thre
   const FitControl none;
   ForEachConcurrently(n, at_once, [&](size_t k) {
     const auto start = std::chrono::steady_clock::now();
-    FitJob job = jobs[k];
+    EstimationProblem job = jobs[k];
     job.solver.threads = inner;
     out[k] = FitParameters(job, nullptr, controls.empty() ? none : controls[k]);
     wall[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,4 +1,4 @@
-// Estimating the free parameters of a job (job/fit_job.h) with Ceres Solver:
+// Estimating the free parameters of a problem (estimation/estimation_problem.h) with Ceres Solver:
 // Levenberg–Marquardt on the σ-weighted output error of all experiments,
 // multi-start, covariance from ceres::Covariance (DENSE_SVD) scaled by the
 // residual variance, and goodness of fit per channel.
@@ -12,11 +12,11 @@
 
 #include "estimation/fit_control.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
-// Fits the job (estimation/fitter.h: the steps in order). Prints one line
+// Fits the job (estimation/internal/fitter.h: the steps in order). Prints one line
 // per iteration to `progress` if non-null and job.solver.progress.
 //
 // Starts: the job's initial point, then job.solver.starts points drawn
@@ -30,18 +30,18 @@ namespace axis {
 // kAutoStartsAbove, random starts are added (FitResult::auto_starts_note):
 // kMisfitProbeStarts first, the rest of solver.auto_starts only unless all
 // of those end at the job's cost (a misfit of the model, not a wrong
-// minimum: estimation/start_agreement.h). With the instant accelerometer
+// minimum: estimation/internal/start_agreement.h). With the instant accelerometer
 // the samples of `a` whose window holds a backlash contact are then
 // weighted by σ_k and the fit re-solved under them
-// (estimation/instant_sample_sigma.h, FitResult::sample_sigma_note; a fit
+// (estimation/internal/instant_sample_sigma.h, FitResult::sample_sigma_note; a fit
 // of the whole record alone starts under the weights at its start). Then
 // the optimum check
 // (solver.probe_rounds; on a cost rough below the standard-error scale
-// lower points count only past χ² = s², estimation/rough_optimum.h), the
+// lower points count only past χ² = s², estimation/internal/rough_optimum.h), the
 // covariance, the local restarts (solver.local_starts) and the intervals
 // (uncertainty.method), any of which restarts the solver at a lower cost it
 // meets. Intervals that are artifacts of roughness are replaced by the
-// covariance at the smooth scale (estimation/smooth_scale.h;
+// covariance at the smooth scale (estimation/internal/smooth_scale.h;
 // ParameterEstimate::interval_method); s² above 2 with structured
 // residuals adds sandwich standard errors (FitResult::misspecification_note).
 //
@@ -66,7 +66,7 @@ namespace axis {
 // checked), for a control.resume that is not a checkpoint of this job, and
 // for a pending_level with solver.starts > 0 or a stop_after_horizon; the
 // solver itself never throws.
-FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr,
+FitResult FitParameters(const EstimationProblem& job, std::ostream* progress = nullptr,
                         const FitControl& control = {});
 
 // Turns `job` into a warm refit: a fit that starts next to its optimum (the
@@ -79,7 +79,7 @@ FitResult FitParameters(const FitJob& job, std::ostream* progress = nullptr,
 // first_horizon: with an effect added at its score step or removed, the
 // start is not near enough (issue 11: on EMPS the whole record at once
 // ended the Stribeck refit in a minimum 100 BIC higher).
-void AsWarmRefit(FitJob* job);
+void AsWarmRefit(EstimationProblem* job);
 
 // Fits jobs[k] (FitParameters, no progress, with controls[k] if `controls`
 // is not empty) for every k, up to `threads`
@@ -95,7 +95,7 @@ void AsWarmRefit(FitJob* job);
 // inconsistent job), after every fit has run (common/concurrency.h
 // ForEachConcurrently); std::invalid_argument at once if `controls` is
 // neither empty nor of jobs' size. threads < 1 counts as 1.
-std::vector<FitResult> FitConcurrently(const std::vector<FitJob>& jobs, int threads,
+std::vector<FitResult> FitConcurrently(const std::vector<EstimationProblem>& jobs, int threads,
                                        std::vector<double>* seconds = nullptr,
                                        const std::vector<FitControl>& controls = {});
 

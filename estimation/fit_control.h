@@ -1,5 +1,5 @@
 // What steers one fit from inside the tool, apart from the user's solver
-// settings (job/solver_settings.h): the discovery loop's early stops, its
+// settings (estimation/solver_settings.h): the discovery loop's early stops, its
 // screen of refits and the resumption after it, and the shared level of
 // competing refits run side by side (the force map's forms). A fit with the
 // default FitControl runs as the job says. Passed to FitParameters
@@ -18,11 +18,11 @@ namespace axis {
 struct FitControl {
   // A refit that can no longer reach a BIC below this is stopped on a
   // shorter horizon (FitResult::abandoned_horizon); +inf never stops. Set
-  // by the discovery loop (discovery/discovery_loop.cc).
+  // by the discovery loop (discovery/internal/discovery_loop.cc).
   double abandon_above_bic = std::numeric_limits<double>::infinity();
   // If > 0, every start stops after the shorter horizon of this length (s)
   // as if it had passed abandon_above_bic there, the result carrying that
-  // horizon and its BIC's lower bound (a screen: discovery/screen.h); 0 fits
+  // horizon and its BIC's lower bound (a screen: discovery/internal/screen.h); 0 fits
   // to the end.
   double stop_after_horizon = 0.0;
   // The shorter horizons this job's screen ran (FitResult::checkpoint of

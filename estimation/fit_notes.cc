@@ -9,13 +9,13 @@
 
 #include "common/format.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "job/solver_settings.h"
+#include "estimation/estimation_problem.h"
+#include "estimation/solver_settings.h"
 #include "sim/controller.h"
 
 namespace axis {
 
-std::string IntegrationNote(const FitJob& job) {
+std::string IntegrationNote(const EstimationProblem& job) {
   std::set<double> steps;
   for (const std::vector<FitExperiment>* list : {&job.experiments, &job.validate}) {
     for (const FitExperiment& e : *list) steps.insert(e.options.step);
@@ -39,7 +39,7 @@ std::string IntegrationNote(const FitJob& job) {
   return out.str();
 }
 
-std::string QuantisedFeedbackStopNote(const FitJob& job,
+std::string QuantisedFeedbackStopNote(const EstimationProblem& job,
                                       const ceres::Solver::Summary& summary) {
   const AxisConfig& model = job.model;
   const ControllerConfig& c = model.controller;
@@ -66,7 +66,7 @@ std::string QuantisedFeedbackStopNote(const FitJob& job,
   return note.str();
 }
 
-std::string QuasiSteadyDelayNote(const FitJob& job, const FitResult& result) {
+std::string QuasiSteadyDelayNote(const EstimationProblem& job, const FitResult& result) {
   const AxisStructure& s = job.model.structure;
   if (s.amplifier != Amplifier::kAnalogVelocityLoop ||
       s.current_loop != CurrentLoop::kQuasiSteady) {

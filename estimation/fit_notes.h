@@ -12,17 +12,17 @@
 #include <ceres/ceres.h>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
 // FitResult::integration (estimation/fit_result.h): the RK4 steps of the job's
-std::string IntegrationNote(const FitJob& job);
+std::string IntegrationNote(const EstimationProblem& job);
 
 // FitResult::stop_note (estimation/fit_result.h): why a stop on Ceres' parameter
 // tolerance on a model that quantises its position feedback may depend on
 // the path; empty otherwise.
-std::string QuantisedFeedbackStopNote(const FitJob& job,
+std::string QuantisedFeedbackStopNote(const EstimationProblem& job,
                                       const ceres::Solver::Summary& summary);
 
 // FitResult::model_note (estimation/fit_result.h). The quasi-steady current loop
@@ -36,7 +36,7 @@ std::string QuantisedFeedbackStopNote(const FitJob& job,
 // quarter of the standard error, 92.1 % at half, 83 % at one (the
 // quasi-steady campaign covered 17 of 20). The note is written from a
 // quarter on: b ≈ τ_i/2 ≥ SE/4, i.e. τ_i ≥ 0.5·std_error.
-std::string QuasiSteadyDelayNote(const FitJob& job, const FitResult& result);
+std::string QuasiSteadyDelayNote(const EstimationProblem& job, const FitResult& result);
 
 // FitResult::residual_note for a fit that ends at s² = `s2` (empty at or
 // below kAutoStartsAbove, or for NaN).

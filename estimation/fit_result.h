@@ -43,10 +43,10 @@ struct ParameterEstimate {
   // fixed): "profile likelihood", "likelihood ratio", "Gauss–Newton", or
   // "Gauss–Newton at the smooth scale" (a Jacobian by central differences
   // at about one standard error, where the profile's intervals were
-  // artifacts of a rough cost: estimation/smooth_scale.h).
+  // artifacts of a rough cost: estimation/internal/smooth_scale.h).
   std::string interval_method;
   // The sandwich (Newey–West) standard error, which allows for the model's
-  // misfit (estimation/sandwich_covariance.h); NaN unless
+  // misfit (estimation/internal/sandwich_covariance.h); NaN unless
   // FitResult::misspecification_note is set.
   double std_error_sandwich = std::numeric_limits<double>::quiet_NaN();
   // False if the data cannot determine it: the Jacobian is rank deficient
@@ -155,18 +155,18 @@ struct FitResult {
   // least half the delay's standard error. Empty otherwise.
   std::string model_note;
   // Set when the job's start alone ended above kAutoStartsAbove and
-  // SolverSettings::auto_starts random starts were added (job/fit_job.h): what
+  // SolverSettings::auto_starts random starts were added (estimation/solver_settings.h): what
   // s² it ended with and which start won. Empty otherwise.
   std::string auto_starts_note;
   // Set when the instant accelerometer's samples at a backlash contact were
-  // weighted by σ_k (estimation/instant_sample_sigma.h): how many, the
+  // weighted by σ_k (estimation/internal/instant_sample_sigma.h): how many, the
   // largest σ_k/σ and the re-solves. Empty otherwise.
   std::string sample_sigma_note;
   // Σ log(σ_k²/σ²) over the per-sample σ_k of the final cost (0 without
   // them): what −2·log-likelihood adds to 2·final_cost (Deviance).
   double sample_sigma_log_term = 0.0;
   // Set when the fit ends with s² = residual_variance above
-  // kAutoStartsAbove (job/fit_job.h): the residual RMS more than twice the
+  // kAutoStartsAbove (estimation/solver_settings.h): the residual RMS more than twice the
   // declared σ, i.e. a local minimum the starts did not leave, an effect
   // the model lacks, or σ understated. Empty otherwise.
   std::string residual_note;
@@ -201,7 +201,7 @@ struct FitResult {
 
 // 2·final_cost + sample_sigma_log_term: −2·log-likelihood of `result` up to
 // the constant every fit of the same records shares, so that fits under
-// different per-sample σ_k (estimation/instant_sample_sigma.h) compare as
+// different per-sample σ_k (estimation/internal/instant_sample_sigma.h) compare as
 // χ² do. Never throws.
 inline double Deviance(const FitResult& result) {
   return 2.0 * result.final_cost + result.sample_sigma_log_term;

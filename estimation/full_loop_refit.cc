@@ -47,9 +47,10 @@ void MoveIntervals(const FitResult& from, FitResult* to) {
 
 }  // namespace
 
-FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
-                        const CurrentLoopCheck& check, double* step) {
-  FitJob full = WithFullLoop(AtEstimate(job, quasi), step);
+EstimationProblem FullLoopRefitProblem(const EstimationProblem& problem, const FitResult& quasi,
+                                       const CurrentLoopCheck& check,
+                                       FullLoopRefitSettings::Intervals intervals, double* step) {
+  EstimationProblem full = WithFullLoop(AtEstimate(problem, quasi), step);
   full.solver.starts = 0;
   full.solver.auto_starts = 0;
   full.solver.first_horizon = 0.0;
@@ -59,7 +60,7 @@ FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
       f.initial = std::clamp(f.initial - check.shift[k], f.lower, f.upper);
     }
   }
-  if (job.full_loop_intervals == FitJob::FullLoopIntervals::kCarried) {
+  if (intervals == FullLoopRefitSettings::Intervals::kCarried) {
     full.solver.probe_rounds = 0;
     full.solver.local_starts = 0.0;
     full.uncertainty.method = UncertaintySettings::Method::kGaussNewton;

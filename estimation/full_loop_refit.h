@@ -8,8 +8,8 @@
 // on it took 250 s of a 260 s job (issue 42, the accelerometer sampled at
 // the instant: 892 probe simulations, 440 in local restarts, 1640 in the
 // profiles). The two models differ by a shift of a few standard errors,
-// not in the shape of the cost, so by default (FitJob::FullLoopIntervals::
-// kCarried) the refit is a local Levenberg–Marquardt solve from the
+// not in the shape of the cost, so by default (FullLoopRefitSettings::
+// Intervals::kCarried) the refit is a local Levenberg–Marquardt solve from the
 // bias-corrected estimate θ_qs − shift (the check's first-order bias), with
 // the Gauss–Newton covariance of the full loop, and the intervals are the
 // quasi-steady fit's (its optimum check, its profile or smooth-scale
@@ -19,20 +19,48 @@
 #define ESTIMATION_FULL_LOOP_REFIT_H_
 
 #include "estimation/current_loop_check.h"
+#include "estimation/estimation_problem.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "io/yaml_util.h"
 
 namespace axis {
 
-// The job of the refit: WithFullLoop of `job` at the estimate of `quasi`
-// (AtEstimate), one start, no random starts, no horizon continuation; its
-// free parameters start at value − check.shift (clamped to their bounds;
-// a NaN shift leaves the value). With job.full_loop_intervals kCarried also
-// no probe rounds, no local restarts and Gauss–Newton intervals. *step,
-// if not null, receives the full loop's step (s). Throws
+// When and how a quasi-steady fit is refitted with the full loop (job keys
+// simulation.full_loop_refit_above and simulation.full_loop_intervals).
+struct FullLoopRefitSettings {
+  // The shift of the estimate against the full loop, in standard errors,
+  // past which fit-params refits with the full loop (run/job_run.h RunJob,
+  // estimation/current_loop_check.h); > 0, +inf never refits.
+  double refit_above = 1.0;
+  // How the refit gets its optimum check and intervals: kCarried, a local
+  // solve from the bias-corrected estimate whose intervals are the
+  // quasi-steady fit's carried over (widened by the ratio of the two
+  // models' Gauss–Newton standard errors where the full loop's is larger);
+  // kRefitted, the job's own optimum check and uncertainty method run
+  // again on the full loop (ten times the cost per simulation).
+  enum class Intervals { kCarried, kRefitted };
+  Intervals intervals = Intervals::kCarried;
+
+  // The keys of `simulation:` these settings own (io/settings_reader.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("full_loop_refit_above", &refit_above, YamlMap::Range::kPositiveOrInfinite);
+    a->Visit("full_loop_intervals", &intervals,
+             {{"carried", Intervals::kCarried}, {"refitted", Intervals::kRefitted}});
+  }
+};
+
+// The problem of the refit: WithFullLoop of `problem` at the estimate of
+// `quasi` (AtEstimate), one start, no random starts, no horizon
+// continuation; its free parameters start at value − check.shift (clamped
+// to their bounds; a NaN shift leaves the value). With `intervals`
+// kCarried also no probe rounds, no local restarts and Gauss–Newton
+// intervals. *step, if not null, receives the full loop's step (s). Throws
 // std::runtime_error as WithFullLoop.
-FitJob FullLoopRefitJob(const FitJob& job, const FitResult& quasi,
-                        const CurrentLoopCheck& check, double* step = nullptr);
+EstimationProblem FullLoopRefitProblem(const EstimationProblem& problem, const FitResult& quasi,
+                                       const CurrentLoopCheck& check,
+                                       FullLoopRefitSettings::Intervals intervals,
+                                       double* step = nullptr);
 
 // Gives every free parameter of `full` (the refit) the interval of the same
 // parameter in `quasi`, moved to the refit's value and scaled by

@@ -1,7 +1,7 @@
 // What the shorter horizons of a fit's continuation left, so that a later
 // fit of the same job can go on after them instead of running them again
 // (estimation/fit.h FitParameters; the discovery loop's screen of its refits and
-// the refits after it, discovery/discovery_loop.cc).
+// the refits after it, discovery/internal/discovery_loop.cc).
 #ifndef ESTIMATION_HORIZON_CHECKPOINT_H_
 #define ESTIMATION_HORIZON_CHECKPOINT_H_
 

@@ -8,13 +8,16 @@
 
 namespace axis {
 
-RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
-                                   const std::vector<double>& lower,
-                                   const std::vector<double>& upper,
-                                   const Eigen::MatrixXd& cov_theta, int n_free,
-                                   double t975, double residual_variance,
-                                   const std::vector<double>& steps, int threads,
+RatioScan LikelihoodRatioIntervals(ceres::Problem* problem, const RatioScanOptions& options,
                                    std::vector<double>* theta) {
+  const std::vector<double>& lower = options.basis.lower;
+  const std::vector<double>& upper = options.basis.upper;
+  const Eigen::MatrixXd& cov_theta = options.basis.cov_theta;
+  const int n_free = options.basis.n_free;
+  const double t975 = options.basis.t975;
+  const double residual_variance = options.basis.residual_variance;
+  const std::vector<double>& steps = options.steps;
+  const int threads = options.threads;
   const int n = static_cast<int>(theta->size());
   const std::vector<double> centre = *theta;
   RatioScan scan;

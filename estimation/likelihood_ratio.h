@@ -29,15 +29,34 @@ struct RatioScan {
   std::vector<double> lowest_point;      // if nothing is lower) and where
 };
 
+// What an interval search starts from (LikelihoodRatioIntervals, and
+// ProfileLikelihoodIntervals in estimation/profile_likelihood.h): θ's
+// bounds, the estimate's covariance and the threshold's terms.
+struct IntervalBasis {
+  std::vector<double> lower, upper;  // θ's bounds (internal coordinates)
+  // The Gauss–Newton covariance of θ, n×n, already scaled by s².
+  Eigen::MatrixXd cov_theta;
+  int n_free = 0;                  // intervals for θ_0 … θ_{n_free−1}
+  double t975 = 1.96;              // the Student t quantile of the threshold
+  double residual_variance = 1.0;  // s²
+};
+
+// What LikelihoodRatioIntervals works on beside the problem and how.
+struct RatioScanOptions {
+  IntervalBasis basis;
+  // The points along each direction, in standard deviations, increasing.
+  std::vector<double> steps;
+  int threads = 1;  // the cost's evaluation threads (CostAt)
+};
+
 // Likelihood-ratio 95 % intervals along the profile directions, measured on
 // the cost itself. For free parameter k the direction is d_k = C·e_k/√C_kk,
-// C the Gauss–Newton covariance of θ (`cov_theta`, n×n, n = theta->size(),
-// already scaled by the residual variance s²): moving θ_k by one standard
+// C the Gauss–Newton covariance of θ (options.basis.cov_theta, n = theta->size()): moving θ_k by one standard
 // deviation while the others follow their regression on θ_k, the path along
 // which a quadratic cost's profile is traced. The cost is evaluated at
-// θ* ± s·d_k for s in `steps` (standard deviations, increasing), and each
+// θ* ± s·d_k for s in options.steps, and each
 // end of the interval is the furthest s at which cost − cost(θ*) is still
-// ≤ ½·t²·s² (t = `t975`), interpolated linearly to the next step above the
+// ≤ ½·t²·s² (t = options.basis.t975), interpolated linearly to the next step above the
 // threshold; if none is above, the end is the largest step and the side is
 // marked unbounded. On a quadratic cost the ends are θ*_k ± t·√C_kk, the
 // Gauss–Newton interval; where the cost is piecewise smooth with kinks
@@ -51,12 +70,7 @@ struct RatioScan {
 // Bates & Watts, "Nonlinear Regression Analysis and Its Applications"
 // (1988), ch. 6 (likelihood and profile intervals); Venzon & Moolgavkar
 // (1988).
-RatioScan LikelihoodRatioIntervals(ceres::Problem* problem,
-                                   const std::vector<double>& lower,
-                                   const std::vector<double>& upper,
-                                   const Eigen::MatrixXd& cov_theta, int n_free,
-                                   double t975, double residual_variance,
-                                   const std::vector<double>& steps, int threads,
+RatioScan LikelihoodRatioIntervals(ceres::Problem* problem, const RatioScanOptions& options,
                                    std::vector<double>* theta);
 
 }  // namespace axis

@@ -7,7 +7,7 @@
 #include <Eigen/Dense>
 
 #include "estimation/experiment_cost.h"
-#include "estimation/uncertainty.h"
+#include "estimation/cost_at.h"
 
 namespace axis {
 

@@ -1,4 +1,4 @@
-// The optimum check of a fit (estimation/fitter.h): the Gauss–Newton
+// The optimum check of a fit (estimation/internal/fitter.h): the Gauss–Newton
 // matrix JᵀJ, the cost resolution below which two fits ended at the same
 // optimum, and one round of probing the cost around the estimate.
 #ifndef ESTIMATION_OPTIMUM_CHECK_H_

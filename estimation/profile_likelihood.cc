@@ -19,40 +19,25 @@ constexpr double kRetry = 3.0;      // refits ending up to kRetry·threshold are
 
 }  // namespace
 
-ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
-                                       const ceres::Solver::Options& options,
-                                       const std::vector<double>& lower,
-                                       const std::vector<double>& upper,
-                                       const Eigen::MatrixXd& cov_theta, int n_free,
-                                       double t975, double residual_variance,
-                                       double lowest_allowed, bool stop_at_lower,
-                                       std::vector<double>* theta,
-                                       const std::function<void(int)>& on_parameter) {
-  return ProfileLikelihood(problem, options, lower, upper, cov_theta, n_free, t975,
-                           residual_variance, lowest_allowed, stop_at_lower, theta, on_parameter)
-      .Run();
+ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem, const ProfileOptions& options,
+                                       std::vector<double>* theta) {
+  return ProfileLikelihood(problem, options, theta).Run();
 }
 
-ProfileLikelihood::ProfileLikelihood(ceres::Problem* problem,
-                                     const ceres::Solver::Options& options,
-                                     const std::vector<double>& lower,
-                                     const std::vector<double>& upper,
-                                     const Eigen::MatrixXd& cov_theta, int n_free, double t975,
-                                     double residual_variance, double lowest_allowed,
-                                     bool stop_at_lower, std::vector<double>* theta,
-                                     const std::function<void(int)>& on_parameter)
+ProfileLikelihood::ProfileLikelihood(ceres::Problem* problem, const ProfileOptions& options,
+                                     std::vector<double>* theta)
     : problem_(problem),
-      options_(options),
-      lower_(lower),
-      upper_(upper),
-      cov_theta_(cov_theta),
-      n_free_(n_free),
-      t975_(t975),
-      residual_variance_(residual_variance),
-      lowest_allowed_(lowest_allowed),
-      stop_at_lower_(stop_at_lower),
+      options_(options.solver),
+      lower_(options.basis.lower),
+      upper_(options.basis.upper),
+      cov_theta_(options.basis.cov_theta),
+      n_free_(options.basis.n_free),
+      t975_(options.basis.t975),
+      residual_variance_(options.basis.residual_variance),
+      lowest_allowed_(options.lowest_allowed),
+      stop_at_lower_(options.stop_at_lower),
       theta_(theta),
-      on_parameter_(on_parameter),
+      on_parameter_(options.on_parameter),
       n_(static_cast<int>(theta->size())),
       centre_(*theta) {}
 

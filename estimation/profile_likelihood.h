@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,22 +29,40 @@ struct ProfileScan {
   std::vector<double> lowest_point;      // if nothing is lower) and where
 };
 
+// What ProfileLikelihoodIntervals works on beside the problem and how.
+struct ProfileOptions {
+  // θ's bounds, the covariance and the threshold's terms; the entries of θ
+  // past basis.n_free (the estimated initial states) are refitted with the
+  // others.
+  IntervalBasis basis;
+  // The refits: one Levenberg–Marquardt run each.
+  ceres::Solver::Options solver;
+  // A refit ending below this cost means the estimate is not the optimum;
+  // with stop_at_lower the search then stops at once (ProfileScan::
+  // lowest_point, the caller restarts there).
+  double lowest_allowed = -std::numeric_limits<double>::infinity();
+  bool stop_at_lower = false;
+  // Called with k before the search of parameter k begins (progress,
+  // common/progress.h); may be empty.
+  std::function<void(int)> on_parameter;
+};
+
 // Profile-likelihood 95 % intervals: for free parameter k the profile cost
 // P(x) = min over the other entries of θ of cost(θ) with θ_k = x, each
 // interval end the x where P has risen by ½·t²·s² above the estimate's
-// cost (t = `t975`, s² = `residual_variance`), i.e. the likelihood-ratio
+// cost (t = options.basis.t975, s² = options.basis.residual_variance), i.e. the likelihood-ratio
 // test of θ_k = x at 95 % with the others re-estimated (Wilks; with an
 // F/t threshold for the estimated σ²). Unlike a scan along a fixed line
 // this holds where the cost is not quadratic and the others' best values
 // move non-linearly with θ_k (on PRBS records the line scan and JᵀJ
 // understated T_p's interval; README, issue 9 campaign).
-// Each P(x) is one Levenberg–Marquardt run of `options` on `problem` (its
+// Each P(x) is one Levenberg–Marquardt run of options.solver on `problem` (its
 // single parameter block `theta`, n = theta->size() entries, bounds as set
 // on the problem) with entry k held constant (ceres::SubsetManifold),
 // started from a solved point moved along the Gauss–Newton profile
-// direction C·e_k/C_kk (`cov_theta`, n×n, already scaled by s²). Per side,
+// direction C·e_k/C_kk (options.basis.cov_theta). Per side,
 // P is evaluated at θ*_k ± {1, 2, 4, 8}·t·√C_kk (clipped to the bound
-// [lower_k, upper_k]), each refit warm-started from the previous point and,
+// θ's bounds), each refit warm-started from the previous point and,
 // where it ends above the threshold, also from θ*; a refit ending above but
 // within 3 times the threshold is retried from the solved point outside it
 // (the lowest result counts): the cost is piecewise smooth with small jumps,
@@ -55,28 +74,20 @@ struct ProfileScan {
 // is within 5 % of the threshold or 4 refinements are spent. A side that
 // does not rise past the threshold is marked unbounded, its end at the last
 // point reached. If a refit ends below
-// `lowest_allowed` (the estimate is not the optimum) and `stop_at_lower`,
+// options.lowest_allowed (the estimate is not the optimum) and options.stop_at_lower,
 // the search stops at once with no intervals, so that the caller can
 // restart the solver at lowest_point. Leaves *theta at its entry value and
 // the parameter block without a manifold. Returns no intervals if
 // cov_theta is not finite or the cost cannot be evaluated at θ*.
-// `on_parameter`, if set, is called with k before the search of parameter
-// k begins (progress, common/progress.h). Source:
+// Source:
 // Venzon & Moolgavkar, "A method for computing profile-likelihood-based
 // confidence intervals", Appl. Statist. 37 (1988); Bates & Watts (1988)
 // §6.1.
-ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem,
-                                       const ceres::Solver::Options& options,
-                                       const std::vector<double>& lower,
-                                       const std::vector<double>& upper,
-                                       const Eigen::MatrixXd& cov_theta, int n_free,
-                                       double t975, double residual_variance,
-                                       double lowest_allowed, bool stop_at_lower,
-                                       std::vector<double>* theta,
-                                       const std::function<void(int)>& on_parameter = {});
+ProfileScan ProfileLikelihoodIntervals(ceres::Problem* problem, const ProfileOptions& options,
+                                       std::vector<double>* theta);
 
 // The search of ProfileLikelihoodIntervals as a sequence of named steps, its
-// state in members (as estimation/fitter.h): per free parameter the two
+// state in members (as estimation/internal/fitter.h): per free parameter the two
 // sides, each walked out along the profile, its points near the threshold
 // retried inward, and its end bracketed and refined by regula falsi; under
 // them the refit at a point and the bookkeeping of the lowest cost met,
@@ -86,11 +97,8 @@ class ProfileLikelihood {
  public:
   // The arguments of ProfileLikelihoodIntervals; every one must outlive the
   // search.
-  ProfileLikelihood(ceres::Problem* problem, const ceres::Solver::Options& options,
-                    const std::vector<double>& lower, const std::vector<double>& upper,
-                    const Eigen::MatrixXd& cov_theta, int n_free, double t975,
-                    double residual_variance, double lowest_allowed, bool stop_at_lower,
-                    std::vector<double>* theta, const std::function<void(int)>& on_parameter);
+  ProfileLikelihood(ceres::Problem* problem, const ProfileOptions& options,
+                    std::vector<double>* theta);
   ProfileLikelihood(const ProfileLikelihood&) = delete;
   ProfileLikelihood& operator=(const ProfileLikelihood&) = delete;
 

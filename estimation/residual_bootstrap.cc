@@ -10,12 +10,12 @@
 #include "estimation/at_estimate.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "sim/random.h"
 
 namespace axis {
 
-void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress) {
+void ResidualBootstrap(const EstimationProblem& job, FitResult* fit, std::ostream* progress) {
   const int replicates = job.uncertainty.bootstrap;
   if (replicates <= 0) return;
   if (fit->experiments.size() < job.experiments.size()) {
@@ -25,7 +25,7 @@ void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress
                                 std::to_string(fit->experiments.size()));
   }
   const int n_free = static_cast<int>(job.free.size());
-  FitJob base = AtEstimate(job, *fit);  // the estimate and the estimated initial states
+  EstimationProblem base = AtEstimate(job, *fit);  // the estimate and the estimated initial states
   AsWarmRefit(&base);
   base.solver.progress = false;
   base.uncertainty.bootstrap = 0;
@@ -41,7 +41,7 @@ void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress
                          std::to_string(replicates),
                      static_cast<double>(b) / replicates);
     }
-    FitJob replicate = base;
+    EstimationProblem replicate = base;
     for (size_t j = 0; j < job.experiments.size(); ++j) {
       FitExperiment& e = replicate.experiments[j];
       const ExperimentFit& f = fit->experiments[j];

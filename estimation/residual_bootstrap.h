@@ -6,7 +6,7 @@
 #include <ostream>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -25,7 +25,7 @@ namespace axis {
 // throws std::invalid_argument if it does not match the job's experiments
 // and channels. Refits start where the estimate is, so on a cost with local
 // minima (estimation/fit.h, optimum check) they measure the local spread.
-void ResidualBootstrap(const FitJob& job, FitResult* fit, std::ostream* progress);
+void ResidualBootstrap(const EstimationProblem& job, FitResult* fit, std::ostream* progress);
 
 }  // namespace axis
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "estimation/experiment_cost.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 

@@ -4,7 +4,7 @@
 // produces exactly (a P-spline: Eilers & Marx 1996, "Flexible smoothing
 // with B-splines and penalties", Statistical Science 11(2)). Part of the
 // fit's cost (estimation/fit.h) when the force-map step of the discovery
-// loop (discovery/force_map.h) sets FitJob::force_map_lambda.
+// loop (discovery/force_map.h) sets EstimationProblem::force_map_lambda.
 #ifndef ESTIMATION_ROUGHNESS_COST_H_
 #define ESTIMATION_ROUGHNESS_COST_H_
 

@@ -19,7 +19,7 @@ const char* ConventionName(AccelerometerSampling s) {
 }
 
 // The samples of channel `a` the job fits.
-int SamplesOfA(const FitJob& job) {
+int SamplesOfA(const EstimationProblem& job) {
   int samples = 0;
   for (const FitExperiment& e : job.experiments) {
     for (const FittedChannel& f : e.fitted) {
@@ -35,8 +35,8 @@ int SamplesOfA(const FitJob& job) {
 // half-period between the conventions and sub-sample skews; wider, a refit
 // can slip a whole period of the gear's ringing) that has none yet: a skew
 // between the channels is not the convention's. *added counts them.
-FitJob WithConventionAndDelays(const FitJob& job, AccelerometerSampling convention, int* added) {
-  FitJob out = job;
+EstimationProblem WithConventionAndDelays(const EstimationProblem& job, AccelerometerSampling convention, int* added) {
+  EstimationProblem out = job;
   out.model.structure.accelerometer = convention;
   std::array<double, kNumChannels> period{};
   for (const FitExperiment& e : job.experiments) {
@@ -64,7 +64,7 @@ FitJob WithConventionAndDelays(const FitJob& job, AccelerometerSampling conventi
 
 // Σ(r/σ)² of a warm refit of `job` (AsWarmRefit), with Σ log(σ_k²/σ²) where
 // its fit weighted samples (Deviance); the fit into *fit if not null.
-double WarmRefitChi2(FitJob job, FitResult* fit) {
+double WarmRefitChi2(EstimationProblem job, FitResult* fit) {
   AsWarmRefit(&job);
   job.solver.progress = false;
   FitResult r = FitParameters(job, nullptr);
@@ -75,12 +75,12 @@ double WarmRefitChi2(FitJob job, FitResult* fit) {
 
 // `job` without its fitted delay on `a` (sensor_delay.a, tau_d.a free), or
 // nullopt if it has none.
-std::optional<FitJob> WithoutFittedDelayOfA(const FitJob& job) {
+std::optional<EstimationProblem> WithoutFittedDelayOfA(const EstimationProblem& job) {
   const int a = static_cast<int>(Channel::kA);
   const auto it = std::find_if(job.free.begin(), job.free.end(),
                                [](const FreeParameter& f) { return f.name == "tau_d.a"; });
   if (!job.model.structure.sensors.delay[a] || it == job.free.end()) return std::nullopt;
-  FitJob out = job;
+  EstimationProblem out = job;
   out.model.structure.sensors.delay[a] = false;
   out.model.params.tau_d[a] = 0.0;
   out.free.erase(out.free.begin() + (it - job.free.begin()));
@@ -122,7 +122,7 @@ bool Decides(double residuals, double fitted, int added, SamplingCheck* check) {
 
 }  // namespace
 
-SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& result,
+SamplingCheck CheckAccelerometerSampling(const EstimationProblem& job, const FitResult& result,
                                          SamplingRule rule) {
   SamplingCheck check;
   check.rule = rule;
@@ -134,7 +134,7 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   }
   if (!fits_a) return check;
   check.ran = true;
-  const FitJob at = AtEstimate(job, result);
+  const EstimationProblem at = AtEstimate(job, result);
   const AccelerometerSampling other =
       at.model.structure.accelerometer == AccelerometerSampling::kInstant
           ? AccelerometerSampling::kPeriodMean
@@ -148,7 +148,7 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   const AccelerometerSampling declared = at.model.structure.accelerometer;
   check.chi2_declared_delay =
       WarmRefitChi2(WithConventionAndDelays(at, declared, &added), nullptr);
-  const FitJob other_job = WithConventionAndDelays(at, other, &added);
+  const EstimationProblem other_job = WithConventionAndDelays(at, other, &added);
   FitResult other_fit;
   check.chi2_other_delay = WarmRefitChi2(other_job, &other_fit);
   check.dof = static_cast<int>(result.residual_dof) - added;  // the refits' own
@@ -157,11 +157,11 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   }
   const double residuals = result.num_residuals;
   const double fitted = result.num_residuals - result.residual_dof;
-  FitJob plain = at;
+  EstimationProblem plain = at;
   plain.model.structure.accelerometer = other;
   if (rule == SamplingRule::kBestBic) {
     check.chi2_other = WarmRefitChi2(plain, &check.refit);
-    if (const std::optional<FitJob> without = WithoutFittedDelayOfA(plain)) {
+    if (const std::optional<EstimationProblem> without = WithoutFittedDelayOfA(plain)) {
       check.chi2_other_without_delay_a = WarmRefitChi2(*without, nullptr);
     }
   }
@@ -172,7 +172,7 @@ SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& res
   // Σ(r/σ)² 1.08e6 under the declared convention, 9.9e4 under the other,
   // from the same start). Each convention is judged at the better of the
   // two starts.
-  FitJob cross = AtEstimate(other_job, other_fit);
+  EstimationProblem cross = AtEstimate(other_job, other_fit);
   cross.model.structure.accelerometer = declared;
   const double chi2_cross = WarmRefitChi2(cross, nullptr);
   if (chi2_cross < check.chi2_declared_delay) check.chi2_declared_delay = chi2_cross;

@@ -21,7 +21,7 @@
 #include <string>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -117,7 +117,7 @@ struct SamplingCheck {
 // `a`; a refit that ends without a finite cost leaves no note. `result`
 // must be a fit of `job`. Throws std::runtime_error if the model does not
 // simulate at the estimate.
-SamplingCheck CheckAccelerometerSampling(const FitJob& job, const FitResult& result,
+SamplingCheck CheckAccelerometerSampling(const EstimationProblem& job, const FitResult& result,
                                          SamplingRule rule = SamplingRule::kMisfit);
 
 }  // namespace axis

@@ -7,11 +7,11 @@
 #include <ceres/ceres.h>
 
 #include "estimation/experiment_cost.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
-void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac) {
+void StackedJacobian(const EstimationProblem& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac) {
   const ParameterMap map(job.model.params, job.free);
   const int n = map.num_free();
   std::vector<double> theta(n);

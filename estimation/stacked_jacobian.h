@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 
 namespace axis {
 
@@ -21,7 +21,7 @@ namespace axis {
 // those directions, so a candidate column's share along them adds to the
 // score test's variance and nothing to its score (the test errs
 // conservative).
-void StackedJacobian(const FitJob& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac);
+void StackedJacobian(const EstimationProblem& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac);
 
 }  // namespace axis
 

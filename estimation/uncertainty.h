@@ -21,7 +21,7 @@
 //   minimised over the other parameters (the profile likelihood);
 // - estimation/residual_bootstrap.h: ResidualBootstrap, refits of
 //   resampled residuals that cross-check the intervals.
-// Which one a fit runs: job/solver_settings.h, estimation/fit.h.
+// Which one a fit runs: estimation/solver_settings.h, estimation/fit.h.
 #ifndef ESTIMATION_UNCERTAINTY_H_
 #define ESTIMATION_UNCERTAINTY_H_
 

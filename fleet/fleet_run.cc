@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/format.h"
+#include "fleet/write_fleet_table.h"
 #include "io/output_staging.h"
 
 namespace axis {

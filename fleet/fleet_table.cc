@@ -15,8 +15,7 @@
 #include "common/json_fields.h"
 #include "discovery/diagnostics.h"
 #include "estimation/fit_result.h"
-#include "fleet/fleet_html.h"
-#include "job/fit_job.h"
+#include "run/fit_job.h"
 #include "run/job_run.h"
 #include "run/write_job_run.h"
 #include "sim/channels.h"
@@ -26,7 +25,6 @@
 namespace axis {
 namespace {
 
-namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -38,7 +36,7 @@ void FillRow(const JobRun& run, FleetRow* row) {
     row->parameters.push_back(
         {p.name, p.unit, p.value, p.std_error, p.ci95_low, p.ci95_high, p.determined});
   }
-  row->effects = EnabledEffectNames(run.job.model.structure);
+  row->effects = EnabledEffectNames(run.job.problem.model.structure);
   row->discovery = run.discovered;
   ResidualVerdict verdict;
   if (run.discovered) {
@@ -81,6 +79,8 @@ std::string ValueText(double value, double se, const std::string& unit) {
 // ------------------------------------------------------------- files
 
 std::string CsvNumber(double v) { return std::isfinite(v) ? FormatNumber(v, 17) : ""; }
+
+}  // namespace
 
 std::string FleetCsv(const FleetTable& table) {
   const auto params = FleetParameterColumns(table.rows);
@@ -132,8 +132,6 @@ std::string MdCell(const std::string& text) {
   }
   return out;
 }
-
-}  // namespace
 
 const FleetParameter* FleetRow::FindParameter(const std::string& name) const {
   for (const FleetParameter& p : parameters) {
@@ -505,18 +503,5 @@ nlohmann::ordered_json FleetTableToJson(const FleetTable& t) {
   return j;
 }
 
-void WriteFleetTable(const std::string& dir, const FleetTable& table) {
-  std::error_code error;
-  fs::create_directories(dir, error);
-  if (error) throw std::runtime_error(dir + ": cannot create the folder: " + error.message());
-  WriteFileAtomic(dir + "/fleet.csv", FleetCsv(table));
-  WriteFileAtomic(dir + "/fleet.md", FormatFleetMarkdown(table));
-  WriteFileAtomic(dir + "/fleet.html", RenderFleetHtml(table));
-  // Invalid UTF-8 (an error message quoting a data file) as U+FFFD, not an exception.
-  WriteFileAtomic(dir + "/fleet.json",
-                  FleetTableToJson(table).dump(2, ' ', false,
-                                               nlohmann::json::error_handler_t::replace) +
-                      "\n");
-}
 
 }  // namespace axis

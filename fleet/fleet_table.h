@@ -154,14 +154,12 @@ std::string FormatFleetMarkdown(const FleetTable& table);
 // (FleetRowToJson), and "comparison" if compared.
 nlohmann::ordered_json FleetTableToJson(const FleetTable& table);
 
-// Writes fleet.csv (a row per job: axis, log, status, verdict, s2,
-// effects, discovered, per free parameter of any row its value and
-// "<name>_se", per channel "fit_<experiment>_<channel>" (%), seconds,
-// rank, folder, error; empty cells where a row has none), fleet.md,
-// fleet.html (fleet/fleet_html.h) and last fleet.json into `dir` (created
-// with its parents if missing), each atomically (WriteFileAtomic). Throws
-// std::runtime_error naming what cannot be written.
-void WriteFleetTable(const std::string& dir, const FleetTable& table);
+// The table as fleet.csv holds it: a row per job (axis, log, status,
+// verdict, s2, effects, discovered, per free parameter of any row its value
+// and "<name>_se", per channel "fit_<experiment>_<channel>" (%), seconds,
+// rank, folder, error; empty cells where a row has none). Never throws
+// (except std::bad_alloc).
+std::string FleetCsv(const FleetTable& table);
 
 }  // namespace axis
 

@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "io/yaml_util.h"
 
 namespace axis {
@@ -313,8 +313,8 @@ FitJob MakeFleetJob(const FleetManifest& manifest, const FleetEntry& entry,
     root["title"] = entry.axis + " " + entry.log + ": " + title;
     job = ParseFitJob(root, manifest.template_path, DirectoryOf(manifest.template_path));
   }
-  job.solver.threads = manifest.threads;
-  job.solver.progress = false;
+  job.problem.solver.threads = manifest.threads;
+  job.problem.solver.progress = false;
   job.out_dir = out_dir + "/" + entry.Folder();
   return job;
 }

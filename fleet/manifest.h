@@ -15,7 +15,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "job/fit_job.h"
+#include "run/fit_job.h"
 
 namespace axis {
 

@@ -1,11 +1,11 @@
-// libFuzzer target: the fit-job loader (job/load_fit_job.h ParseFitJob) on arbitrary
+// libFuzzer target: the fit-job loader (run/load_fit_job.h ParseFitJob) on arbitrary
 // YAML text, relative paths resolved in configs/jobs (so that the seed
 // corpus's models and data files load).
 #include <cstddef>
 #include <cstdint>
 
 #include "fuzz/fuzz_common.h"
-#include "job/load_fit_job.h"
+#include "run/load_fit_job.h"
 #include "io/yaml_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

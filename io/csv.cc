@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/utf8_text.h"
+#include "io/internal/utf8_text.h"
 
 namespace axis {
 namespace {

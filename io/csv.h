@@ -42,7 +42,7 @@ using CsvTable = DataTable;
 // as 1e999); malformed quoting; a line break inside a quoted field (each row
 // must be one line, so that row i is line i + 2); bytes that are not UTF-8
 // text (a NUL byte, a UTF-16 file; Utf8Checker's "<path>:<line>: expected
-// UTF-8 text, got … at byte offset N (not UTF-8 text …)", io/utf8_text.h).
+// UTF-8 text, got … at byte offset N (not UTF-8 text …)", io/internal/utf8_text.h).
 // Blank trailing lines are ignored. Throws std::bad_alloc if memory runs out.
 CsvTable ReadCsv(const std::string& path);
 

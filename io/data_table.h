@@ -66,13 +66,6 @@ struct DataTable {
   std::string DescribeName(const std::string& name) const;
 };
 
-// Reads a data file: a MAT file (ReadMatFile, io/mat_file.h) if `path`
-// ends in ".mat" (any case), else a CSV file (ReadCsv, io/csv.h).
-// `time_column` names the time column or variable; only the MAT reader uses
-// it (to know how long a column must be). Throws std::invalid_argument as
-// the reader does.
-DataTable ReadDataTable(const std::string& path, const std::string& time_column);
-
 }  // namespace axis
 
 #endif  // IO_DATA_TABLE_H_

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
@@ -49,6 +50,16 @@ void CheckOutputDirectory(const std::string& dir, bool staged) {
     above = above.parent_path();
   }
   check(above);
+}
+
+bool IsOutputName(const std::string& name) {
+  if (name.empty()) return false;
+  for (char ch : name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.') {
+      return false;
+    }
+  }
+  return true;
 }
 
 std::vector<std::string> RemoveStaleStagingDirectories(const std::string& dir) {

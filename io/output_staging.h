@@ -28,6 +28,11 @@ void CheckOutputDirectory(const std::string& dir, bool staged = true);
 // of the same name). Throws std::runtime_error naming the folder.
 std::string MakeStagingDirectory(const std::string& dir);
 
+// Whether `name` may name outputs (an experiment's fit_<name>.csv, a
+// benchmark criterion's folder): non-empty, of letters, digits, '_', '-',
+// '.'. Never throws.
+bool IsOutputName(const std::string& name);
+
 // Removes the staging folders "<dir>.partial.<pid>" beside `dir` whose
 // process <pid> no longer exists (a run killed with SIGKILL, which no
 // handler can catch, while writing its outputs), and returns their paths,

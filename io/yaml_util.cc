@@ -13,7 +13,7 @@
 
 #include <yaml-cpp/eventhandler.h>
 
-#include "io/utf8_text.h"
+#include "io/internal/utf8_text.h"
 
 namespace axis {
 namespace {

@@ -16,7 +16,7 @@ namespace axis {
 
 // Loads a YAML file. Throws std::invalid_argument "<file>: cannot read",
 // "<file>:<line>: invalid YAML: <reason>", CheckUtf8Text's error for a file
-// that is not UTF-8 text (io/utf8_text.h), "<file>:<line>: expected one
+// that is not UTF-8 text (io/internal/utf8_text.h), "<file>:<line>: expected one
 // YAML document, got a second one ('---') …" (the loaders read the first
 // and ignored the rest), or, for a key repeated in any mapping of the
 // document (yaml-cpp keeps both; the loaders would read one and ignore the

@@ -25,8 +25,8 @@
 #include "common/progress.h"
 #include "discovery/discovery.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "python/progress_stream.h"
 #include "python/yaml_from_python.h"
 #include "report/published.h"
@@ -271,7 +271,7 @@ JobRun Fit(py::object job_arg, py::object discover_arg, py::object progress, py:
   if (py::isinstance<py::bool_>(out)) {
     if (out.cast<bool>()) {
       if (job.out_dir.empty()) {
-        throw std::invalid_argument(job.path +
+        throw std::invalid_argument(job.problem.path +
                                     ": expected output.dir in the job for out=True, got none");
       }
       out_dir = job.out_dir;
@@ -339,7 +339,7 @@ const ChannelFit& ChannelNamed(const ExperimentFit& e, const std::string& name) 
 }
 
 void DefineJob(py::module_& m) {
-  py::class_<FreeParameter>(m, "FreeParameter", "A free parameter of a job (job/fit_job.h).")
+  py::class_<FreeParameter>(m, "FreeParameter", "A free parameter of a job (estimation/estimation_problem.h).")
       .def_readonly("name", &FreeParameter::name)
       .def_readonly("unit", &FreeParameter::unit)
       .def_readonly("initial", &FreeParameter::initial)
@@ -379,28 +379,32 @@ void DefineJob(py::module_& m) {
 
   py::class_<FitJob>(m, "Job",
                      "A loaded fit job (load_job): inspectable, and accepted by fit().")
-      .def_readonly("path", &FitJob::path, "the job file, or '<job dict>'")
+      .def_property_readonly("path", [](const FitJob& j) { return j.problem.path; },
+                             "the job file, or '<job dict>'")
       .def_readonly("title", &FitJob::title)
       .def_readonly("out_dir", &FitJob::out_dir, "output.dir resolved, or '' if none")
-      .def_property_readonly("model", [](const FitJob& j) { return j.model.name; },
+      .def_property_readonly("model", [](const FitJob& j) { return j.problem.model.name; },
                              "the model config's name")
       .def_property_readonly("model_yaml",
-                             [](const FitJob& j) { return AxisConfigToYaml(j.model); },
+                             [](const FitJob& j) { return AxisConfigToYaml(j.problem.model); },
                              "the model with the job's overrides, as a model config (YAML)")
-      .def_readonly("free", &FitJob::free, "list of FreeParameter, in job order")
-      .def_property_readonly("free_names", [](const FitJob& j) { return NamesOf(j.free); })
-      .def_readonly("experiments", &FitJob::experiments, "fitted experiments (JobExperiment)")
-      .def_readonly("validate", &FitJob::validate, "validation experiments (JobExperiment)")
+      .def_property_readonly("free", [](const FitJob& j) { return j.problem.free; },
+                             "list of FreeParameter, in job order")
+      .def_property_readonly("free_names", [](const FitJob& j) { return NamesOf(j.problem.free); })
+      .def_property_readonly("experiments", [](const FitJob& j) { return j.problem.experiments; },
+                             "fitted experiments (JobExperiment)")
+      .def_property_readonly("validate", [](const FitJob& j) { return j.problem.validate; },
+                             "validation experiments (JobExperiment)")
       .def_property_readonly("experiment_names",
-                             [](const FitJob& j) { return NamesOf(j.experiments); })
+                             [](const FitJob& j) { return NamesOf(j.problem.experiments); })
       .def_property_readonly("validate_names",
-                             [](const FitJob& j) { return NamesOf(j.validate); })
+                             [](const FitJob& j) { return NamesOf(j.problem.validate); })
       .def_property_readonly("discover", [](const FitJob& j) { return j.discover.enabled; },
                              "the job has a discover: key")
       .def("__repr__", [](const FitJob& j) {
-        return "Job('" + j.title + "', " + std::to_string(j.free.size()) + " free, " +
-               std::to_string(j.experiments.size()) + " fitted and " +
-               std::to_string(j.validate.size()) + " validation experiment(s))";
+        return "Job('" + j.title + "', " + std::to_string(j.problem.free.size()) + " free, " +
+               std::to_string(j.problem.experiments.size()) + " fitted and " +
+               std::to_string(j.problem.validate.size()) + " validation experiment(s))";
       });
 }
 
@@ -571,7 +575,7 @@ void DefineFitResultReports(py::class_<JobRun>& c) {
           "the whole of what fit-params writes to report.json, as a dict")
       .def_property_readonly("model_yaml",
                              [](const JobRun& r) {
-                               AxisConfig fitted = r.job.model;
+                               AxisConfig fitted = r.job.problem.model;
                                for (const ParameterEstimate& p : r.result.parameters) {
                                  if (p.free) *FindParam(&fitted.params, p.name) = p.value;
                                }

@@ -1,6 +1,6 @@
 // Python objects as YAML text, so that experiments and fit jobs given as
 // Python dicts go through the same strict loaders as files (sim/config.h
-// ParseExperiment, job/load_fit_job.h ParseFitJob) and fail with the same messages.
+// ParseExperiment, run/load_fit_job.h ParseFitJob) and fail with the same messages.
 #ifndef PYTHON_YAML_FROM_PYTHON_H_
 #define PYTHON_YAML_FROM_PYTHON_H_
 

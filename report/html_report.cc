@@ -22,7 +22,7 @@
 #include "discovery/discovery.h"
 #include "discovery/force_map.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "report/published.h"
 #include "report/report.h"
 #include "report/tuning_report.h"
@@ -406,7 +406,7 @@ std::string HeatColour(double r) {
   return buf;
 }
 
-const FreeParameter* FindFree(const FitJob* job, const std::string& name) {
+const FreeParameter* FindFree(const EstimationProblem* job, const std::string& name) {
   if (job == nullptr) return nullptr;
   for (const FreeParameter& f : job->free) {
     if (f.name == name) return &f;
@@ -417,7 +417,7 @@ const FreeParameter* FindFree(const FitJob* job, const std::string& name) {
 // The free (`free`) or the fixed parameters, in result order: value,
 // standard error, 95 % interval, initial value, bounds (from the job),
 // free/fixed ("—" where a fixed parameter has no such figure).
-Table ParameterTable(const FitResult& result, const FitJob* job, bool free) {
+Table ParameterTable(const FitResult& result, const EstimationProblem* job, bool free) {
   Table t;
   t.sortable = true;
   t.headers = {"name",    "unit",        "value",       "std error", "95 % interval",

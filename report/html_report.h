@@ -28,7 +28,7 @@
 #include "discovery/discovery.h"
 #include "discovery/force_map.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "report/published.h"
 #include "tune/analog_loop_tuning.h"
 #include "tune/move_tuning.h"
@@ -42,7 +42,7 @@ struct HtmlReportInput {
   const FitResult* result = nullptr;  // the final fit
   // The job of the final model (after discovery: with its effects): data
   // files, windows, fitted channels with σ, bounds of the free parameters.
-  const FitJob* job = nullptr;
+  const EstimationProblem* job = nullptr;
   // Residual diagnostics of the model as declared (with discovery: before
   // the loop; without: of the fitted model).
   const std::vector<ChannelDiagnostics>* diagnostics = nullptr;
@@ -99,7 +99,7 @@ void WriteHtmlReport(const std::string& path, const HtmlReportInput& input,
 std::string HtmlEscape(const std::string& text);
 
 // Building blocks of the project's HTML pages, shared by report.html and
-// fit-fleet's fleet.html (fleet/fleet_html.h): one style sheet, tables
+// fit-fleet's fleet.html (fleet/internal/fleet_html.h): one style sheet, tables
 // sortable by a click on a header, sections with a navigation bar.
 
 // A table cell: its HTML (already escaped), whether it is a number

@@ -8,8 +8,8 @@
 #include "common/format.h"
 #include "estimation/evaluate_experiment.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "job/published_reference.h"
+#include "estimation/estimation_problem.h"
+#include "report/published_reference.h"
 
 namespace axis {
 namespace {
@@ -18,11 +18,12 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 
-PublishedComparison ComparePublished(const FitJob& job, const FitResult& result) {
+PublishedComparison ComparePublished(const EstimationProblem& job, const FitResult& result,
+                                     const PublishedReference& reference) {
   PublishedComparison out;
-  out.source = job.published.source;
-  AxisParams<double> published = job.published.model.params;
-  for (const std::string& name : job.published.parameters) {
+  out.source = reference.source;
+  AxisParams<double> published = reference.model.params;
+  for (const std::string& name : reference.parameters) {
     ParameterComparison p;
     p.name = name;
     p.unit = ParamUnit(name);
@@ -40,7 +41,7 @@ PublishedComparison ComparePublished(const FitJob& job, const FitResult& result)
   const auto compare = [&](const std::vector<FitExperiment>& experiments) {
     for (const FitExperiment& e : experiments) {
       const ExperimentFit simulated =
-          EvaluateExperiment(job.published.model.structure, published, e);
+          EvaluateExperiment(reference.model.structure, published, e);
       const ExperimentFit* fitted = nullptr;
       for (const ExperimentFit& f : result.experiments) {
         if (f.name == e.name) fitted = &f;
@@ -60,7 +61,7 @@ PublishedComparison ComparePublished(const FitJob& job, const FitResult& result)
           }
         }
         row.quoted_percent = kNaN;
-        for (const QuotedError& q : job.published.quoted) {
+        for (const QuotedError& q : reference.quoted) {
           if (q.experiment == e.name && q.channel == c.channel) row.quoted_percent = q.percent;
         }
         out.channels.push_back(row);

@@ -13,7 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
+#include "report/published_reference.h"
 #include "sim/config.h"
 
 namespace axis {
@@ -41,10 +42,12 @@ struct PublishedComparison {
   std::vector<ChannelComparison> channels;
 };
 
-// Compares `result` (fitted on `experiments` and `validate`) with the
-// published model, which is simulated on every experiment here. A published
-// model whose simulation fails gives NaN errors. Never throws on that.
-PublishedComparison ComparePublished(const FitJob& job, const FitResult& result);
+// Compares `result` (fitted on job's `experiments` and `validate`) with the
+// published model `published`, which is simulated on every experiment
+// here. A published model whose simulation fails gives NaN errors. Never
+// throws on that.
+PublishedComparison ComparePublished(const EstimationProblem& job, const FitResult& result,
+                                     const PublishedReference& published);
 
 // The comparison as text tables (terminal and params.md).
 std::string FormatPublished(const PublishedComparison& comparison);

@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
 #include "tune/analog_loop_tuning.h"
 #include "tune/move_tuning.h"
 

@@ -10,8 +10,8 @@
 #include "common/format.h"
 #include "common/progress.h"
 #include "estimation/fit_result.h"
-#include "job/benchmark_settings.h"
-#include "job/fit_job.h"
+#include "run/benchmark_settings.h"
+#include "run/fit_job.h"
 #include "report/published.h"
 #include "run/job_run.h"
 #include "run/write_job_run.h"
@@ -20,6 +20,40 @@
 #include "io/yaml_util.h"
 
 namespace axis {
+
+FitJob CriterionJob(const FitJob& job, const BenchmarkCriterion& criterion) {
+  FitJob out = job;
+  out.problem.experiments.clear();
+  std::vector<FitExperiment> simulated;
+  for (const std::string& name : criterion.experiments) {
+    const FitExperiment* e = FindExperiment(job.problem.experiments, name);
+    if (e == nullptr) {
+      throw std::invalid_argument("benchmark criterion '" + criterion.name +
+                                  "': expected names of the job's fitted experiments, got '" +
+                                  name + "'");
+    }
+    out.problem.experiments.push_back(*e);
+  }
+  for (const FitExperiment& e : job.problem.experiments) {
+    if (FindExperiment(out.problem.experiments, e.name) != nullptr) continue;
+    if (e.estimate_initial_state) {
+      throw std::invalid_argument("benchmark criterion '" + criterion.name +
+                                  "': expected every experiment with 'initial_state: estimate' "
+                                  "(its state is fitted), got a list without '" + e.name + "'");
+    }
+    FitExperiment only_simulated = e;
+    only_simulated.role = "validate";
+    only_simulated.fitted.clear();
+    simulated.push_back(only_simulated);
+  }
+  out.problem.validate.insert(out.problem.validate.begin(), simulated.begin(), simulated.end());
+  out.out_dir = job.out_dir + "/" + criterion.name;
+  out.benchmark = BenchmarkSettings();  // a plain job: RunJob refuses `benchmark:`
+  out.title = job.title + " [criterion " + criterion.name + ": fitted on " +
+              Join(criterion.experiments, ", ") + "]";
+  return out;
+}
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -56,7 +90,7 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
     BenchmarkRow row;
     row.model = "this tool, criterion " + settings.criteria[k].name;
     row.fitted_on = Join(settings.criteria[k].experiments, " + ");
-    row.effects = EnabledEffectNames(runs[k].job.model.structure);
+    row.effects = EnabledEffectNames(runs[k].job.problem.model.structure);
     row.undetermined = runs[k].result.undetermined;
     for (const BenchmarkColumn& c : settings.columns) {
       row.values.push_back(ColumnValue(c, runs[k].result.experiments));
@@ -151,7 +185,7 @@ nlohmann::json BenchmarkToJson(const BenchmarkTable& table) {
 
 FitResult RunBenchmark(FitJob job, bool discover, ProgressStream& out, std::ostream& err) {
   if (job.benchmark.criteria.empty()) {
-    throw std::invalid_argument(job.path + ": key 'benchmark.criteria': expected at least one "
+    throw std::invalid_argument(job.problem.path + ": key 'benchmark.criteria': expected at least one "
                                 "criterion, got none");
   }
   std::vector<JobRun> runs;
@@ -166,7 +200,7 @@ FitResult RunBenchmark(FitJob job, bool discover, ProgressStream& out, std::ostr
   const BenchmarkTable table = MakeBenchmarkTable(job.benchmark, runs);
   const std::string text = FormatBenchmark(table);
   out << "\n" << text;
-  if (job.solver.progress) {
+  if (job.problem.solver.progress) {
     out.Status("writing the outputs", std::numeric_limits<double>::quiet_NaN());
   }
   const std::vector<std::pair<std::string, std::string>> files = {

@@ -19,8 +19,8 @@
 
 #include "common/progress.h"
 #include "estimation/fit_result.h"
-#include "job/benchmark_settings.h"
-#include "job/fit_job.h"
+#include "run/benchmark_settings.h"
+#include "run/fit_job.h"
 #include "run/job_run.h"
 
 namespace axis {
@@ -43,6 +43,15 @@ struct BenchmarkTable {
   std::vector<BenchmarkColumn> columns;
   std::vector<BenchmarkRow> rows;
 };
+
+// `job` with only the criterion's experiments fitted: the job's other fitted
+// experiments are moved to the front of `validate` (role "validate", no
+// fitted channels), the output folder is `<job.out_dir>/<criterion name>`
+// and the title names the criterion; it has no `benchmark:` of its own (a
+// plain job for RunJob, estimation/fit.h). Throws std::invalid_argument for a
+// criterion naming no experiment of `job` or leaving out one with
+// `initial_state: estimate` (ParseBenchmark has checked both).
+FitJob CriterionJob(const FitJob& job, const BenchmarkCriterion& criterion);
 
 // fit-params on a job with `benchmark:`: RunJob (estimation/fit.h) once per
 // criterion on CriterionJob's job, with the discovery loop if `discover` or

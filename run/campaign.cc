@@ -25,10 +25,10 @@
 #include "discovery/discovery.h"
 #include "discovery/discovery_report.h"
 #include "estimation/fit_result.h"
-#include "job/campaign_settings.h"
-#include "job/discovery_settings.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/campaign_settings.h"
+#include "discovery/discovery_settings.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "run/job_run.h"
 #include "sim/config.h"
 #include "io/csv.h"
@@ -132,8 +132,8 @@ SeedOutcome RunCampaignSeed(const CampaignConfig& c, int seed, int solver_thread
   try {
     const ScopedTempDir dir(std::to_string(seed));
     FitJob job = CampaignSeedJob(c, seed, dir.path);
-    job.solver.progress = false;
-    job.solver.threads = solver_threads;
+    job.problem.solver.progress = false;
+    job.problem.solver.threads = solver_threads;
     if (!c.discover) job.discover.enabled = false;  // the campaign's key decides
     // fit-params' own pipeline, its printed text dropped.
     std::ostringstream discarded;
@@ -251,7 +251,7 @@ CampaignConfig LoadCampaign(const std::string& path) {
   // loop frees it when it adds the effect). Another name, a misspelt one,
   // would be tallied as a parameter no seed estimates.
   std::vector<std::string> free_names, effect_names;
-  for (const FreeParameter& f : job.free) free_names.push_back(f.name);
+  for (const FreeParameter& f : job.problem.free) free_names.push_back(f.name);
   if (c.discover) {
     for (const std::string& e : c.truth_effects) {
       for (const std::string& p : FreedParameters(e)) effect_names.push_back(p);

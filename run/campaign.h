@@ -15,8 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "job/campaign_settings.h"
-#include "job/fit_job.h"
+#include "run/campaign_settings.h"
+#include "run/fit_job.h"
 
 namespace axis {
 
@@ -29,7 +29,7 @@ namespace axis {
 // a verdict other than explained / incomplete, an outside_library force that
 // is not a generator-only one or that no generating config switches on, a
 // truth value that no fit estimates. The file's own checks are
-// LoadCampaignSettings's (job/campaign_settings.h); the job on the first
+// LoadCampaignSettings's (run/campaign_settings.h); the job on the first
 // seed's data and the truth values are checked here (CheckTruthValues).
 CampaignConfig LoadCampaign(const std::string& path);
 

@@ -7,8 +7,8 @@
 #include "io/output_staging.h"
 #include "common/progress.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "run/benchmark.h"
 #include "run/job_run.h"
 #include "run/write_job_run.h"
@@ -39,13 +39,13 @@ FitResult RunFitParams(const FitParamsOptions& options, std::ostream& terminal,
   CheckOutputDirectory(job.out_dir);  // before the fit, not after it
   SetInterruptTarget(job.out_dir);
   out << "fit-params: " << job.title << "\n"
-      << "  " << job.experiments.size() << " fitted experiment(s), "
-      << job.validate.size() << " validation experiment(s), "
-      << job.free.size() << " free parameter(s), " << job.solver.starts + 1
+      << "  " << job.problem.experiments.size() << " fitted experiment(s), "
+      << job.problem.validate.size() << " validation experiment(s), "
+      << job.problem.free.size() << " free parameter(s), " << job.problem.solver.starts + 1
       << " start(s)\n";
   if (job.benchmark.present) return RunBenchmark(std::move(job), options.discover, out, err);
   JobRun run = RunJob(std::move(job), options.discover, out);
-  if (run.job.solver.progress) {
+  if (run.job.problem.solver.progress) {
     out.Status("writing the outputs", std::numeric_limits<double>::quiet_NaN());
   }
   for (const std::string& w : WriteJobRun(run, run.job.out_dir)) {

@@ -11,20 +11,17 @@
 #include "common/format.h"
 #include "common/progress.h"
 #include "design/experiment_design.h"
-#include "discovery/accelerometer_convention.h"
 #include "discovery/diagnostics.h"
-#include "discovery/discovery.h"
+#include "discovery/discovery_session.h"
 #include "discovery/force_map.h"
-#include "discovery/removal.h"
 #include "estimation/at_estimate.h"
 #include "estimation/current_loop_check.h"
 #include "estimation/fit.h"
 #include "estimation/fit_notes.h"
 #include "estimation/fit_result.h"
 #include "estimation/full_loop_refit.h"
-#include "estimation/uncertainty.h"
-#include "job/discovery_settings.h"
-#include "job/fit_job.h"
+#include "estimation/residual_bootstrap.h"
+#include "run/fit_job.h"
 #include "report/published.h"
 #include "report/report.h"
 #include "report/tuning_report.h"
@@ -49,6 +46,10 @@ class JobPipeline {
     RefuseBenchmark();
     CollectInputNotes();
     if (discover_) run_.job.discover.enabled = true;
+    // The declared model of a discovery run is expected to miss an effect:
+    // its fit and the loop's refits are exploratory (fewer checks,
+    // estimation/estimation_problem.h).
+    run_.job.problem.exploratory = run_.job.discover.enabled;
     FitDeclaredModel();
     CheckTheAccelerometerSampling();
     if (run_.discovered) DiscoverEffects();
@@ -56,7 +57,7 @@ class JobPipeline {
     // The fit's s² settled (the force map's, the full loop's): the warning.
     result_.residual_note = ResidualNote(result_.residual_variance);
     if (!run_.discovered) DiagnoseTheFit();
-    ResidualBootstrap(run_.job, &result_, &out_);
+    ResidualBootstrap(run_.job.problem, &result_, &out_);
     if (run_.job.design.enabled) DesignTheNextExperiment();
     PrintTables();
     if (run_.job.tune.enabled) TuneTheAxis();
@@ -69,22 +70,22 @@ class JobPipeline {
   // A stage of the run after the fit, on the progress line when `out` is
   // fit-params' progress stream (common/progress.h).
   void Stage(const char* what) {
-    if (run_.job.solver.progress && progress_line_ != nullptr) {
+    if (run_.job.problem.solver.progress && progress_line_ != nullptr) {
       progress_line_->Status(what, std::numeric_limits<double>::quiet_NaN());
     }
   }
 
   void RefuseBenchmark() const {
     if (!run_.job.benchmark.present) return;
-    throw std::invalid_argument(run_.job.path +
+    throw std::invalid_argument(run_.job.problem.path +
                                 ": key 'benchmark': expected a job without 'benchmark:' here "
                                 "(fit-params runs its criteria, each a job of its own: "
-                                "job/benchmark_settings.h CriterionJob), got one");
+                                "run/benchmark.h CriterionJob), got one");
   }
 
   // Columns read in a way the job did not state (e.g. held inputs).
   void CollectInputNotes() {
-    for (const std::vector<FitExperiment>* list : {&run_.job.experiments, &run_.job.validate}) {
+    for (const std::vector<FitExperiment>* list : {&run_.job.problem.experiments, &run_.job.problem.validate}) {
       for (const FitExperiment& e : *list) {
         for (const std::string& note : e.input_notes) {
           out_ << "  " << e.name << ": " << note << "\n";
@@ -98,7 +99,7 @@ class JobPipeline {
 
   void FitDeclaredModel() {
     const auto start = std::chrono::steady_clock::now();
-    result_ = FitParameters(run_.job, &out_);
+    result_ = FitParameters(run_.job.problem, &out_);
     base_fit_seconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     run_.discovered = run_.job.discover.enabled;
@@ -111,7 +112,7 @@ class JobPipeline {
     if (result_.abandoned_horizon != 0.0) return;
     Stage("checking the accelerometer's sampling convention");
     try {
-      run_.sampling_check = CheckAccelerometerSampling(run_.job, result_);
+      run_.sampling_check = CheckAccelerometerSampling(run_.job.problem, result_);
     } catch (const std::runtime_error&) {
       run_.sampling_check = SamplingCheck{};  // the estimate does not simulate: no check
     }
@@ -119,100 +120,21 @@ class JobPipeline {
   }
 
   // The residual diagnostics of the model as declared, before adding
-  // anything; the discovery loop; the force map if the job asks.
+  // anything; then discovery (discovery/discovery_session.h: the
+  // convention, the loop, the convention again, the force map).
   void DiscoverEffects() {
-    FitJob& job = run_.job;
+    EstimationProblem& job = run_.job.problem;
     out_ << "\nBefore discovery:\n" << FormatParameterTable(result_) << "\n"
          << FormatFitTable(result_);
     run_.diagnostics = DiagnoseResiduals(AtEstimate(job, result_));
     out_ << "\n" << FormatDiagnostics(run_.diagnostics);
-    // The sampling convention first (discovery/accelerometer_convention.h):
-    // the loop's delays and filters would stand in for it.
-    const std::optional<DiscoveryStep> convention =
-        AdoptAccelerometerConvention(run_.sampling_check, &job, &result_);
-    if (convention) {
-      out_ << "\nFront end: " << convention->effect << " adopted, BIC " << convention->bic_before
-           << " -> " << convention->bic_after << " (" << convention->rule << ")\n";
-    }
-    DiscoverySettings settings = job.discover;
-    settings.enabled = true;
-    run_.discovery = Discover(settings, &job, &result_, &out_);
-    if (convention) PrependConventionStep(*convention, &run_.discovery);
-    if (!convention) CheckTheConventionAgain(settings);
-    run_.discovery.base_fit_seconds = base_fit_seconds_;
-    out_ << "\nFinal model:\n" << FormatDiagnostics(run_.discovery.final_diagnostics) << "\n"
-         << FormatDiscovery(run_.discovery);
-    if (settings.force_map) {
-      Stage("force map");
-      run_.force_map = AddForceMap(settings, run_.discovery, &job, &result_, &out_);
-      ApplyRemovals(run_.force_map, &run_.discovery);
-      out_ << "\n" << FormatForceMap(run_.force_map);
-    }
+    DiscoveryOutcome outcome =
+        RunDiscovery(run_.job.discover, run_.sampling_check, base_fit_seconds_, &job, &result_,
+                     out_, [this](const char* what) { Stage(what); });
+    run_.discovery = std::move(outcome.report);
+    run_.force_map = std::move(outcome.force_map);
+    run_.sampling_check = std::move(outcome.sampling_check);
     out_ << "\nAfter discovery:\n";
-  }
-
-  // The accelerometer's convention judged again on the discovered model,
-  // when that model still leaves structure: on the declared one a plant
-  // effect's misfit can hide it (independent square-wave and sweep records
-  // with a 40 N Coulomb friction, sampled at the instant: the two
-  // conventions' χ² 2.435e6 and 2.431e6, no note; the loop then kept
-  // sensor_delay.a in its place and ended incomplete at s² = 1.40 in 8 of
-  // 8 seeds). If the other convention now wins, it is adopted and the loop
-  // runs again from there, with the effects left to add; then every
-  // selected effect, the first run's too, meets the significance rule again
-  // (the stand-in delay is dropped there), and the final model is judged.
-  //
-  // Also when the loop kept a filter or delay on `a`, explained or not: to
-  // first order those stand in for the convention (a period mean is a box
-  // filter and a half-period delay of instant samples), so the model with
-  // them fits under either and the declared one keeps the stand-in's bias
-  // (instant records behind a 250 Hz anti-alias filter read as period
-  // means: tau_lp2.a 0.28 ms for the filter's 0.64 ms, b_g 3.6 standard
-  // errors off, b_g covering 4/20 seeds of front_end_coulomb; under the
-  // instant convention Σ(r/σ)² 120 lower with the same parameters, b_g 0.9
-  // standard errors off).
-  void CheckTheConventionAgain(DiscoverySettings settings) {
-    if (!run_.sampling_check.ran) return;
-    if (run_.discovery.verdict.verdict == "explained" && !KeptAStandInForTheConvention()) return;
-    Stage("checking the accelerometer's sampling convention on the discovered model");
-    // Not explained: the convention as the discovered model's misfit; a
-    // stand-in kept: as a candidate judged by BIC against it.
-    const SamplingRule rule = run_.discovery.verdict.verdict == "explained"
-                                  ? SamplingRule::kBestBic
-                                  : SamplingRule::kMisfit;
-    SamplingCheck again;
-    try {
-      again = CheckAccelerometerSampling(run_.job, result_, rule);
-    } catch (const std::runtime_error&) {
-      return;  // the discovered model does not simulate under a convention: no change
-    }
-    const std::optional<DiscoveryStep> convention =
-        AdoptAccelerometerConvention(again, &run_.job, &result_);
-    if (!convention) return;
-    run_.sampling_check = std::move(again);
-    out_ << "\nnote: " << run_.sampling_check.note << "\nFront end: " << convention->effect
-         << " adopted on the discovered model, BIC " << convention->bic_before << " -> "
-         << convention->bic_after << "; the loop runs again from there\n";
-    int added = 0;
-    for (const std::string& name : run_.discovery.selected) added += !IsConventionStep(name);
-    settings.max_effects = std::max(0, settings.max_effects - added);
-    DiscoveryReport second = Discover(settings, &run_.job, &result_, &out_);
-    run_.discovery = JoinSecondPass(std::move(run_.discovery), *convention, std::move(second));
-    DropInsignificant(run_.discovery.level, &run_.job, &result_, &run_.discovery, &out_);
-    run_.discovery.final_diagnostics = DiagnoseResiduals(AtEstimate(run_.job, result_));
-    run_.discovery.verdict =
-        JudgeResiduals(run_.discovery.final_diagnostics, result_, run_.job.discover.alpha);
-  }
-
-  // Whether the loop selected a filter or a delay on `a`
-  // (sensor_lowpass.a, sensor_lowpass2.a, sensor_delay.a; MODEL.md §6).
-  bool KeptAStandInForTheConvention() const {
-    for (const std::string& name : run_.discovery.selected) {
-      if (name == "sensor_lowpass.a" || name == "sensor_lowpass2.a" || name == "sensor_delay.a") {
-        return true;
-      }
-    }
-    return false;
   }
 
   // With the quasi-steady current loop: how far the approximation moves the
@@ -228,18 +150,18 @@ class JobPipeline {
   // (its roughness penalty belongs to the quasi-steady fit's λ). A refit
   // that fails keeps the quasi-steady fit, with the note.
   void CheckTheCurrentLoop() {
-    const AxisStructure& structure = run_.job.model.structure;
+    const AxisStructure& structure = run_.job.problem.model.structure;
     if (structure.amplifier != Amplifier::kAnalogVelocityLoop ||
         structure.current_loop != CurrentLoop::kQuasiSteady || result_.abandoned_horizon != 0.0) {
       return;
     }
     Stage("checking the quasi-steady current loop against the full loop");
     const auto check_start = std::chrono::steady_clock::now();
-    run_.loop_check = CheckCurrentLoop(run_.job, result_);
+    run_.loop_check = CheckCurrentLoop(run_.job.problem, result_);
     const double check_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
     std::string refit_failed;
-    if (!run_.force_map.kept && run_.loop_check.largest > run_.job.full_loop_refit_above) {
+    if (!run_.force_map.kept && run_.loop_check.largest > run_.job.full_loop.refit_above) {
       try {
         RefitTheFullLoop(check_seconds);
       } catch (const std::exception& e) {
@@ -268,13 +190,14 @@ class JobPipeline {
     const FitJob& job = run_.job;
     out_ << "\n" << run_.loop_check.note << "\nRefitting with the full current loop at "
          << run_.loop_check.full_step << " s from the quasi-steady estimate (simulation."
-         << "full_loop_refit_above: " << job.full_loop_refit_above << ")\n";
-    FitJob full = FullLoopRefitJob(job, result_, run_.loop_check);
+         << "full_loop_refit_above: " << job.full_loop.refit_above << ")\n";
+    EstimationProblem full =
+        FullLoopRefitProblem(job.problem, result_, run_.loop_check, job.full_loop.intervals);
     FitResult refit = FitParameters(full, &out_);
     if (!std::isfinite(refit.final_cost) || !refit.converged) {
       throw std::runtime_error(refit.termination.empty() ? "no estimate" : refit.termination);
     }
-    const bool carried = job.full_loop_intervals == FitJob::FullLoopIntervals::kCarried;
+    const bool carried = job.full_loop.intervals == FullLoopRefitSettings::Intervals::kCarried;
     if (carried) CarryQuasiSteadyIntervals(result_, &refit);
     for (ParameterEstimate& e : refit.parameters) {
       for (const ParameterEstimate& before : result_.parameters) {
@@ -304,7 +227,7 @@ class JobPipeline {
             "traces are the full loop's, refitted at "
          << run_.loop_check.full_step
          << " s from the estimate less that shift (simulation.full_loop_refit_above: "
-         << job.full_loop_refit_above
+         << job.full_loop.refit_above
          << "; the cost's initial value is the full loop's at the quasi-steady estimate); "
          << (carried ? "the intervals are the quasi-steady fit's, carried over "
                        "(simulation.full_loop_intervals: carried)"
@@ -314,39 +237,31 @@ class JobPipeline {
     if (!result_.auto_starts_note.empty()) {
       refit.auto_starts_note = "in the quasi-steady fit: " + result_.auto_starts_note;
     }
-    run_.job = std::move(full);
+    run_.job.problem = std::move(full);
     result_ = std::move(refit);
   }
 
-  // After a full-loop refit of a discovered model: the loop's significance
-  // rule (discovery/removal.h DropInsignificant: Wald, with the likelihood
-  // ratio of the refit without) at the refit's estimate. An effect that
-  // was significant only against the quasi-steady approximation's error
-  // goes (a payload of 0.17 kg, 4.3 standard errors, on independent-data
-  // square-wave records: 0.08 ± 0.04 kg with the full loop).
+  // After a full-loop refit of a discovered model: the effects judged again
+  // at the refit's estimate (discovery/discovery_session.h
+  // JudgeEffectsAgain); where one goes, the intervals carried across its
+  // removal and the note saying so.
   void JudgeTheEffectsAgain() {
     Stage("the discovered effects' significance with the full loop");
-    DiscoveryReport& report = run_.discovery;
-    const size_t removed_before = report.removed.size(), steps_before = report.steps.size();
     const std::string refit_note = result_.model_note;
     const FitResult with_effects = result_;
+    std::vector<std::string> removed;
     try {
-      DropInsignificant(report.level, &run_.job, &result_, &report, &out_);
+      removed = JudgeEffectsAgain(run_.job.discover.alpha, &run_.job.problem, &result_,
+                                  &run_.discovery, out_);
     } catch (const std::exception& e) {
       result_.model_note += std::string("; the significance check with the full loop failed (") +
                             e.what() + ")";
       return;
     }
-    for (size_t k = steps_before; k < report.steps.size(); ++k) {
-      report.steps[k].insignificant = "with the full loop: " + report.steps[k].insignificant;
-    }
-    JudgeTheFinalModelAgain();
-    if (report.removed.size() == removed_before) return;
+    if (removed.empty()) return;
     std::string names;
-    for (size_t k = removed_before; k < report.removed.size(); ++k) {
-      names += (names.empty() ? "" : ", ") + report.removed[k];
-    }
-    const bool carried = run_.job.full_loop_intervals == FitJob::FullLoopIntervals::kCarried;
+    for (const std::string& name : removed) names += (names.empty() ? "" : ", ") + name;
+    const bool carried = run_.job.full_loop.intervals == FullLoopRefitSettings::Intervals::kCarried;
     if (carried) CarryIntervalsAcrossRemoval(with_effects, &result_);
     result_.model_note = refit_note + "; then " + names +
                          " not significant with the full loop (Wald and likelihood ratio at "
@@ -356,25 +271,12 @@ class JobPipeline {
     out_ << "note: " << names << " dropped: not significant with the full current loop\n";
   }
 
-  // The loop's final diagnostics and verdict again, of the model the run
-  // reports (the full loop's, after JudgeTheEffectsAgain), printed.
-  void JudgeTheFinalModelAgain() {
-    DiscoveryReport& report = run_.discovery;
-    try {
-      report.final_diagnostics = DiagnoseResiduals(AtEstimate(run_.job, result_));
-      report.verdict = JudgeResiduals(report.final_diagnostics, result_, run_.job.discover.alpha);
-    } catch (const std::runtime_error&) {
-      return;  // the refit does not simulate at its estimate: the loop's verdict stays
-    }
-    out_ << "\nFinal model with the full current loop: " << FormatVerdict(report.verdict);
-  }
-
   // The residual diagnostics of the fitted model, for report.html (with
   // discovery they are those of the declared model, DiscoverEffects).
   void DiagnoseTheFit() {
     Stage("diagnosing the residuals");
     try {
-      run_.diagnostics = DiagnoseResiduals(AtEstimate(run_.job, result_));
+      run_.diagnostics = DiagnoseResiduals(AtEstimate(run_.job.problem, result_));
     } catch (const std::runtime_error&) {
       run_.diagnostics.clear();  // the fitted model does not simulate: no diagnostics
     }
@@ -384,7 +286,8 @@ class JobPipeline {
     Stage("designing the next experiment");
     try {
       run_.proposal =
-          ProposeExperiment(run_.job, result_, run_.job.solver.progress ? &out_ : nullptr);
+          ProposeExperiment(run_.job.problem, result_, run_.job.design, run_.job.discover,
+                            run_.job.problem.solver.progress ? &out_ : nullptr);
     } catch (const std::runtime_error& e) {
       // A simulation at the estimates failed: the fit's results stand.
       run_.proposal = ExperimentProposal{};
@@ -399,7 +302,7 @@ class JobPipeline {
   void TuneTheAxis() {
     Stage("tuning the analog loop");
     try {
-      run_.tuning = TuneAnalogLoop(run_.job, result_);
+      run_.tuning = TuneAnalogLoop(run_.job.problem, result_, run_.job.tune);
     } catch (const std::runtime_error& e) {
       run_.tuning = AnalogLoopTuning{};
       run_.tuning.note = std::string("no tuning: ") + e.what();
@@ -408,7 +311,7 @@ class JobPipeline {
     if (!run_.job.tune.move.enabled) return;
     Stage("tuning the position controller and the move");
     try {
-      run_.move_tuning = TuneMove(run_.job, result_, &run_.tuning);
+      run_.move_tuning = TuneMove(run_.job.problem, result_, run_.job.tune, &run_.tuning);
     } catch (const std::exception& e) {
       run_.move_tuning = MoveTuning{};
       run_.move_tuning.note = std::string("no move tuning: ") + e.what();
@@ -435,7 +338,7 @@ class JobPipeline {
     if (!result.misspecification_note.empty()) {
       out_ << "misspecification: " << result.misspecification_note << "\n";
     }
-    if (run_.job.uncertainty.bootstrap > 0) out_ << FormatBootstrap(result);
+    if (run_.job.problem.uncertainty.bootstrap > 0) out_ << FormatBootstrap(result);
   }
 
   // What params.md and report.json add to the fit's own tables.
@@ -498,7 +401,7 @@ class JobPipeline {
   void AddPublishedSection() {
     Stage("simulating the published model");
     run_.has_published = true;
-    run_.published = ComparePublished(run_.job, result_);
+    run_.published = ComparePublished(run_.job.problem, result_, run_.job.published);
     const std::string table = FormatPublished(run_.published);
     out_ << "\n" << table;
     run_.sections.markdown += "\n## Published reference\n\n```\n" + table + "```\n";

@@ -18,7 +18,7 @@
 #include "estimation/current_loop_check.h"
 #include "estimation/sampling_check.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "run/fit_job.h"
 #include "report/published.h"
 #include "report/report.h"
 #include "tune/analog_loop_tuning.h"
@@ -77,7 +77,7 @@ struct JobRun {
 // each of its criteria as a job of its own (CriterionJob, run/benchmark.h).
 // Prints to `out` what fit-params prints between its two header lines and
 // its "wrote" line: notes on input columns, the solver's progress (if
-// job.solver.progress; from the calling thread only), the discovery tables,
+// job.problem.solver.progress; from the calling thread only), the discovery tables,
 // the parameter and fit tables, the cost, time, optimum-check and
 // uncertainty lines, the published table. Throws std::invalid_argument for
 // an inconsistent job (LoadFitJob has checked) and std::runtime_error if a

@@ -26,7 +26,7 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
   HtmlReportInput html;
   html.title = run.job.title;
   html.result = &run.result;
-  html.job = &run.job;
+  html.job = &run.job.problem;
   html.diagnostics = &run.diagnostics;
   html.discovery = run.discovered ? &run.discovery : nullptr;
   html.force_map = run.discovered && run.job.discover.force_map ? &run.force_map : nullptr;
@@ -58,16 +58,16 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
     }
   }
   if (run.job.tune.enabled) {
-    WriteTuning(dir, AtEstimate(run.job, run.result).model, run.tuning, &html.files);
-    WriteMoveTuning(dir, AtEstimate(run.job, run.result).model, run.move_tuning, &html.files);
+    WriteTuning(dir, AtEstimate(run.job.problem, run.result).model, run.tuning, &html.files);
+    WriteMoveTuning(dir, AtEstimate(run.job.problem, run.result).model, run.move_tuning, &html.files);
   }
   WriteHtmlReport(dir + "/report.html", html, warnings);
-  WriteProposal(dir, run.job, run.result, run.proposal);
+  WriteProposal(dir, run.job.problem, run.job.title, run.result, run.proposal);
   if (run.discovered) {
     WriteDiagnostics(dir, run.diagnostics, warnings);
     WriteForceMap(dir, run.force_map, warnings);
-    AxisConfig discovered = run.job.model;
-    discovered.name = run.job.model.name + "_discovered";
+    AxisConfig discovered = run.job.problem.model;
+    discovered.name = run.job.problem.model.name + "_discovered";
     discovered.source = "fit-params --discover on " + run.job.title;
     WriteFileAtomic(dir + "/model_discovered.yaml",
                     "# Written by fit-params --discover: the fitted model with the\n"

@@ -166,6 +166,18 @@ void ParseSensorEffect(YamlMap& map, const SensorEffectInfo& effect, AxisConfig*
 
 }  // namespace
 
+Channel ChannelOrThrow(const std::string& name, const YamlMap& map,
+                       const YAML::Node& node, const std::string& key) {
+  const auto c = ParseChannel(name);
+  if (!c || *c == Channel::kT) {
+    ThrowConfigError(map.file(), node, key,
+                     "a channel name of MODEL.md section 6 (" +
+                         ChannelNameList() + ", not t)",
+                     "'" + name + "'");
+  }
+  return *c;
+}
+
 Range ParamRange(const std::string& name) {
   static const std::set<std::string> positive = {
       "L", "J_m", "r_g", "M", "T_p", "T_r", "K_i", "V_M", "K_a",

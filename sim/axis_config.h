@@ -14,6 +14,7 @@
 #include "io/yaml_util.h"
 #include "sim/axis_model.h"
 #include "sim/axis_params.h"
+#include "sim/channels.h"
 #include "sim/controller.h"
 
 namespace axis {
@@ -51,6 +52,13 @@ void ParseEffects(YamlMap& effects, AxisConfig* config);
 // for V_L (.inf: no limit), kAny for the rest. Every value a model holds,
 // and every bound of a free parameter, must be in it.
 YamlMap::Range ParamRange(const std::string& name);
+
+// The MODEL.md §6 channel `name` (not t), read at `key` of `map` (`node`
+// locates the line). Throws std::invalid_argument "<file>:<line>: key
+// '<key>': expected a channel name of MODEL.md section 6 (<names>, not t),
+// got '<name>'".
+Channel ChannelOrThrow(const std::string& name, const YamlMap& map, const YAML::Node& node,
+                       const std::string& key);
 
 // Checks the parameters of `config` against the ranges of MODEL.md §2
 // (positive masses, inertias, time constants, ...). `where` prefixes the

@@ -224,6 +224,204 @@ inline bool AnyLoadEffect(const AxisStructure& s) {
          e.velocity_bump || s.force_map.enabled;
 }
 
+// The load-side force opposing the motion (N): static friction eq. 6 and
+// the §7 force effects, with the generator-only forces; *any false (and
+// zero) where the structure has none.
+template <typename T>
+T LoadForce(const AxisStructure& structure, const AxisParams<T>& p,
+            const AxisCoefficients<T>& c, const T& x, const T& v, bool* any) {
+  using std::abs;
+  using std::exp;
+  using std::sin;
+  using std::tanh;
+  const EffectSwitches& e = structure.effects;
+  const bool static_friction = p.F_s != 0.0 && v < p.w && v > -p.w &&
+                               v != 0.0;
+  *any = static_friction || AnyLoadEffect(structure);
+  T f_load(0.0);
+  if (!*any) return f_load;
+  if (static_friction) f_load += v > 0.0 ? p.F_s : T(-p.F_s);
+  if (e.coulomb || e.stribeck || e.viscous_asymmetry) {
+    const T sgn = tanh(v / p.v_eps);
+    if (e.coulomb) f_load += p.F_c * sgn;
+    if (e.stribeck) {
+      const T r = v / p.v_st;
+      f_load += (p.F_st - p.F_c) * exp(-r * r) * sgn;
+    }
+    if (e.viscous_asymmetry) {
+      f_load += p.Delta_B * v * (T(1.0) - sgn) * 0.5;
+    }
+  }
+  if (e.load_offset) f_load += p.F_0;
+  if (e.spring) f_load += p.k_x * (x - p.x_0);
+  // Generator-only forces (outside MODEL.md §7; sim/axis_params.h). The
+  // patch's window rises from 0 to 1 over ±2·w_pt around x_pt0 and falls
+  // back around x_pt1: ½[tanh((x − x_pt0)/w_pt) − tanh((x − x_pt1)/w_pt)].
+  if (e.friction_patch) {
+    const T window = (tanh((x - p.x_pt0) / p.w_pt) - tanh((x - p.x_pt1) / p.w_pt)) * 0.5;
+    f_load += p.F_pt * window * tanh(v / p.v_eps);
+  }
+  if (e.quadratic_drag) f_load += p.C_d * v * abs(v);
+  // A force periodic in the load position (a ball screw's or a rack's
+  // pitch error, guide waviness): unlike cogging, whose period is set by
+  // the motor angle, its period λ_rp is the job's to choose.
+  if (e.position_ripple) {
+    f_load += p.F_rp * sin(T(6.283185307179586476925) * x / p.lambda_rp + p.phi_rp);
+  }
+  // A friction that peaks at a speed and fades above it (a lubrication
+  // regime change): F_vb·exp(−((|v| − v_vb)/w_vb)²)·sgn_ε(v).
+  if (e.velocity_bump) {
+    const T r = (abs(v) - p.v_vb) / p.w_vb;
+    f_load += p.F_vb * exp(-r * r) * tanh(v / p.v_eps);
+  }
+  // MODEL.md §7 force_map: f(x), f(v) or f(x)·sgn_ε(v) (sim/force_map.h).
+  const ForceMap& map = structure.force_map;
+  if (map.enabled) {
+    const T& z = map.variable == ForceMapVariable::kV ? v : x;
+    const T f = ForceMapValue(map.knots, p.f_map, c.f_map_m, z);
+    f_load += map.friction ? T(f * tanh(v / p.v_eps)) : f;
+  }
+  return f_load;
+}
+
+// The motor-side torque effects (N·m): motor Coulomb friction and cogging.
+template <typename T>
+T MotorTorque(const AxisStructure& structure, const AxisParams<T>& p, const T& theta,
+              const T& omega) {
+  using std::sin;
+  using std::tanh;
+  const EffectSwitches& e = structure.effects;
+  T t_motor(0.0);
+  if (e.motor_coulomb) t_motor += p.T_c * tanh(omega / p.omega_eps);
+  if (e.cogging) {
+    t_motor += p.A_cog * sin(double(structure.N_cog) * theta + p.phi_cog);
+  }
+  return t_motor;
+}
+
+// The amplifier's signals: the motor current i (A), V_c and V_m (V).
+template <typename T>
+struct AmplifierSignals {
+  T i, vc, vm;
+};
+
+// The amplifier (eq. 2, y4–y5; eq. 3, y6 under the full current loop):
+// writes dy[4..6] (dy[6] = 0 under the quasi-steady loop, QuasiSteadyCurrent
+// sets it after ω') and *preamp where it is kFromState.
+template <typename T>
+AmplifierSignals<T> AmplifierDerivative(const AxisStructure& structure,
+                                        const AxisParams<T>& p, const AxisCoefficients<T>& c,
+                                        const AxisState<T>& y, const T& u, const T& omega,
+                                        PreampRegion* preamp, AxisState<T>* dy) {
+  AmplifierSignals<T> out{T(0.0), T(0.0), T(0.0)};
+  if (structure.amplifier == Amplifier::kForceSource) {
+    (*dy)[4] = (*dy)[5] = (*dy)[6] = T(0.0);
+    return out;
+  }
+  const T pre_vc = y[4] + c.T_z * y[5];  // V_c before the clamp of eq. 2
+  if (*preamp == PreampRegion::kFromState) *preamp = PreampRegionOf(pre_vc, p.V_L);
+  out.vc = *preamp == PreampRegion::kHigh  ? p.V_L
+           : *preamp == PreampRegion::kLow ? T(-p.V_L)
+                                           : pre_vc;
+  (*dy)[4] = y[5];
+  (*dy)[5] = c.pre_u * u - c.pre_omega * omega - c.pre_y4 * y[4] -
+             c.pre_y5 * y[5];
+  if (structure.amplifier == Amplifier::kAnalogVelocityLoop) {
+    out.i = y[6];
+    if (structure.current_loop == CurrentLoop::kFull) {
+      out.vm = Clamp(T(c.K_a * out.vc - c.K_a_per_K_i * out.i), p.V_M);
+      (*dy)[6] = c.inv_L * out.vm - c.R_per_L * out.i - c.K_e_per_L * omega;
+    } else {
+      (*dy)[6] = T(0.0);  // kQuasiSteady: y6' after ω'
+    }
+  } else {
+    out.i = p.K_i * out.vc;
+    out.vm = p.R * out.i + p.K_e * omega;
+    (*dy)[6] = T(0.0);
+  }
+  return out;
+}
+
+// The mechanics' outputs: the load's acceleration a (m/s²), the gear force
+// F_g and the force on the load the `force` channel records (N).
+template <typename T>
+struct MechanicsSignals {
+  T a, fg, force;
+};
+
+// The mechanics (eq. 1, 4, 5, or the rigid reduction of §4, or the force
+// source): writes dy[2], dy[3]; the gear contact is the state's where
+// `contact` is kFromState.
+template <typename T>
+MechanicsSignals<T> Mechanics(const AxisStructure& structure, const AxisParams<T>& p,
+                              const AxisCoefficients<T>& c, const T& x, const T& v,
+                              const T& theta, const T& omega, const T& u, const T& i,
+                              const T& f_load, bool has_load_force, const T& t_motor,
+                              bool has_motor_torque, GearContact contact, AxisState<T>* dy) {
+  MechanicsSignals<T> m;
+  if (structure.coupling != Coupling::kRigid) {
+    const T gap = c.r_g * theta - x;  // X, eq. 4
+    if (contact == GearContact::kFromState) {
+      contact = gap > p.H    ? GearContact::kPositive
+                : gap < -p.H ? GearContact::kNegative
+                             : GearContact::kFree;
+    }
+    if (contact == GearContact::kPositive) {
+      m.fg = c.k_g * T(gap - p.H) + c.b_g * T(c.r_g * omega - v);
+    } else if (contact == GearContact::kNegative) {
+      m.fg = c.k_g * T(gap + p.H) + c.b_g * T(c.r_g * omega - v);
+    } else {
+      m.fg = T(0.0);
+    }
+    m.a = c.inv_mass * m.fg - c.B_a_per_mass * v;
+    if (has_load_force) m.a -= c.inv_mass * f_load;
+    (*dy)[2] = omega;
+    (*dy)[3] = c.K_tau_per_J * i - c.B_m_per_J * omega - c.r_g_per_J * m.fg;
+    if (has_motor_torque) (*dy)[3] -= c.inv_J_m * t_motor;
+    m.force = m.fg;
+  } else if (structure.amplifier == Amplifier::kForceSource) {
+    m.force = p.g_F * u;
+    T f = m.force - p.B_a * v - f_load;
+    if (has_motor_torque) f -= c.inv_r_g * t_motor;
+    m.a = c.inv_mass * f;
+    m.fg = m.force;
+    (*dy)[2] = omega;
+    (*dy)[3] = c.inv_r_g * m.a;
+  } else {
+    const T domega =
+        c.inv_inertia *
+        T(p.K_tau * i - c.damping * omega - c.r_g * f_load - t_motor);
+    m.a = c.r_g * domega;
+    m.force = c.inv_r_g * T(p.K_tau * i);
+    m.fg = m.a / c.inv_mass.value + p.B_a * v + f_load;
+    (*dy)[2] = omega;
+    (*dy)[3] = domega;
+  }
+  return m;
+}
+
+// y6' under the quasi-steady current loop (MODEL.md §4), once ω' is known.
+// Eq. 3 is L·y6' = clamp(K_a·V_c − (K_a/K_i)·y6, ±V_M) − R·y6 − K_e·ω,
+// i.e. y6' = clamp((K_a/K_i + R)/L·(i_qs − y6), lo, hi) with
+// lo, hi = (∓V_M − R·y6 − K_e·ω)/L, the rates the voltage limit allows.
+// In the limit K_a → ∞ the unsaturated current is i_qs itself: y6' =
+// i_qs' (+ κ·(i_qs − y6) to return to it after a saturation), clamped
+// to the same [lo, hi]. Returns V_m.
+template <typename T>
+T QuasiSteadyCurrent(const AxisParams<T>& p, const AxisCoefficients<T>& c, const T& omega,
+                     const AmplifierSignals<T>& amp, PreampRegion preamp, AxisState<T>* dy) {
+  const T dvc = preamp == PreampRegion::kLinear ? T((*dy)[4] + c.T_z * (*dy)[5])
+                                                : T(0.0);
+  const T i_qs = c.K_a_loop * amp.vc - c.K_e_loop * omega;
+  const T di_qs = c.K_a_loop * dvc - c.K_e_loop * T((*dy)[3]);
+  const T drive = di_qs + c.loop_rate * T(i_qs - amp.i);
+  const T back = c.R_per_L * amp.i + c.K_e_per_L * omega;  // (R·y6 + K_e·ω)/L
+  const T v_max = c.inv_L * p.V_M;
+  (*dy)[6] = drive > v_max - back ? T(v_max - back)
+             : drive < -v_max - back ? T(-v_max - back) : drive;
+  return p.L * T((*dy)[6] + back);
+}
+
 }  // namespace internal
 
 // Writes dy = f(y, u) for the model of MODEL.md §3–4 and §7.
@@ -238,6 +436,9 @@ inline bool AnyLoadEffect(const AxisStructure& s) {
 //      the state is in.
 //   preamp: the side of the limit of eq. 2 (analog velocity loop); by
 //      default the one the state is in.
+// The parts, in the order they are evaluated: internal::LoadForce,
+// internal::MotorTorque, internal::AmplifierDerivative, internal::Mechanics and, under
+// the quasi-steady current loop, internal::QuasiSteadyCurrent.
 // Never throws; non-finite inputs give non-finite outputs.
 template <typename T>
 AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
@@ -247,174 +448,34 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
                     const T& u, AxisState<T>* dy, AxisAux<T>* aux = nullptr,
                     GearContact contact = GearContact::kFromState,
                     PreampRegion preamp = PreampRegion::kFromState) {
-  using std::abs;
-  using std::exp;
-  using std::sin;
-  using std::tanh;
-  const EffectSwitches& e = structure.effects;
   const bool rigid = structure.coupling == Coupling::kRigid;
   const T& x = y[0];
   const T& v = y[1];
   // In rigid coupling the motor follows the load exactly.
   const T theta = rigid ? T(c.inv_r_g * x) : y[2];
   const T omega = rigid ? T(c.inv_r_g * v) : y[3];
-
-  // Load-side friction: static friction eq. 6 and the §7 force effects.
-  const bool static_friction = p.F_s != 0.0 && v < p.w && v > -p.w &&
-                               v != 0.0;
-  const bool has_load_force = static_friction || internal::AnyLoadEffect(structure);
-  T f_load(0.0);
-  if (has_load_force) {
-    if (static_friction) f_load += v > 0.0 ? p.F_s : T(-p.F_s);
-    if (e.coulomb || e.stribeck || e.viscous_asymmetry) {
-      const T sgn = tanh(v / p.v_eps);
-      if (e.coulomb) f_load += p.F_c * sgn;
-      if (e.stribeck) {
-        const T r = v / p.v_st;
-        f_load += (p.F_st - p.F_c) * exp(-r * r) * sgn;
-      }
-      if (e.viscous_asymmetry) {
-        f_load += p.Delta_B * v * (T(1.0) - sgn) * 0.5;
-      }
-    }
-    if (e.load_offset) f_load += p.F_0;
-    if (e.spring) f_load += p.k_x * (x - p.x_0);
-    // Generator-only forces (outside MODEL.md §7; sim/axis_params.h). The
-    // patch's window rises from 0 to 1 over ±2·w_pt around x_pt0 and falls
-    // back around x_pt1: ½[tanh((x − x_pt0)/w_pt) − tanh((x − x_pt1)/w_pt)].
-    if (e.friction_patch) {
-      const T window = (tanh((x - p.x_pt0) / p.w_pt) - tanh((x - p.x_pt1) / p.w_pt)) * 0.5;
-      f_load += p.F_pt * window * tanh(v / p.v_eps);
-    }
-    if (e.quadratic_drag) f_load += p.C_d * v * abs(v);
-    // A force periodic in the load position (a ball screw's or a rack's
-    // pitch error, guide waviness): unlike cogging, whose period is set by
-    // the motor angle, its period λ_rp is the job's to choose.
-    if (e.position_ripple) {
-      f_load += p.F_rp * sin(T(6.283185307179586476925) * x / p.lambda_rp + p.phi_rp);
-    }
-    // A friction that peaks at a speed and fades above it (a lubrication
-    // regime change): F_vb·exp(−((|v| − v_vb)/w_vb)²)·sgn_ε(v).
-    if (e.velocity_bump) {
-      const T r = (abs(v) - p.v_vb) / p.w_vb;
-      f_load += p.F_vb * exp(-r * r) * tanh(v / p.v_eps);
-    }
-    // MODEL.md §7 force_map: f(x), f(v) or f(x)·sgn_ε(v) (sim/force_map.h).
-    const ForceMap& map = structure.force_map;
-    if (map.enabled) {
-      const T& z = map.variable == ForceMapVariable::kV ? v : x;
-      const T f = ForceMapValue(map.knots, p.f_map, c.f_map_m, z);
-      f_load += map.friction ? T(f * tanh(v / p.v_eps)) : f;
-    }
-  }
-
-  // Motor-side torque effects.
-  const bool has_motor_torque = e.motor_coulomb || e.cogging;
-  T t_motor(0.0);
-  if (e.motor_coulomb) t_motor += p.T_c * tanh(omega / p.omega_eps);
-  if (e.cogging) {
-    t_motor += p.A_cog * sin(double(structure.N_cog) * theta + p.phi_cog);
-  }
-
-  // Amplifier: preamp (eq. 2, y4–y5), current loop (eq. 3, y6).
-  T i, vc, vm(0.0);
-  T pre_vc(0.0);  // y4 + T_z·y5, V_c before the clamp of eq. 2
-  if (structure.amplifier != Amplifier::kForceSource) {
-    pre_vc = y[4] + c.T_z * y[5];
-    if (preamp == PreampRegion::kFromState) preamp = PreampRegionOf(pre_vc, p.V_L);
-    vc = preamp == PreampRegion::kHigh  ? p.V_L
-         : preamp == PreampRegion::kLow ? T(-p.V_L)
-                                        : pre_vc;
-    (*dy)[4] = y[5];
-    (*dy)[5] = c.pre_u * u - c.pre_omega * omega - c.pre_y4 * y[4] -
-               c.pre_y5 * y[5];
-    if (structure.amplifier == Amplifier::kAnalogVelocityLoop) {
-      i = y[6];
-      if (structure.current_loop == CurrentLoop::kFull) {
-        vm = internal::Clamp(T(c.K_a * vc - c.K_a_per_K_i * i), p.V_M);
-        (*dy)[6] = c.inv_L * vm - c.R_per_L * i - c.K_e_per_L * omega;
-      } else {
-        (*dy)[6] = T(0.0);  // kQuasiSteady: y6' below, after ω'
-      }
-    } else {
-      i = p.K_i * vc;
-      vm = p.R * i + p.K_e * omega;
-      (*dy)[6] = T(0.0);
-    }
-  } else {
-    i = vc = vm = T(0.0);
-    (*dy)[4] = (*dy)[5] = (*dy)[6] = T(0.0);
-  }
-
-  // Mechanics (eq. 1, 4, 5 or the rigid reduction of §4).
-  T a, fg, force;
-  if (!rigid) {
-    const T gap = c.r_g * theta - x;  // X, eq. 4
-    if (contact == GearContact::kFromState) {
-      contact = gap > p.H    ? GearContact::kPositive
-                : gap < -p.H ? GearContact::kNegative
-                             : GearContact::kFree;
-    }
-    if (contact == GearContact::kPositive) {
-      fg = c.k_g * T(gap - p.H) + c.b_g * T(c.r_g * omega - v);
-    } else if (contact == GearContact::kNegative) {
-      fg = c.k_g * T(gap + p.H) + c.b_g * T(c.r_g * omega - v);
-    } else {
-      fg = T(0.0);
-    }
-    a = c.inv_mass * fg - c.B_a_per_mass * v;
-    if (has_load_force) a -= c.inv_mass * f_load;
-    (*dy)[2] = omega;
-    (*dy)[3] = c.K_tau_per_J * i - c.B_m_per_J * omega - c.r_g_per_J * fg;
-    if (has_motor_torque) (*dy)[3] -= c.inv_J_m * t_motor;
-    force = fg;
-  } else if (structure.amplifier == Amplifier::kForceSource) {
-    force = p.g_F * u;
-    T f = force - p.B_a * v - f_load;
-    if (has_motor_torque) f -= c.inv_r_g * t_motor;
-    a = c.inv_mass * f;
-    fg = force;
-    (*dy)[2] = omega;
-    (*dy)[3] = c.inv_r_g * a;
-  } else {
-    const T domega =
-        c.inv_inertia *
-        T(p.K_tau * i - c.damping * omega - c.r_g * f_load - t_motor);
-    a = c.r_g * domega;
-    force = c.inv_r_g * T(p.K_tau * i);
-    fg = a / c.inv_mass.value + p.B_a * v + f_load;
-    (*dy)[2] = omega;
-    (*dy)[3] = domega;
-  }
+  bool has_load_force = false;
+  const T f_load = internal::LoadForce(structure, p, c, x, v, &has_load_force);
+  const bool has_motor_torque = structure.effects.motor_coulomb || structure.effects.cogging;
+  const T t_motor = internal::MotorTorque(structure, p, theta, omega);
+  internal::AmplifierSignals<T> amp =
+      internal::AmplifierDerivative(structure, p, c, y, u, omega, &preamp, dy);
+  const internal::MechanicsSignals<T> m =
+      internal::Mechanics(structure, p, c, x, v, theta, omega, u, amp.i, f_load, has_load_force,
+                          t_motor, has_motor_torque, contact, dy);
   (*dy)[0] = v;
-  (*dy)[1] = a;
+  (*dy)[1] = m.a;
   if (structure.amplifier == Amplifier::kAnalogVelocityLoop &&
       structure.current_loop == CurrentLoop::kQuasiSteady) {
-    // Eq. 3 is L·y6' = clamp(K_a·V_c − (K_a/K_i)·y6, ±V_M) − R·y6 − K_e·ω,
-    // i.e. y6' = clamp((K_a/K_i + R)/L·(i_qs − y6), lo, hi) with
-    // lo, hi = (∓V_M − R·y6 − K_e·ω)/L, the rates the voltage limit allows.
-    // In the limit K_a → ∞ the unsaturated current is i_qs itself: y6' =
-    // i_qs' (+ κ·(i_qs − y6) to return to it after a saturation), clamped
-    // to the same [lo, hi].
-    const T dvc = preamp == PreampRegion::kLinear ? T((*dy)[4] + c.T_z * (*dy)[5])
-                                                  : T(0.0);
-    const T i_qs = c.K_a_loop * vc - c.K_e_loop * omega;
-    const T di_qs = c.K_a_loop * dvc - c.K_e_loop * T((*dy)[3]);
-    const T drive = di_qs + c.loop_rate * T(i_qs - i);
-    const T back = c.R_per_L * i + c.K_e_per_L * omega;  // (R·y6 + K_e·ω)/L
-    const T v_max = c.inv_L * p.V_M;
-    (*dy)[6] = drive > v_max - back ? T(v_max - back)
-               : drive < -v_max - back ? T(-v_max - back) : drive;
-    vm = p.L * T((*dy)[6] + back);
+    amp.vm = internal::QuasiSteadyCurrent(p, c, omega, amp, preamp, dy);
   }
-
   if (aux != nullptr) {
-    aux->a = a;
-    aux->i = i;
-    aux->vc = vc;
-    aux->vm = vm;
-    aux->fg = fg;
-    aux->force = force;
+    aux->a = m.a;
+    aux->i = amp.i;
+    aux->vc = amp.vc;
+    aux->vm = amp.vm;
+    aux->fg = m.fg;
+    aux->force = m.force;
   }
 }
 

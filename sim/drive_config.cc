@@ -8,6 +8,7 @@
 #include <string>
 
 #include "io/csv.h"
+#include "io/data_file.h"
 
 namespace axis {
 

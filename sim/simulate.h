@@ -325,234 +325,334 @@ struct SwitchedAxis {
 
 }  // namespace internal
 
-// Simulates one experiment from initial state y_init on the grid of
-// MakeGrid(). A smooth open-loop input is evaluated at the RK4 stage times;
-// a piecewise-constant one (a held table, a step, zero) is held over each
-// step at its value at the step's start, as the controller output is (a
-// switch between grid points applies from the next step). Gear contacts
-// and, with the analog velocity loop, the preamp limits are events
-// located inside the step (sim/switched_rk4.h). The sensor effects enabled
-// in structure.sensors act on the recorded channels: sensor_bias adds
-// b.<channel>; sensor_delay records the channel at t − tau_d.<channel>
-// (linear interpolation between RK4 steps, the value at t = 0 before the
-// start). `progress`, if set, is called with the completed fraction about
-// every 1 % of the run.
-// Never throws (the grid is checked by MakeGrid); a run that goes
-// non-finite returns early with finite = false.
+namespace internal {
+
+// The input U (V) at the stage times of the step being taken, as Simulate
+// evaluates it: the controller's held output in closed loop; an open-loop
+// piecewise-constant input (a held table: a PRBS, a recorded column; a
+// step) held over each RK4 step at its value at the step's start, as the
+// controller's output is; a smooth one from Drive::stage_inputs where they
+// cover the grid, else evaluated, the last two evaluations remembered (RK4
+// asks for U at t, t + h/2 twice and t + h, the next step's t: the memo
+// halves the lookups).
+//
+// Why hold: the value a sample applies on [t_k, t_k+1) is then what every
+// stage of a step in that interval sees. Evaluated at the stage times, the
+// last stage of the step ending at t_k+1 took the next sample's value,
+// which at a reversal moved the preamp across its limits inside the step
+// by a stage's weight (y5 jumps by h/6 of K1·ΔU/(T_p·T_r)), where no event
+// can be located. A switch between grid points (a step's `start`, a table
+// off the grid) applies from the next step.
 template <typename T>
-Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
-                  const AxisState<T>& y_init, const Drive& drive,
-                  const SimulationOptions& options, const SimulationGrid& grid,
-                  const std::function<void(double)>& progress = nullptr) {
-  const double h = grid.step;
-  Trace<T> trace;
-  trace.t.reserve(grid.num_outputs);
-  constexpr int kA = static_cast<int>(Channel::kA);
-  const bool a_mean =
-      structure.accelerometer == AccelerometerSampling::kPeriodMean;
+class StageInput {
+ public:
+  StageInput(const Drive& drive, const SimulationGrid& grid)
+      : drive_(drive),
+        h_(grid.step),
+        held_(!drive.closed_loop && IsHeldInput(drive.input)),
+        stages_(!drive.closed_loop && !held_ &&
+                        StageInputsCover(drive.stage_inputs.get(), grid)
+                    ? drive.stage_inputs.get()
+                    : nullptr) {}
+
+  // Step n starts at t = n·h: the held input takes its value there.
+  void BeginStep(long n, double t) {
+    step_n_ = n;
+    step_t_ = t;
+    if (held_) u_step_ = drive_.input.Evaluate(t, &cursor_);
+  }
+  // The controller's output (closed loop), held until the next update.
+  void SetHeld(const T& u) { u_held_ = u; }
+  const T& held() const { return u_held_; }
+
+  T operator()(double t) const {
+    if (drive_.closed_loop) return u_held_;
+    if (held_) return T(u_step_);
+    if (stages_ != nullptr) {
+      if (t == step_t_) return T(stages_->at_start[step_n_]);
+      if (t == step_t_ + 0.5 * h_) return T(stages_->at_half[step_n_]);
+      if (t == step_t_ + h_) return T(stages_->at_end[step_n_]);
+    }
+    if (t == memo_t_[0]) return T(memo_u_[0]);
+    if (t == memo_t_[1]) return T(memo_u_[1]);
+    const double u = drive_.input.Evaluate(t, &cursor_);
+    memo_t_[memo_next_] = t;
+    memo_u_[memo_next_] = u;
+    memo_next_ ^= 1;
+    return T(u);
+  }
+
+ private:
+  const Drive& drive_;
+  const double h_;
+  const bool held_;
+  const StageInputs* const stages_;
+  long step_n_ = 0;      // the step being taken
+  double step_t_ = 0.0;  // its start, step_n·h
+  double u_step_ = 0.0;  // the held input over it
+  T u_held_ = T(0.0);
+  mutable size_t cursor_ = 0;
+  mutable double memo_t_[2] = {-1.0, -1.0};
+  mutable double memo_u_[2] = {0.0, 0.0};
+  mutable int memo_next_ = 0;
+};
+
+// One run of Simulate as named steps, its state in members: which channels
+// are recorded at every RK4 step, the events of the switched system, the
+// loop (the controller, the recording, the step), the padding of a run that
+// went non-finite, and the sensor front end. Internal to Simulate.
+template <typename T>
+class Simulation {
+ public:
+  Simulation(const AxisStructure& structure, const AxisParams<T>& params,
+             const AxisState<T>& y_init, const Drive& drive, const SimulationOptions& options,
+             const SimulationGrid& grid, const std::function<void(double)>& progress)
+      : structure_(structure),
+        params_(params),
+        drive_(drive),
+        options_(options),
+        grid_(grid),
+        progress_(progress),
+        h_(grid.step),
+        a_mean_(structure.accelerometer == AccelerometerSampling::kPeriodMean),
+        y_(y_init),
+        input_(drive, grid),
+        coeffs_(MakeAxisCoefficients(structure, params)),
+        values_(ParamValues(params)),
+        gear_events_(structure.coupling == Coupling::kGear && values_.H > 0.0),
+        preamp_events_(structure.amplifier == Amplifier::kAnalogVelocityLoop),
+        switched_(gear_events_ || preamp_events_),
+        value_coeffs_(switched_ ? MakeAxisCoefficients(structure, values_)
+                                : AxisCoefficients<double>{}),
+        event_params_(switched_ ? ParamsAs<EventTimeJet>(values_) : AxisParams<EventTimeJet>{}),
+        event_coeffs_(switched_ ? MakeAxisCoefficients(structure, event_params_)
+                                : AxisCoefficients<EventTimeJet>{}),
+        system_{structure,    params,       coeffs_,        values_,
+                value_coeffs_, event_params_, event_coeffs_, input_,
+                gear_events_, preamp_events_,
+                structure.amplifier == Amplifier::kAnalogVelocityLoop &&
+                    structure.current_loop == CurrentLoop::kFull} {}
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  Trace<T> Run() {
+    ChooseChannels();
+    Integrate();
+    if (!trace_.finite) {
+      PadNonFinite();
+    } else {
+      ApplyFrontEnd();
+    }
+    return std::move(trace_);
+  }
+
+ private:
+  static constexpr int kA = static_cast<int>(Channel::kA);
+
   // A channel with a front end other than a bias is recorded at every RK4
   // step (sim/sensor_front_end.h; for `a` its source, v): a delay, a
   // low-pass, or the instant accelerometer, read between output samples.
-  std::array<bool, kNumChannels> wanted{};
-  std::array<bool, kNumChannels> on_grid{};
-  bool any_on_grid = false;      // some channel is recorded at every step
-  bool aux_every_step = false;   // one other than `a` (needs the derivative)
-  for (Channel c : options.channels) {
-    const int k = static_cast<int>(c);
-    wanted[k] = true;
-    trace.values[k].reserve(grid.num_outputs);
-    if (HasGridFrontEnd(structure, c)) {
-      on_grid[k] = any_on_grid = true;
-      aux_every_step = aux_every_step || k != kA;
-    }
-  }
   // y1' itself beside the instant accelerometer's window (Trace::a_point).
-  const bool point = options.point_acceleration && wanted[kA] && !a_mean;
-  if (point) aux_every_step = any_on_grid = true;
-  std::vector<T> fine_point;
-  std::array<std::vector<T>, kNumChannels> fine;  // per-step history
-  for (int k = 0; k < kNumChannels; ++k) {
-    if (on_grid[k]) fine[k].reserve(grid.num_steps + 1);
-  }
-  T a_initial(0.0);  // y1'(0)
-
-  AxisState<T> y = y_init;
-  T u_held(0.0);
-  ReferenceSample ref;
-  ControllerState<T> controller;
-  // RK4 asks for U at t, t + h/2 (twice) and t + h, which is the next
-  // step's t: remembering the last two evaluations halves the lookups.
-  size_t input_cursor = 0;
-  double memo_t[2] = {-1.0, -1.0};
-  double memo_u[2] = {0.0, 0.0};
-  int memo_next = 0;
-  // A piecewise-constant input (a held table: a PRBS, a recorded column; a
-  // step) is held over each RK4 step at its value at the step's start, as
-  // the controller's output is: the value a sample applies on [t_k, t_k+1)
-  // is then what every stage of a step in that interval sees. Evaluated at
-  // the stage times, the last stage of the step ending at t_k+1 took the
-  // next sample's value, which at a reversal moved the preamp across its
-  // limits inside the step by a stage's weight (y5 jumps by h/6 of
-  // K1·ΔU/(T_p·T_r)), where no event can be located. A switch between grid
-  // points (a step's `start`, a table off the grid) applies from the next
-  // step.
-  const InputSignal& in = drive.input;
-  const bool held_input = !drive.closed_loop && IsHeldInput(in);
-  double u_step = 0.0;
-  // The input at this step's stage times, looked up (Drive::stage_inputs).
-  const StageInputs* stages =
-      !drive.closed_loop && !held_input && StageInputsCover(drive.stage_inputs.get(), grid)
-          ? drive.stage_inputs.get()
-          : nullptr;
-  long step_n = 0;      // the step being taken
-  double step_t = 0.0;  // its start, step_n·h
-  const auto input_at = [&](double t) -> T {
-    if (drive.closed_loop) return u_held;
-    if (held_input) return T(u_step);
-    if (stages != nullptr) {
-      if (t == step_t) return T(stages->at_start[step_n]);
-      if (t == step_t + 0.5 * h) return T(stages->at_half[step_n]);
-      if (t == step_t + h) return T(stages->at_end[step_n]);
+  void ChooseChannels() {
+    trace_.t.reserve(grid_.num_outputs);
+    for (Channel c : options_.channels) {
+      const int k = static_cast<int>(c);
+      wanted_[k] = true;
+      trace_.values[k].reserve(grid_.num_outputs);
+      if (HasGridFrontEnd(structure_, c)) {
+        on_grid_[k] = any_on_grid_ = true;
+        aux_every_step_ = aux_every_step_ || k != kA;
+      }
     }
-    if (t == memo_t[0]) return T(memo_u[0]);
-    if (t == memo_t[1]) return T(memo_u[1]);
-    const double u = drive.input.Evaluate(t, &input_cursor);
-    memo_t[memo_next] = t;
-    memo_u[memo_next] = u;
-    memo_next ^= 1;
-    return T(u);
-  };
-  const AxisCoefficients<T> coeffs = MakeAxisCoefficients(structure, params);
-  const auto rhs = [&](double t, const AxisState<T>& state, AxisState<T>* dy) {
-    AxisDerivative(structure, params, coeffs, state, input_at(t), dy);
-  };
-  const long progress_every = std::max(1L, grid.num_steps / 100);
-  // Gear coupling with backlash: the contacts of eq. 5 are events, located
-  // inside the step, with the sensitivities carried across them
-  // (sim/switched_rk4.h). Without backlash (H = 0) the gear force is
-  // continuous in the state and a plain RK4 step is exact to its order.
-  // The preamp limits of eq. 2 are events too: under the quasi-steady
-  // current loop the current's rate carries V_c', which jumps there; under
-  // the full loop V_c is continuous but has a corner, which inside a step
-  // made the cost rough at the scale of a standard error on records that
+    point_ = options_.point_acceleration && wanted_[kA] && !a_mean_;
+    if (point_) aux_every_step_ = any_on_grid_ = true;
+    for (int k = 0; k < kNumChannels; ++k) {
+      if (on_grid_[k]) fine_[k].reserve(grid_.num_steps + 1);
+    }
+  }
+
+  // The steps of the grid: the controller's update at its instants, the
+  // recording, the step. Gear contacts with backlash (eq. 5) and the preamp
+  // limits of eq. 2 are events located inside the step, with the
+  // sensitivities carried across them (sim/switched_rk4.h). Without
+  // backlash (H = 0) the gear force is continuous in the state and a plain
+  // RK4 step is exact to its order. Under the quasi-steady current loop the
+  // current's rate carries V_c', which jumps at the preamp limits; under the
+  // full loop V_c is continuous but has a corner, which inside a step made
+  // the cost rough at the scale of a standard error on records that
   // saturate the preamp often (a ±6 V square wave: two local solves from
   // nearby starts ended k_g and T_p more than a standard error apart).
-  const AxisParams<double> values = internal::ParamValues(params);
-  const bool gear_events =
-      structure.coupling == Coupling::kGear && values.H > 0.0;
-  const bool preamp_events = structure.amplifier == Amplifier::kAnalogVelocityLoop;
-  const bool switched = gear_events || preamp_events;
-  const AxisCoefficients<double> value_coeffs =
-      switched ? MakeAxisCoefficients(structure, values)
-               : AxisCoefficients<double>{};
-  AxisParams<EventTimeJet> event_params;
-  AxisCoefficients<EventTimeJet> event_coeffs;
-  if (switched) {
-    event_params = internal::ParamsAs<EventTimeJet>(values);
-    event_coeffs = MakeAxisCoefficients(structure, event_params);
-  }
-  const internal::SwitchedAxis<T, decltype(input_at)> system{
-      structure, params, coeffs, values, value_coeffs, event_params,
-      event_coeffs, input_at,
-      gear_events, preamp_events,
-      structure.amplifier == Amplifier::kAnalogVelocityLoop &&
-          structure.current_loop == CurrentLoop::kFull};
-  AxisState<double> y_values;
-  for (int k = 0; k < kNumStates; ++k) y_values[k] = ScalarValue(y[k]);
-  int contact = system.Mode(y_values);
-
-  for (long n = 0; n <= grid.num_steps; ++n) {
-    const double t = n * h;
-    step_n = n;
-    step_t = t;
-    if (held_input) u_step = in.Evaluate(t, &input_cursor);
-    if (drive.closed_loop && n % grid.steps_per_control == 0) {
-      const long k = n / grid.steps_per_control;
-      ref = SampleReference(drive.reference, drive.controller, k);
-      u_held = ControllerUpdate(drive.controller, params, y, ref, &controller);
-      if (drive.has_injection) u_held += T(drive.injection.Evaluate(t));
-    }
-    const bool record = n % grid.steps_per_output == 0;
-    if (record || aux_every_step) {
-      if (record && !internal::StateIsFinite(y)) {
-        trace.finite = false;
-        break;
+  void Integrate() {
+    const auto rhs = [&](double t, const AxisState<T>& state, AxisState<T>* dy) {
+      AxisDerivative(structure_, params_, coeffs_, state, input_(t), dy);
+    };
+    const long progress_every = std::max(1L, grid_.num_steps / 100);
+    AxisState<double> y_values;
+    for (int k = 0; k < kNumStates; ++k) y_values[k] = ScalarValue(y_[k]);
+    int mode = system_.Mode(y_values);
+    for (long n = 0; n <= grid_.num_steps; ++n) {
+      const double t = n * h_;
+      input_.BeginStep(n, t);
+      if (drive_.closed_loop && n % grid_.steps_per_control == 0) Control(n, t);
+      if (!Record(n, t)) return;
+      if (n == grid_.num_steps) break;
+      if (switched_) {
+        mode = Rk4SwitchedStep(system_, t, h_, mode, &y_);
+      } else {
+        Rk4Step(rhs, t, h_, &y_);
       }
-      AxisState<T> dy;
-      AxisAux<T> aux;
-      const T u = input_at(t);
-      AxisDerivative(structure, params, coeffs, y, u, &dy, &aux);
-      for (int c = 0; c < kNumChannels; ++c) {
-        if (!wanted[c] || !(record || on_grid[c])) continue;
-        // The accelerometer records v here (its source: AccelerationOnGrid
-        // below).
-        const T value =
-            c == kA && (a_mean || on_grid[c])
-                ? y[1]
-                : internal::ChannelValue(static_cast<Channel>(c), structure,
-                                         params, y, aux, u, ref, t);
-        if (c == kA && n == 0) a_initial = aux.a;
-        if (c == kA && point) fine_point.push_back(aux.a);
-        if (on_grid[c]) fine[c].push_back(value);
-        if (record) trace.values[c].push_back(value);
+      if (progress_ && n % progress_every == 0) {
+        progress_(static_cast<double>(n) / grid_.num_steps);
       }
-      if (record) trace.t.push_back(t);
-    } else if (any_on_grid) {
-      fine[kA].push_back(y[1]);  // `a` alone on the grid: v, no derivative
-    }
-    if (n == grid.num_steps) break;
-    if (switched) {
-      contact = Rk4SwitchedStep(system, t, h, contact, &y);
-    } else {
-      Rk4Step(rhs, t, h, &y);
-    }
-    if (progress && n % progress_every == 0) {
-      progress(static_cast<double>(n) / grid.num_steps);
     }
   }
 
-  if (!trace.finite) {
+  // The controller of MODEL.md §5 at control instant n / steps_per_control,
+  // its output held (plus the injection, if any).
+  void Control(long n, double t) {
+    const long k = n / grid_.steps_per_control;
+    ref_ = SampleReference(drive_.reference, drive_.controller, k);
+    T u = ControllerUpdate(drive_.controller, params_, y_, ref_, &controller_);
+    if (drive_.has_injection) u += T(drive_.injection.Evaluate(t));
+    input_.SetHeld(u);
+  }
+
+  // The channels at step n: at an output sample every wanted one, and
+  // between them those recorded on the grid. False (trace_.finite false) if
+  // the state at an output sample is not finite.
+  bool Record(long n, double t) {
+    const bool record = n % grid_.steps_per_output == 0;
+    if (!record && !aux_every_step_) {
+      if (any_on_grid_) fine_[kA].push_back(y_[1]);  // `a` alone on the grid: v, no derivative
+      return true;
+    }
+    if (record && !StateIsFinite(y_)) {
+      trace_.finite = false;
+      return false;
+    }
+    AxisState<T> dy;
+    AxisAux<T> aux;
+    const T u = input_(t);
+    AxisDerivative(structure_, params_, coeffs_, y_, u, &dy, &aux);
+    for (int c = 0; c < kNumChannels; ++c) {
+      if (!wanted_[c] || !(record || on_grid_[c])) continue;
+      // The accelerometer records v here (its source: AccelerationOnGrid).
+      const T value = c == kA && (a_mean_ || on_grid_[c])
+                          ? y_[1]
+                          : ChannelValue(static_cast<Channel>(c), structure_, params_, y_, aux,
+                                         u, ref_, t);
+      if (c == kA && n == 0) a_initial_ = aux.a;
+      if (c == kA && point_) fine_point_.push_back(aux.a);
+      if (on_grid_[c]) fine_[c].push_back(value);
+      if (record) trace_.values[c].push_back(value);
+    }
+    if (record) trace_.t.push_back(t);
+    return true;
+  }
+
+  // A run that went non-finite: NaN for every output sample it did not
+  // reach.
+  void PadNonFinite() {
     const T nan(std::numeric_limits<double>::quiet_NaN());
-    for (long j = static_cast<long>(trace.t.size()); j < grid.num_outputs; ++j) {
-      trace.t.push_back(j * grid.steps_per_output * h);
+    for (long j = static_cast<long>(trace_.t.size()); j < grid_.num_outputs; ++j) {
+      trace_.t.push_back(j * grid_.steps_per_output * h_);
       for (int c = 0; c < kNumChannels; ++c) {
-        if (wanted[c]) trace.values[c].push_back(nan);
+        if (wanted_[c]) trace_.values[c].push_back(nan);
       }
     }
-    return trace;
   }
 
   // The sensor front end of MODEL.md §6 (sim/sensor_front_end.h): the
   // accelerometer's convention, the low-pass filters and the delay on the
   // grid, then the bias.
-  const double period = grid.steps_per_output * h;
-  for (int c = 0; c < kNumChannels; ++c) {
-    if (!wanted[c]) continue;
-    std::vector<T>& out = trace.values[c];
-    if (on_grid[c]) {
-      std::vector<T> s =
-          c == kA ? AccelerationOnGrid(fine[c], h, a_mean ? grid.steps_per_output : 0,
-                                       InstantWindowSteps(structure.instant_window, h),
-                                       a_initial)
-                  : std::move(fine[c]);
-      out = internal::FrontEndSamples(structure, params, c, h, trace.t, std::move(s));
-      if (c == kA && point) {
-        trace.a_point =
-            internal::FrontEndSamples(structure, params, c, h, trace.t, std::move(fine_point));
+  void ApplyFrontEnd() {
+    const double period = grid_.steps_per_output * h_;
+    for (int c = 0; c < kNumChannels; ++c) {
+      if (!wanted_[c]) continue;
+      std::vector<T>& out = trace_.values[c];
+      if (on_grid_[c]) {
+        std::vector<T> s =
+            c == kA ? AccelerationOnGrid(fine_[c], h_, a_mean_ ? grid_.steps_per_output : 0,
+                                         InstantWindowSteps(structure_.instant_window, h_),
+                                         a_initial_)
+                    : std::move(fine_[c]);
+        out = FrontEndSamples(structure_, params_, c, h_, trace_.t, std::move(s));
+        if (c == kA && point_) {
+          trace_.a_point =
+              FrontEndSamples(structure_, params_, c, h_, trace_.t, std::move(fine_point_));
+        }
+      } else if (c == kA && a_mean_) {
+        // The period mean from v at the output samples; y1'(0) at t = 0.
+        for (size_t j = out.size(); j-- > 1;) out[j] = (out[j] - out[j - 1]) / T(period);
+        if (!out.empty()) out[0] = a_initial_;
       }
-    } else if (c == kA && a_mean) {
-      // The period mean from v at the output samples; y1'(0) at t = 0.
-      for (size_t j = out.size(); j-- > 1;) out[j] = (out[j] - out[j - 1]) / T(period);
-      if (!out.empty()) out[0] = a_initial;
-    }
-    if (structure.sensors.bias[c]) {
-      for (T& value : out) value += params.b[c];
-      if (c == kA) {
-        for (T& value : trace.a_point) value += params.b[c];
+      if (structure_.sensors.bias[c]) {
+        for (T& value : out) value += params_.b[c];
+        if (c == kA) {
+          for (T& value : trace_.a_point) value += params_.b[c];
+        }
       }
     }
   }
-  return trace;
+
+  const AxisStructure& structure_;
+  const AxisParams<T>& params_;
+  const Drive& drive_;
+  const SimulationOptions& options_;
+  const SimulationGrid& grid_;
+  const std::function<void(double)>& progress_;
+  const double h_;
+  const bool a_mean_;  // the period-mean accelerometer
+
+  Trace<T> trace_;
+  std::array<bool, kNumChannels> wanted_{};
+  std::array<bool, kNumChannels> on_grid_{};
+  bool any_on_grid_ = false;     // some channel is recorded at every step
+  bool aux_every_step_ = false;  // one other than `a` (needs the derivative)
+  bool point_ = false;           // Trace::a_point is recorded
+  std::vector<T> fine_point_;
+  std::array<std::vector<T>, kNumChannels> fine_;  // per-step history
+  T a_initial_ = T(0.0);                          // y1'(0)
+
+  AxisState<T> y_;
+  ReferenceSample ref_;
+  ControllerState<T> controller_;
+  StageInput<T> input_;
+  const AxisCoefficients<T> coeffs_;
+  const AxisParams<double> values_;
+  const bool gear_events_;
+  const bool preamp_events_;
+  const bool switched_;
+  const AxisCoefficients<double> value_coeffs_;
+  // The values as EventTimeJet (zero derivative part) for the event-time
+  // sensitivity of sim/switched_rk4.h.
+  const AxisParams<EventTimeJet> event_params_;
+  const AxisCoefficients<EventTimeJet> event_coeffs_;
+  const SwitchedAxis<T, StageInput<T>> system_;
+};
+
+}  // namespace internal
+
+// Simulates one experiment from initial state y_init on the grid of
+// MakeGrid(). A smooth open-loop input is evaluated at the RK4 stage times;
+// a piecewise-constant one (a held table, a step, zero) is held over each
+// step at its value at the step's start, as the controller output is (a
+// switch between grid points applies from the next step;
+// internal::StageInput). Gear contacts and, with the analog velocity loop,
+// the preamp limits are events located inside the step
+// (sim/switched_rk4.h). The sensor effects enabled in structure.sensors
+// act on the recorded channels: sensor_bias adds b.<channel>; sensor_delay
+// records the channel at t − tau_d.<channel> (linear interpolation between
+// RK4 steps, the value at t = 0 before the start). `progress`, if set, is
+// called with the completed fraction about every 1 % of the run. The steps:
+// internal::Simulation. Never throws (the grid is checked by MakeGrid); a
+// run that goes non-finite returns early with finite = false.
+template <typename T>
+Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
+                  const AxisState<T>& y_init, const Drive& drive,
+                  const SimulationOptions& options, const SimulationGrid& grid,
+                  const std::function<void(double)>& progress = nullptr) {
+  return internal::Simulation<T>(structure, params, y_init, drive, options, grid, progress).Run();
 }
 
 }  // namespace axis

@@ -15,9 +15,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "job/benchmark_settings.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/benchmark_settings.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "run/benchmark.h"
 #include "run/fit_params.h"
 #include "run/job_run.h"
@@ -80,15 +80,15 @@ TEST(BenchmarkJobTest, LoadsTheCommittedJob) {
 // samples.
 TEST(BenchmarkJobTest, OpenLoopAsymmetricJobLoads) {
   const FitJob job = LoadFitJob(kRoot + "/configs/jobs/emps_open_loop_asymmetric.yaml");
-  ASSERT_EQ(job.experiments.size(), 1u);
-  EXPECT_EQ(job.experiments[0].name, "emps_open_loop");
-  EXPECT_FALSE(job.experiments[0].drive.closed_loop);
-  EXPECT_TRUE(job.model.structure.effects.coulomb);
-  EXPECT_TRUE(job.model.structure.effects.viscous_asymmetry);
-  EXPECT_FALSE(job.model.structure.effects.load_offset);
-  ASSERT_FALSE(job.validate.empty());
-  EXPECT_EQ(job.validate[0].name, "emps_pulses_open_loop");
-  EXPECT_NEAR(job.validate[0].t_offset, 0.020, 1e-4);  // starts at sample 20
+  ASSERT_EQ(job.problem.experiments.size(), 1u);
+  EXPECT_EQ(job.problem.experiments[0].name, "emps_open_loop");
+  EXPECT_FALSE(job.problem.experiments[0].drive.closed_loop);
+  EXPECT_TRUE(job.problem.model.structure.effects.coulomb);
+  EXPECT_TRUE(job.problem.model.structure.effects.viscous_asymmetry);
+  EXPECT_FALSE(job.problem.model.structure.effects.load_offset);
+  ASSERT_FALSE(job.problem.validate.empty());
+  EXPECT_EQ(job.problem.validate[0].name, "emps_pulses_open_loop");
+  EXPECT_NEAR(job.problem.validate[0].t_offset, 0.020, 1e-4);  // starts at sample 20
 }
 
 TEST(BenchmarkJobTest, BadKeysNameTheKeyAndWhatWasExpected) {
@@ -126,7 +126,7 @@ TEST(BenchmarkJobTest, BadKeysNameTheKeyAndWhatWasExpected) {
        "    reference: {column: qg_m}\n    fit: {x: 5.0e-6, u: 0.1}\n    initial_state: estimate\n",
        "key 'benchmark.criteria.open_loop': expected every experiment with 'initial_state: "
        "estimate' (its state is fitted, it cannot only be simulated), got a list without 'emps'"},
-      // Names are unique over both lists (job/load_fit_job.cc), so the score cannot
+      // Names are unique over both lists (run/load_fit_job.cc), so the score cannot
       // find a fitted run by a shared name.
       {"  - name: emps_pulses_open_loop\n", "  - name: emps_open_loop\n",
        "key 'validate[1].name': expected a name no other experiment of the job has, got "
@@ -147,16 +147,16 @@ TEST(BenchmarkJobTest, BadKeysNameTheKeyAndWhatWasExpected) {
 TEST(BenchmarkJobTest, CriterionJobFitsOnlyItsExperiments) {
   const FitJob job = LoadFitJob(BenchmarkJobText(2.0, "criteria.yaml"));
   const FitJob open_loop = CriterionJob(job, job.benchmark.criteria[1]);
-  ASSERT_EQ(open_loop.experiments.size(), 1u);
-  EXPECT_EQ(open_loop.experiments[0].name, "emps_open_loop");
-  EXPECT_FALSE(open_loop.experiments[0].fitted.empty());
+  ASSERT_EQ(open_loop.problem.experiments.size(), 1u);
+  EXPECT_EQ(open_loop.problem.experiments[0].name, "emps_open_loop");
+  EXPECT_FALSE(open_loop.problem.experiments[0].fitted.empty());
   // The closed-loop run is simulated first among the validation runs, with
   // nothing fitted; the job's own validation runs follow unchanged.
-  ASSERT_EQ(open_loop.validate.size(), job.validate.size() + 1);
-  EXPECT_EQ(open_loop.validate[0].name, "emps");
-  EXPECT_EQ(open_loop.validate[0].role, "validate");
-  EXPECT_TRUE(open_loop.validate[0].fitted.empty());
-  EXPECT_EQ(open_loop.validate[1].name, job.validate[0].name);
+  ASSERT_EQ(open_loop.problem.validate.size(), job.problem.validate.size() + 1);
+  EXPECT_EQ(open_loop.problem.validate[0].name, "emps");
+  EXPECT_EQ(open_loop.problem.validate[0].role, "validate");
+  EXPECT_TRUE(open_loop.problem.validate[0].fitted.empty());
+  EXPECT_EQ(open_loop.problem.validate[1].name, job.problem.validate[0].name);
   EXPECT_EQ(open_loop.out_dir, job.out_dir + "/open_loop");
   BenchmarkCriterion unknown{"x", {"nope"}};
   EXPECT_THROW(CriterionJob(job, unknown), std::invalid_argument);
@@ -221,9 +221,9 @@ TEST(BenchmarkJobTest, TableIsTheRunsFiguresAndTheTestRunChoosesNothing) {
   // The same job with the test run's qm moved by 1 cm: in every criterion
   // the same effects and the same estimates, bit for bit; only the score moves.
   FitJob job = LoadFitJob(path);
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   FitJob shifted = job;
-  for (FitExperiment& e : shifted.validate) {
+  for (FitExperiment& e : shifted.problem.validate) {
     if (e.name != "emps_pulses_open_loop") continue;
     for (std::vector<double>& column : e.measured) {
       for (double& v : column) v += 0.01;

@@ -256,8 +256,8 @@ TEST(CampaignTest, ASeedGivesWhatFitParamsReportsOnItsRecords) {
   ASSERT_TRUE(report.contains("current_loop_check")) << "the pipeline's loop check ran";
   EXPECT_TRUE(report["current_loop_check"]["refitted_with_full_loop"].get<bool>());
   FitJob quasi_steady = CampaignSeedJob(config, 2, records);
-  quasi_steady.solver.progress = false;
-  const FitResult alone = FitParameters(quasi_steady);
+  quasi_steady.problem.solver.progress = false;
+  const FitResult alone = FitParameters(quasi_steady.problem);
   bool found = false;
   for (const nlohmann::json& p : report["parameters"]) {
     if (p["name"] != "B_a") continue;

@@ -11,7 +11,7 @@
 #include <ceres/ceres.h>
 
 #include "estimation/experiment_cost.h"
-#include "job/fit_job.h"
+#include "run/fit_job.h"
 
 namespace axis {
 namespace testing_files {
@@ -64,13 +64,13 @@ inline std::vector<ColumnCheck> CheckJacobian(const ceres::CostFunction& cost,
 // CheckJacobian for the cost of the job's first experiment at its initial
 // values (θ in the optimised coordinates of estimation/experiment_cost.h).
 inline std::vector<ColumnCheck> CheckJobJacobian(const FitJob& job, double step) {
-  const ParameterMap map(job.model.params, job.free);
+  const ParameterMap map(job.problem.model.params, job.problem.free);
   EvaluationCounter counter;
-  const int n = static_cast<int>(job.free.size());
+  const int n = static_cast<int>(job.problem.free.size());
   std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
-      job.model.structure, map, job.experiments[0], n, -1, &counter));
+      job.problem.model.structure, map, job.problem.experiments[0], n, -1, &counter));
   std::vector<double> theta;
-  for (int k = 0; k < n; ++k) theta.push_back(map.ToInternal(k, job.free[k].initial));
+  for (int k = 0; k < n; ++k) theta.push_back(map.ToInternal(k, job.problem.free[k].initial));
   return CheckJacobian(*cost, theta, step);
 }
 

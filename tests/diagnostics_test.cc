@@ -12,7 +12,7 @@
 #include "common/statistics.h"
 #include "discovery/diagnostics.h"
 #include "estimation/fit_result.h"
-#include "job/load_fit_job.h"
+#include "run/load_fit_job.h"
 #include "sim/config.h"
 #include "io/csv.h"
 #include "sim/experiment.h"
@@ -50,7 +50,7 @@ TEST(DiagnosticsTest, PlantedResidualsAreFound) {
                   "    channels: {u: u, a: a, tach: tach}\n"
                   "    input: {column: u, interpolation: hold}\n"
                   "    fit: {a: 0.02, tach: 0.005}\n");
-  const std::vector<ChannelDiagnostics> d = DiagnoseResiduals(LoadFitJob(job_path));
+  const std::vector<ChannelDiagnostics> d = DiagnoseResiduals(LoadFitJob(job_path).problem);
   ASSERT_EQ(d.size(), 2u);
   const ChannelDiagnostics& da = d[0].channel == "a" ? d[0] : d[1];
   const ChannelDiagnostics& dt = d[0].channel == "tach" ? d[0] : d[1];

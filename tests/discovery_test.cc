@@ -20,9 +20,9 @@
 #include "discovery/removal.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/discovery_settings.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "discovery/discovery_settings.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "run/campaign.h"
 #include "run/job_run.h"
 #include "run/write_job_run.h"
@@ -44,9 +44,9 @@ struct Outcome {
 Outcome RunCase(const std::string& name) {
   Outcome o;
   o.job = LoadFitJob(kRoot + "/configs/jobs/discover/" + name + ".yaml");
-  o.job.solver.progress = false;
-  o.result = FitParameters(o.job);
-  o.report = Discover(o.job.discover, &o.job, &o.result, nullptr);
+  o.job.problem.solver.progress = false;
+  o.result = FitParameters(o.job.problem);
+  o.report = Discover(o.job.discover, &o.job.problem, &o.result, nullptr);
   return o;
 }
 
@@ -117,7 +117,7 @@ void ExpectFound(const std::string& name, const std::string& effect,
 // as a model config.
 TEST(DiscoveryTest, Coulomb) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/coulomb.yaml");
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   std::ostringstream sink;
   JobRun run = RunJob(job, /*discover=*/true, sink);
   ASSERT_TRUE(run.discovered);
@@ -279,11 +279,11 @@ TEST(DiscoveryTest, CoulombAndViscousAsymmetryChosenByRefit) {
 TEST(DiscoveryTest, NoEffectAddsNothing) {
   Outcome o;
   o.job = LoadFitJob(kRoot + "/configs/jobs/discover/none.yaml");
-  o.job.solver.progress = false;
-  o.result = FitParameters(o.job);
+  o.job.problem.solver.progress = false;
+  o.result = FitParameters(o.job.problem);
   FitJob job = o.job;
   FitResult base = o.result;
-  o.report = Discover(o.job.discover, &o.job, &o.result, nullptr);
+  o.report = Discover(o.job.discover, &o.job.problem, &o.result, nullptr);
   EXPECT_TRUE(o.report.selected.empty()) << o.report.selected.front();
   EXPECT_TRUE(o.report.steps.empty());
   ExpectNoiseLevel(o);
@@ -292,7 +292,7 @@ TEST(DiscoveryTest, NoEffectAddsNothing) {
   DiscoverySettings everything = job.discover;
   everything.alpha = 1e3;
   everything.tries = 2;
-  const DiscoveryReport tried = Discover(everything, &job, &base, nullptr);
+  const DiscoveryReport tried = Discover(everything, &job.problem, &base, nullptr);
   EXPECT_TRUE(tried.selected.empty());
   ASSERT_EQ(tried.steps.size(), 2u) << tried.stop_reason;
   ASSERT_GE(tried.ranking.scores.size(), 2u);
@@ -314,22 +314,22 @@ TEST(DiscoveryTest, NoEffectAddsNothing) {
 TEST(DiscoveryTest, EffectAtItsOffValueIsDropped) {
   for (const std::string name : {"none", "load_offset"}) {
     FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/" + name + ".yaml");
-    job.solver.progress = false;
-    job.validate.clear();
-    job.model.structure.effects.load_offset = true;
+    job.problem.solver.progress = false;
+    job.problem.validate.clear();
+    job.problem.model.structure.effects.load_offset = true;
     FreeParameter f;
     f.name = "F_0";
     f.unit = "N";
     f.initial = 5.0;
     f.lower = -200.0;
     f.upper = 200.0;
-    job.free.push_back(f);
-    job.model.params.F_0 = f.initial;
-    FitResult result = FitParameters(job);
+    job.problem.free.push_back(f);
+    job.problem.model.params.F_0 = f.initial;
+    FitResult result = FitParameters(job.problem);
     DiscoveryReport report;
     report.selected = {"load_offset"};
     const double level = 1e-4;
-    DropInsignificant(level, &job, &result, &report, nullptr);
+    DropInsignificant(level, &job.problem, &result, &report, nullptr);
     if (name == "none") {
       EXPECT_TRUE(report.selected.empty());
       EXPECT_EQ(report.removed, std::vector<std::string>{"load_offset"});
@@ -337,8 +337,8 @@ TEST(DiscoveryTest, EffectAtItsOffValueIsDropped) {
       EXPECT_TRUE(report.steps[0].removal);
       EXPECT_NE(report.steps[0].insignificant.find("not distinguishable from off"),
                 std::string::npos) << report.steps[0].insignificant;
-      EXPECT_FALSE(job.model.structure.effects.load_offset);
-      for (const FreeParameter& g : job.free) EXPECT_NE(g.name, "F_0");
+      EXPECT_FALSE(job.problem.model.structure.effects.load_offset);
+      for (const FreeParameter& g : job.problem.free) EXPECT_NE(g.name, "F_0");
       EXPECT_TRUE(report.significance.empty());
     } else {
       EXPECT_EQ(report.selected, std::vector<std::string>{"load_offset"});
@@ -361,14 +361,14 @@ TEST(DiscoveryTest, EffectAtItsOffValueIsDropped) {
 // selected effects flagged as possible stand-ins.
 TEST(DiscoveryTest, LibraryRunsOutVerdictIsIncomplete) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/coulomb.yaml");
-  job.solver.progress = false;
-  job.validate.clear();
+  job.problem.solver.progress = false;
+  job.problem.validate.clear();
   job.discover.candidates = {"cogging", "payload", "spring"};
   job.discover.max_effects = 1;  // one step shows it
   job.discover.tries = 1;        // and one refit, the top-ranked candidate's,
   job.discover.misspecified_tries = 1;  // also when s² > 2 (it is: 21.8)
-  FitResult result = FitParameters(job);
-  const DiscoveryReport report = Discover(job.discover, &job, &result, nullptr);
+  FitResult result = FitParameters(job.problem);
+  const DiscoveryReport report = Discover(job.discover, &job.problem, &result, nullptr);
   EXPECT_EQ(report.verdict.verdict, "incomplete");
   EXPECT_GT(report.verdict.s2, 2.0);
   bool velocity = false;
@@ -399,19 +399,19 @@ TEST(DiscoveryTest, ImplausibleValuesAreNamed) {
     r.parameters.push_back(p);
     return r;
   };
-  const std::string payload = ImplausibleValue("payload", fit_with("Delta_M", -4.4), job);
+  const std::string payload = ImplausibleValue("payload", fit_with("Delta_M", -4.4), job.problem);
   EXPECT_NE(payload.find("Delta_M = -4.4 kg is below zero"), std::string::npos) << payload;
-  EXPECT_EQ(ImplausibleValue("payload", fit_with("Delta_M", 25.0), job), "");
-  EXPECT_EQ(ImplausibleValue("sensor_delay.a", fit_with("tau_d.a", 2.07e-4), job), "");
-  EXPECT_EQ(ImplausibleValue("sensor_delay.a", fit_with("tau_d.a", -2.07e-4), job), "");
-  EXPECT_EQ(ImplausibleValue("sensor_delay.a", fit_with("tau_d.a", 0.002), job), "");
-  EXPECT_EQ(ImplausibleValue("sensor_lowpass.a", fit_with("tau_lp.a", 1e-5), job), "");
-  const std::string motor = ImplausibleValue("motor_coulomb", fit_with("T_c", -0.0197), job);
+  EXPECT_EQ(ImplausibleValue("payload", fit_with("Delta_M", 25.0), job.problem), "");
+  EXPECT_EQ(ImplausibleValue("sensor_delay.a", fit_with("tau_d.a", 2.07e-4), job.problem), "");
+  EXPECT_EQ(ImplausibleValue("sensor_delay.a", fit_with("tau_d.a", -2.07e-4), job.problem), "");
+  EXPECT_EQ(ImplausibleValue("sensor_delay.a", fit_with("tau_d.a", 0.002), job.problem), "");
+  EXPECT_EQ(ImplausibleValue("sensor_lowpass.a", fit_with("tau_lp.a", 1e-5), job.problem), "");
+  const std::string motor = ImplausibleValue("motor_coulomb", fit_with("T_c", -0.0197), job.problem);
   EXPECT_NE(motor.find("T_c = -0.0197 N*m is below zero"), std::string::npos) << motor;
-  const std::string coulomb = ImplausibleValue("coulomb", fit_with("F_c", -3.0), job);
+  const std::string coulomb = ImplausibleValue("coulomb", fit_with("F_c", -3.0), job.problem);
   EXPECT_NE(coulomb.find("F_c = -3 N is below zero"), std::string::npos) << coulomb;
-  EXPECT_EQ(ImplausibleValue("coulomb", fit_with("F_c", 40.0), job), "");
-  EXPECT_NE(ImplausibleValue("stribeck", fit_with("F_st", -1.0), job), "");
+  EXPECT_EQ(ImplausibleValue("coulomb", fit_with("F_c", 40.0), job.problem), "");
+  EXPECT_NE(ImplausibleValue("stribeck", fit_with("F_st", -1.0), job.problem), "");
 }
 
 // The sensor front end's candidates (issue 42): a first- and a second-order
@@ -420,7 +420,7 @@ TEST(DiscoveryTest, ImplausibleValuesAreNamed) {
 TEST(DiscoveryTest, FrontEndCandidatesAreListedAndReportedApart) {
   const FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/none.yaml");
   std::vector<std::string> names;
-  for (const Candidate& c : ListCandidates(job)) names.push_back(c.name);
+  for (const Candidate& c : ListCandidates(job.problem)) names.push_back(c.name);
   for (const std::string& fitted : {std::string("a"), std::string("tach")}) {
     for (const char* effect : {"sensor_delay.", "sensor_bias.", "sensor_lowpass.",
                                "sensor_lowpass2."}) {
@@ -452,7 +452,7 @@ TEST(DiscoveryTest, FrontEndCandidatesAreListedAndReportedApart) {
 // 2.4 standard errors off, ζ 0.67, 5).
 TEST(DiscoveryTest, AntiAliasFrontEndEndsUnderItsConvention) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/front_end/anti_alias.yaml");
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   std::ostringstream out;
   const JobRun run = RunJob(job, /*discover=*/true, out);
   std::vector<std::string> selected = run.discovery.selected;
@@ -460,7 +460,7 @@ TEST(DiscoveryTest, AntiAliasFrontEndEndsUnderItsConvention) {
   EXPECT_EQ(selected, (std::vector<std::string>{"accelerometer.instant", "sensor_lowpass.tach",
                                                 "sensor_lowpass2.a"}))
       << out.str();
-  EXPECT_EQ(run.job.model.structure.accelerometer, AccelerometerSampling::kInstant);
+  EXPECT_EQ(run.job.problem.model.structure.accelerometer, AccelerometerSampling::kInstant);
   ExpectNearTruth(run.result, "tau_lp2.a", 6.3662e-4);
   ExpectNearTruth(run.result, "zeta_lp2.a", 0.70711);
   ExpectNearTruth(run.result, "tau_lp.tach", 3.9789e-4);
@@ -477,17 +477,17 @@ TEST(DiscoveryTest, StribeckIsACandidateOnlyWithCoulomb) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/none.yaml");
   const auto names = [](const FitJob& j) {
     std::vector<std::string> out;
-    for (const Candidate& c : ListCandidates(j)) out.push_back(c.name);
+    for (const Candidate& c : ListCandidates(j.problem)) out.push_back(c.name);
     return out;
   };
   const auto has = [](const std::vector<std::string>& list, const std::string& name) {
     return std::find(list.begin(), list.end(), name) != list.end();
   };
-  ASSERT_FALSE(job.model.structure.effects.coulomb);
+  ASSERT_FALSE(job.problem.model.structure.effects.coulomb);
   const std::vector<std::string> without = names(job);
   EXPECT_TRUE(has(without, "coulomb"));
   EXPECT_FALSE(has(without, "stribeck"));
-  job.model.structure.effects.coulomb = true;
+  job.problem.model.structure.effects.coulomb = true;
   const std::vector<std::string> with = names(job);
   EXPECT_FALSE(has(with, "coulomb"));
   EXPECT_TRUE(has(with, "stribeck"));
@@ -598,11 +598,11 @@ TEST(DiscoveryTest, StribeckRefitStartsFromEachColumnsOwnStep) {
 // pair is reported as nearly parallel and the decision as the residual's.
 TEST(DiscoveryTest, OneDirectionCoulombAndOffsetAreDecidedOnlyByEvidence) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/coulomb.yaml");
-  job.experiments.resize(1);  // step_p4V only
-  job.validate.clear();
-  job.solver.progress = false;
-  FitResult result = FitParameters(job);
-  const DiscoveryReport report = Discover(job.discover, &job, &result, nullptr);
+  job.problem.experiments.resize(1);  // step_p4V only
+  job.problem.validate.clear();
+  job.problem.solver.progress = false;
+  FitResult result = FitParameters(job.problem);
+  const DiscoveryReport report = Discover(job.discover, &job.problem, &result, nullptr);
   const ParallelPair* pair = nullptr;
   for (const ParallelPair& q : report.ranking.parallel) {
     if ((q.a == "coulomb" && q.b == "load_offset") ||

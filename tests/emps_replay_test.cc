@@ -15,8 +15,8 @@
 #include "estimation/evaluate_experiment.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "io/csv.h"
 #include "sim/experiment.h"
 #include "tests/test_files.h"
@@ -62,17 +62,17 @@ FitJob ShortEmpsJob(double seconds, const std::string& name, const std::string& 
   const std::string path = axis::testing_files::TestTempDir() + name;
   std::ofstream(path) << text << extra;
   FitJob job = LoadFitJob(path);
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   return job;
 }
 
 TEST(EmpsJobTest, DiscoveryFindsCoulombFrictionOnAShortWindow) {
   FitJob job = ShortEmpsJob(12.0, "emps_short.yaml");
-  ASSERT_NEAR(job.experiments[0].t.back(), 12.0, 0.002);
-  job.validate.clear();
+  ASSERT_NEAR(job.problem.experiments[0].t.back(), 12.0, 0.002);
+  job.problem.validate.clear();
   job.discover.max_effects = 1;
-  FitResult result = FitParameters(job);
-  const DiscoveryReport report = Discover(job.discover, &job, &result, nullptr);
+  FitResult result = FitParameters(job.problem);
+  const DiscoveryReport report = Discover(job.discover, &job.problem, &result, nullptr);
   ASSERT_FALSE(report.selected.empty()) << report.stop_reason;
   EXPECT_EQ(report.selected.front(), "coulomb");
   double f_c = 0.0, mass = 0.0;
@@ -102,18 +102,18 @@ TEST(EmpsJobTest, EndPointDoesNotDependOnTheStart) {
   const auto fit_from = [&](double mass, double b_a, const std::string& extra,
                             const std::string& name) {
     FitJob job = ShortEmpsJob(8.0, name, coulomb + extra);
-    job.validate.clear();
-    job.free[0].initial = mass;
-    job.free[1].initial = b_a;
+    job.problem.validate.clear();
+    job.problem.free[0].initial = mass;
+    job.problem.free[1].initial = b_a;
     FreeParameter f_c;
     f_c.name = "F_c";
     f_c.unit = "N";
     f_c.initial = 15;
     f_c.lower = 0.1;
     f_c.upper = 200;
-    f_c.log = true;  // as the loader sets it for a positive lower bound (job/load_fit_job.cc)
-    job.free.push_back(f_c);
-    return FitParameters(job);
+    f_c.log = true;  // as the loader sets it for a positive lower bound (run/load_fit_job.cc)
+    job.problem.free.push_back(f_c);
+    return FitParameters(job.problem);
   };
   const auto largest_difference_in_se = [](const FitResult& a, const FitResult& b) {
     double largest = 0.0;
@@ -172,12 +172,12 @@ TEST(EmpsReplayTest, OneMillisecondStepMatchesATenthOfIt) {
       "  load_offset: {F_0: -0.922012}\n"
       "set: {M: 95.2286, B_a: 150.614}\n";
   const FitJob job = ShortEmpsJob(24.84, "emps_steps.yaml", discovered);
-  ASSERT_EQ(job.experiments[0].options.step, 1e-3);
+  ASSERT_EQ(job.problem.experiments[0].options.step, 1e-3);
   const auto rms_difference = [&](const FitExperiment& e, const std::string& channel) {
     FitExperiment fine = e;
     fine.options.step = 1e-4;
-    const ExperimentFit a = EvaluateExperiment(job.model.structure, job.model.params, e);
-    const ExperimentFit b = EvaluateExperiment(job.model.structure, job.model.params, fine);
+    const ExperimentFit a = EvaluateExperiment(job.problem.model.structure, job.problem.model.params, e);
+    const ExperimentFit b = EvaluateExperiment(job.problem.model.structure, job.problem.model.params, fine);
     for (size_t c = 0; c < a.channels.size(); ++c) {
       if (a.channels[c].channel == channel) {
         return Rms(b.channels[c].simulated, a.channels[c].simulated);
@@ -187,12 +187,12 @@ TEST(EmpsReplayTest, OneMillisecondStepMatchesATenthOfIt) {
     return 0.0;
   };
   const FitExperiment* open_loop = nullptr;
-  for (const FitExperiment& e : job.validate) {
+  for (const FitExperiment& e : job.problem.validate) {
     if (e.name == "emps_pulses_open_loop") open_loop = &e;
   }
   ASSERT_NE(open_loop, nullptr);
-  const double vir = rms_difference(job.experiments[0], "u");
-  const double qm = rms_difference(job.experiments[0], "x");
+  const double vir = rms_difference(job.problem.experiments[0], "u");
+  const double qm = rms_difference(job.problem.experiments[0], "x");
   const double qm_open = rms_difference(*open_loop, "x");
   RecordProperty("vir_rms_difference_V", Scientific(vir));
   RecordProperty("qm_rms_difference_m", Scientific(qm));

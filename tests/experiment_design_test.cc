@@ -20,8 +20,8 @@
 #include "discovery/discovery.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "report/html_report.h"
 #include "run/job_run.h"
 #include "sim/config.h"
@@ -47,7 +47,7 @@ FitJob JobOn(const std::string& truth, const std::vector<YAML::Node>& extra = {}
                            std::to_string(extra.size()) + ".yaml";
   std::ofstream(path) << YAML::Dump(job);
   FitJob out = LoadFitJob(path);
-  out.solver.progress = false;
+  out.problem.solver.progress = false;
   return out;
 }
 
@@ -81,7 +81,7 @@ TEST(ExperimentDesignTest, ARecordInMotionGetsTheExperimentThatDecides) {
   // one first.
   HtmlReportInput html;
   html.result = &run.result;
-  html.job = &run.job;
+  html.job = &run.job.problem;
   html.proposal = &p;
   const std::string page = RenderHtmlReport(html, testing_files::TestTempDir(), nullptr);
   const size_t section = page.find("id=\"next-experiment\"");
@@ -98,7 +98,7 @@ TEST(ExperimentDesignTest, ARecordInMotionGetsTheExperimentThatDecides) {
   // The proposal as written: an experiment file simulate-axis loads.
   const std::string dir = testing_files::TestTempDir() + "proposal";
   std::filesystem::create_directories(dir);
-  WriteProposal(dir, run.job, run.result, p);
+  WriteProposal(dir, run.job.problem, run.job.title, run.result, p);
   const ExperimentConfig proposed = LoadExperiment(dir + "/experiment_proposed.yaml");
   EXPECT_NEAR(proposed.options.duration, p.duration, 1e-9);
   EXPECT_NEAR(proposed.initial_state[0], p.start_x, 1e-12);
@@ -150,18 +150,18 @@ TEST(ExperimentDesignTest, ARecordInMotionGetsTheExperimentThatDecides) {
 TEST(ExperimentDesignTest, DOptimalWhenAParameterIsKnownTooPoorly) {
   FitJob job = JobOn("coulomb");
   job.discover.enabled = false;
-  job.model.structure.effects.coulomb = true;
-  job.model.params.F_c = 40.0;
-  const FitResult result = FitParameters(job);
-  ExperimentProposal none = ProposeExperiment(job, result);
+  job.problem.model.structure.effects.coulomb = true;
+  job.problem.model.params.F_c = 40.0;
+  const FitResult result = FitParameters(job.problem);
+  ExperimentProposal none = ProposeExperiment(job.problem, result, job.design, job.discover);
   EXPECT_FALSE(none.proposed);
   EXPECT_NE(none.reason.find("design.rel_se not set"), std::string::npos) << none.reason;
   job.design.rel_se = 1e-4;
-  const ExperimentProposal p = ProposeExperiment(job, result);
+  const ExperimentProposal p = ProposeExperiment(job.problem, result, job.design, job.discover);
   ASSERT_TRUE(p.proposed) << p.reason;
   EXPECT_EQ(p.criterion, "D-optimal");
-  ASSERT_EQ(p.rel_se_predicted.size(), job.free.size());
-  for (size_t k = 0; k < job.free.size(); ++k) {
+  ASSERT_EQ(p.rel_se_predicted.size(), job.problem.free.size());
+  for (size_t k = 0; k < job.problem.free.size(); ++k) {
     // Added information can only shrink (JᵀJ grows by a PSD term).
     EXPECT_LE(p.rel_se_predicted[k], p.rel_se_now[k] * (1.0 + 1e-9)) << p.names[k];
   }
@@ -195,10 +195,10 @@ TEST(ExperimentDesignTest, ClosedLoopJobsGetReferencePositions) {
     const std::string path = testing_files::TestTempDir() + "closed_loop_design.yaml";
     std::ofstream(path) << YAML::Dump(y);
     FitJob job = LoadFitJob(path);
-    job.solver.progress = false;
-    ASSERT_TRUE(job.experiments[0].drive.closed_loop);
-    const FitResult result = FitParameters(job);
-    const ExperimentProposal p = ProposeExperiment(job, result);
+    job.problem.solver.progress = false;
+    ASSERT_TRUE(job.problem.experiments[0].drive.closed_loop);
+    const FitResult result = FitParameters(job.problem);
+    const ExperimentProposal p = ProposeExperiment(job.problem, result, job.design, job.discover);
     ASSERT_TRUE(p.proposed) << p.reason;
     EXPECT_TRUE(p.closed_loop);
     EXPECT_EQ(p.criterion, "D-optimal");
@@ -213,12 +213,12 @@ TEST(ExperimentDesignTest, ClosedLoopJobsGetReferencePositions) {
     EXPECT_GT(feasible, 0);
     const std::string dir = testing_files::TestTempDir() + "closed_loop_proposal";
     std::filesystem::create_directories(dir);
-    WriteProposal(dir, job, result, p);
+    WriteProposal(dir, job.problem, job.title, result, p);
     const ExperimentConfig proposed = LoadExperiment(dir + "/experiment_proposed.yaml");
     ASSERT_TRUE(proposed.drive.closed_loop);
-    EXPECT_EQ(proposed.drive.controller.G_p, job.experiments[0].drive.controller.G_p);
+    EXPECT_EQ(proposed.drive.controller.G_p, job.problem.experiments[0].drive.controller.G_p);
     EXPECT_EQ(proposed.drive.controller.counts_per_rev,
-              job.experiments[0].drive.controller.counts_per_rev);
+              job.problem.experiments[0].drive.controller.counts_per_rev);
     for (double t = 0.0; t <= p.duration; t += 1e-3) {
       ASSERT_NEAR(proposed.drive.reference.table.Evaluate(t), p.best.input.Evaluate(t), 1e-9)
           << t;

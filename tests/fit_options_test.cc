@@ -28,8 +28,8 @@
 #include "estimation/fit_control.h"
 #include "estimation/fit_result.h"
 #include "estimation/shared_level.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "run/job_run.h"
 #include "tests/test_files.h"
 
@@ -42,8 +42,8 @@ constexpr auto Write = testing_files::WriteTemp;
 
 FitResult Fit(const std::string& path) {
   FitJob job = LoadFitJob(path);
-  job.solver.progress = false;
-  return FitParameters(job);
+  job.problem.solver.progress = false;
+  return FitParameters(job.problem);
 }
 
 const ParameterEstimate& Estimate(const FitResult& r, const std::string& name) {
@@ -236,14 +236,14 @@ TEST(FitOptionsTest, EstimatedInitialStateIsRecovered) {
   ASSERT_EQ(r.initial_states.size(), 1u);
   EXPECT_EQ(r.initial_states[0][1], v0);
   FitJob fitted = LoadFitJob(job);
-  ApplyEstimates(r, &fitted);
-  EXPECT_EQ(fitted.experiments[0].initial_state[1], v0);
+  ApplyEstimates(r, &fitted.problem);
+  EXPECT_EQ(fitted.problem.experiments[0].initial_state[1], v0);
   // So the residual diagnostics after the fit (report.html's, RunJob) are
   // those of the fit's residual: the same RMS, not that of a start at rest
   // (which misses v by up to 0.42 m/s, 420 sigma).
   std::ostringstream log;
   FitJob run_job = LoadFitJob(job);
-  run_job.solver.progress = false;
+  run_job.problem.solver.progress = false;
   const JobRun run = RunJob(run_job, false, log);
   ASSERT_EQ(run.diagnostics.size(), 1u);
   double fit_rms = 0.0;
@@ -358,20 +358,20 @@ TEST(FitOptionsTest, FinalistsAreTheLowestAfterTheShorterHorizons) {
 // errors or goodness of fit.
 TEST(FitOptionsTest, AFitThatCannotReachTheLevelStopsOnAShorterHorizon) {
   FitJob job = LoadFitJob(ScreenedJob(2));
-  job.solver.progress = false;
-  const FitResult whole = FitParameters(job);
+  job.problem.solver.progress = false;
+  const FitResult whole = FitParameters(job.problem);
   ASSERT_TRUE(std::isfinite(whole.bic));
   EXPECT_EQ(whole.abandoned_horizon, 0.0);
 
   FitControl control;
   control.abandon_above_bic = whole.bic * (1.0 + 1e-9);
-  const FitResult above = FitParameters(job, nullptr, control);
+  const FitResult above = FitParameters(job.problem, nullptr, control);
   EXPECT_EQ(above.abandoned_horizon, 0.0);
   EXPECT_DOUBLE_EQ(above.final_cost, whole.final_cost);
   EXPECT_DOUBLE_EQ(above.bic, whole.bic);
 
   control.abandon_above_bic = 1.0;
-  const FitResult stopped = FitParameters(job, nullptr, control);
+  const FitResult stopped = FitParameters(job.problem, nullptr, control);
   EXPECT_DOUBLE_EQ(stopped.abandoned_horizon, 0.05);
   EXPECT_GT(stopped.bic, 1.0);
   EXPECT_LT(stopped.bic, whole.bic);
@@ -426,17 +426,17 @@ class PublishOnText : public std::stringbuf {
 // starts, a screen and a factor ≤ 0 are refused.
 TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
   FitJob job = LoadFitJob(ScreenedJob(1));
-  job.solver.progress = false;
-  job.solver.starts = 0;
-  const FitResult whole = FitParameters(job);
+  job.problem.solver.progress = false;
+  job.problem.solver.starts = 0;
+  const FitResult whole = FitParameters(job.problem);
   ASSERT_TRUE(std::isfinite(whole.bic));
   FitControl first_control;
   first_control.abandon_above_bic = 1.0;
-  const FitResult first = FitParameters(job, nullptr, first_control);
+  const FitResult first = FitParameters(job.problem, nullptr, first_control);
   ASSERT_DOUBLE_EQ(first.abandoned_horizon, 0.05);
   FitControl later_control;
   later_control.abandon_above_bic = first.bic * (1.0 + 1e-9);
-  const FitResult later = FitParameters(job, nullptr, later_control);
+  const FitResult later = FitParameters(job.problem, nullptr, later_control);
   ASSERT_GT(later.abandoned_horizon, 0.05);
   ASSERT_GT(later.bic, later_control.abandon_above_bic);
 
@@ -466,7 +466,7 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
       level->Publish(threshold);
       FitControl pending;
       pending.pending_level = level;
-      expect_same(FitParameters(job, nullptr, pending), *reference);
+      expect_same(FitParameters(job.problem, nullptr, pending), *reference);
     }
     // Published only after the fit has waited for it (1 s: about five
     // times the whole fit here; under load it may come mid-run, which must
@@ -476,7 +476,7 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
       FitControl pending;
       pending.pending_level = level;
       std::future<FitResult> fit = std::async(
-          std::launch::async, [&job, &pending] { return FitParameters(job, nullptr, pending); });
+          std::launch::async, [&job, &pending] { return FitParameters(job.problem, nullptr, pending); });
       EXPECT_EQ(fit.wait_for(std::chrono::seconds(1)), std::future_status::timeout);
       level->Publish(threshold);
       ASSERT_EQ(fit.wait_for(std::chrono::seconds(60)), std::future_status::ready);
@@ -493,10 +493,10 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
       PublishOnText publisher(stage, level.get(), threshold);
       std::ostream progress(&publisher);
       FitJob printing = job;
-      printing.solver.progress = true;
+      printing.problem.solver.progress = true;
       FitControl pending;
       pending.pending_level = level;
-      expect_same(FitParameters(printing, &progress, pending), *reference);
+      expect_same(FitParameters(printing.problem, &progress, pending), *reference);
       EXPECT_TRUE(publisher.published());
     }
   }
@@ -504,29 +504,29 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
   auto published = std::make_shared<SharedLevel>(2.0);
   FitControl leader;
   leader.publish_level = published;
-  const FitResult led = FitParameters(job, nullptr, leader);
+  const FitResult led = FitParameters(job.problem, nullptr, leader);
   ASSERT_TRUE(published->TryAbandonAbove().has_value());
   EXPECT_EQ(*published->TryAbandonAbove(), 2.0 * led.bic);
 
   FitJob several = job;
-  several.solver.starts = 2;
+  several.problem.solver.starts = 2;
   FitControl waiting;
   waiting.pending_level = std::make_shared<SharedLevel>(1.0);
-  EXPECT_THROW(FitParameters(several, nullptr, waiting), std::invalid_argument);
+  EXPECT_THROW(FitParameters(several.problem, nullptr, waiting), std::invalid_argument);
   FitControl screen;
   screen.stop_after_horizon = 0.1;
   screen.pending_level = std::make_shared<SharedLevel>(1.0);
-  EXPECT_THROW(FitParameters(job, nullptr, screen), std::invalid_argument);
+  EXPECT_THROW(FitParameters(job.problem, nullptr, screen), std::invalid_argument);
   // A publisher that throws (a checkpoint of another job) publishes +inf:
   // no level, its pending fits run on.
   screen.pending_level = nullptr;
   FitJob throwing = job;
-  throwing.solver.starts = 1;
+  throwing.problem.solver.starts = 1;
   FitControl throwing_control;
-  throwing_control.resume = FitParameters(job, nullptr, screen).checkpoint;
+  throwing_control.resume = FitParameters(job.problem, nullptr, screen).checkpoint;
   auto none = std::make_shared<SharedLevel>(2.0);
   throwing_control.publish_level = none;
-  EXPECT_THROW(FitParameters(throwing, nullptr, throwing_control), std::invalid_argument);
+  EXPECT_THROW(FitParameters(throwing.problem, nullptr, throwing_control), std::invalid_argument);
   ASSERT_TRUE(none->TryAbandonAbove().has_value());
   EXPECT_EQ(*none->TryAbandonAbove(), inf);
   EXPECT_THROW(SharedLevel(0.0), std::invalid_argument);
@@ -542,14 +542,14 @@ TEST(FitOptionsTest, AFitUnderAPendingLevelEndsAsUnderThatLevel) {
 // job (another number of starts) is refused.
 TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
   FitJob job = LoadFitJob(ScreenedJob(4));
-  job.solver.progress = false;
-  const FitResult whole = FitParameters(job);
+  job.problem.solver.progress = false;
+  const FitResult whole = FitParameters(job.problem);
   ASSERT_TRUE(std::isfinite(whole.final_cost));
   EXPECT_EQ(whole.checkpoint, nullptr);
 
   FitControl screen;
   screen.stop_after_horizon = 0.1;
-  const FitResult screened = FitParameters(job, nullptr, screen);
+  const FitResult screened = FitParameters(job.problem, nullptr, screen);
   EXPECT_DOUBLE_EQ(screened.abandoned_horizon, 0.1);
   ASSERT_NE(screened.checkpoint, nullptr);
   ASSERT_EQ(screened.checkpoint->starts.size(), 4u);
@@ -562,7 +562,7 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
 
   FitControl resumed_control;
   resumed_control.resume = screened.checkpoint;
-  const FitResult resumed = FitParameters(job, nullptr, resumed_control);
+  const FitResult resumed = FitParameters(job.problem, nullptr, resumed_control);
   EXPECT_EQ(resumed.final_cost, whole.final_cost);
   EXPECT_EQ(resumed.bic, whole.bic);
   for (size_t k = 0; k < whole.parameters.size(); ++k) {
@@ -592,8 +592,8 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
   FitControl level;
   level.abandon_above_bic = 1.0;
   resumed_control.abandon_above_bic = 1.0;
-  const FitResult stopped = FitParameters(job, nullptr, level);
-  const FitResult stopped_resumed = FitParameters(job, nullptr, resumed_control);
+  const FitResult stopped = FitParameters(job.problem, nullptr, level);
+  const FitResult stopped_resumed = FitParameters(job.problem, nullptr, resumed_control);
   EXPECT_DOUBLE_EQ(stopped.abandoned_horizon, 0.05);
   EXPECT_EQ(stopped_resumed.abandoned_horizon, stopped.abandoned_horizon);
   EXPECT_EQ(stopped_resumed.bic, stopped.bic);
@@ -604,12 +604,12 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
   // initial value), other horizons, other data.
   const auto refused = [&](const std::function<void(FitJob*)>& change) {
     FitJob other = LoadFitJob(ScreenedJob(4));
-    other.solver.progress = false;
+    other.problem.solver.progress = false;
     change(&other);
     FitControl resume_other;
     resume_other.resume = screened.checkpoint;
     try {
-      FitParameters(other, nullptr, resume_other);
+      FitParameters(other.problem, nullptr, resume_other);
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find("FitControl::resume: expected a checkpoint of this job"),
                 std::string::npos)
@@ -618,16 +618,16 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
     }
     return false;
   };
-  EXPECT_TRUE(refused([](FitJob* j) { j->solver.starts = 2; }));
-  EXPECT_TRUE(refused([](FitJob* j) { j->solver.seed = 8; }));
-  EXPECT_TRUE(refused([](FitJob* j) { j->free[0].initial *= 1.1; }));
-  EXPECT_TRUE(refused([](FitJob* j) { j->solver.first_horizon = 0.04; }));
+  EXPECT_TRUE(refused([](FitJob* j) { j->problem.solver.starts = 2; }));
+  EXPECT_TRUE(refused([](FitJob* j) { j->problem.solver.seed = 8; }));
+  EXPECT_TRUE(refused([](FitJob* j) { j->problem.free[0].initial *= 1.1; }));
+  EXPECT_TRUE(refused([](FitJob* j) { j->problem.solver.first_horizon = 0.04; }));
   EXPECT_TRUE(refused([](FitJob* j) {
-    for (std::vector<double>& column : j->experiments[0].measured) {
+    for (std::vector<double>& column : j->problem.experiments[0].measured) {
       for (double& y : column) y += 0.01;
     }
   }));
-  EXPECT_FALSE(refused([](FitJob* j) { j->solver.threads = 1; }));
+  EXPECT_FALSE(refused([](FitJob* j) { j->problem.solver.threads = 1; }));
 }
 
 TEST(FitOptionsTest, QuickFormWritesTheReport) {

@@ -15,10 +15,10 @@
 #include "estimation/current_loop_check.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "estimation/start_agreement.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
-#include "job/solver_settings.h"
+#include "estimation/internal/start_agreement.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
+#include "estimation/solver_settings.h"
 #include "run/job_run.h"
 #include "sim/experiment.h"
 #include "sim/random.h"
@@ -85,9 +85,9 @@ const ParameterEstimate& Estimate(const FitResult& r, const std::string& name) {
 FitResult Fit(const std::string& job_path,
               UncertaintySettings::Method method = UncertaintySettings::Method::kProfile) {
   FitJob job = LoadFitJob(job_path);
-  job.solver.progress = false;
-  job.uncertainty.method = method;
-  return FitParameters(job);
+  job.problem.solver.progress = false;
+  job.problem.uncertainty.method = method;
+  return FitParameters(job.problem);
 }
 
 // Noise-free data: the truth is the exact minimum (up to the RK4 error, which
@@ -175,11 +175,11 @@ TEST(FitTest, CostJacobianMatchesCentralDifferences) {
     // crossed within ±h adds a little, so 1e-4 on the column norm. T_p has
     // no effect while the preamp is clamped: both columns are then ~0 and
     // are compared in absolute terms against the largest column.
-    RecordProperty("column_" + job.free[k].name, std::to_string(std::sqrt(den)));
+    RecordProperty("column_" + job.problem.free[k].name, std::to_string(std::sqrt(den)));
     if (k == 4) {
-      EXPECT_LT(std::sqrt(num), 1e-6 * col_scale) << job.free[k].name;
+      EXPECT_LT(std::sqrt(num), 1e-6 * col_scale) << job.problem.free[k].name;
     } else {
-      EXPECT_LT(std::sqrt(num / den), 1e-4) << job.free[k].name;
+      EXPECT_LT(std::sqrt(num / den), 1e-4) << job.problem.free[k].name;
     }
     col_scale = std::max(col_scale, std::sqrt(den));
   }
@@ -230,7 +230,7 @@ TEST(FitTest, AStartFarAboveTheNoiseAddsRandomStarts) {
       << "uncertainty: {method: gauss_newton}\n";
     const FitJob job = ParseFitJob(YAML::Load(y.str()), "auto_starts.yaml",
                                    testing_files::TestTempDir());
-    return FitParameters(job, nullptr);
+    return FitParameters(job.problem, nullptr);
   };
   const FitResult alone = job_text(0);
   EXPECT_GT(alone.residual_variance, kAutoStartsAbove);
@@ -288,7 +288,7 @@ TEST(FitTest, AMisfitOfTheModelStopsAfterTheFirstRandomStarts) {
       << "uncertainty: {method: gauss_newton}\n";
     const FitJob job =
         ParseFitJob(YAML::Load(y.str()), "misfit.yaml", testing_files::TestTempDir());
-    return FitParameters(job, nullptr);
+    return FitParameters(job.problem, nullptr);
   };
   const FitResult alone = fit(0);
   const FitResult r = fit(8);
@@ -345,7 +345,7 @@ TEST(FitTest, QuasiSteadyShiftPastOneStandardErrorRefitsTheFullLoop) {
       << "uncertainty: {method: gauss_newton}\n";
     FitJob job = ParseFitJob(YAML::Load(y.str()), "current_loop.yaml",
                              testing_files::TestTempDir());
-    job.solver.progress = false;
+    job.problem.solver.progress = false;
     std::ostringstream out;
     return RunJob(job, false, out);
   };
@@ -358,11 +358,11 @@ TEST(FitTest, QuasiSteadyShiftPastOneStandardErrorRefitsTheFullLoop) {
   EXPECT_NE(quasi.result.model_note.find("quasi-steady current loop shifts the estimate"),
             std::string::npos)
       << quasi.result.model_note;
-  EXPECT_EQ(quasi.job.model.structure.current_loop, CurrentLoop::kQuasiSteady);
+  EXPECT_EQ(quasi.job.problem.model.structure.current_loop, CurrentLoop::kQuasiSteady);
 
   const JobRun full = run("1");
   EXPECT_TRUE(full.loop_check.refitted);
-  EXPECT_EQ(full.job.model.structure.current_loop, CurrentLoop::kFull);
+  EXPECT_EQ(full.job.problem.model.structure.current_loop, CurrentLoop::kFull);
   EXPECT_NE(full.result.model_note.find("refitted"), std::string::npos) << full.result.model_note;
   double quasi_worst = 0.0;
   for (size_t k = 0; k < quasi.loop_check.names.size(); ++k) {
@@ -393,18 +393,18 @@ TEST(FitTest, FullLoopStepDividesTheSamplePeriodAndStaysStable) {
       "paper.yaml", testing_files::JobTextWithAbsolutePaths("x_axis_paper.yaml"));
   FitJob job = LoadFitJob(path);
   double step = 0.0;
-  const FitJob full = WithFullLoop(job, &step);
+  const EstimationProblem full = WithFullLoop(job.problem, &step);
   EXPECT_EQ(full.model.structure.current_loop, CurrentLoop::kFull);
   EXPECT_NEAR(step, 1e-5, 1e-12);
   for (const FitExperiment& e : full.validate) EXPECT_NEAR(e.options.step, 1e-5, 1e-12);
-  job.experiments[0].options.output_period = 1.0 / 3000.0;
-  job.experiments[0].options.step = 1.0 / 9000.0;
-  const FitJob fast = WithFullLoop(job, &step);
+  job.problem.experiments[0].options.output_period = 1.0 / 3000.0;
+  job.problem.experiments[0].options.step = 1.0 / 9000.0;
+  const EstimationProblem fast = WithFullLoop(job.problem, &step);
   EXPECT_NEAR(fast.experiments[0].options.step, 1.0 / 108000.0, 1e-15);
   EXPECT_NEAR(step, 1.0 / 108000.0, 1e-15);
-  job.model.params.L = 1e-4;
+  job.problem.model.params.L = 1e-4;
   try {
-    WithFullLoop(job);
+    WithFullLoop(job.problem);
     ADD_FAILURE() << "expected std::runtime_error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("stable here only below an RK4 step of 8.3"),

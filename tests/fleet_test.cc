@@ -15,10 +15,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "fleet/fleet_html.h"
+#include "fleet/internal/fleet_html.h"
 #include "fleet/fleet_table.h"
+#include "fleet/write_fleet_table.h"
 #include "fleet/manifest.h"
-#include "job/fit_job.h"
+#include "run/fit_job.h"
 #include "io/yaml_util.h"
 #include "tests/fleet_checks.h"
 #include "tests/test_files.h"
@@ -88,14 +89,14 @@ TEST(FleetManifestTest, GlobListsEveryLogOfAnAxisSorted) {
   // The job of an entry: the template filled in, one thread, the folder.
   const FitJob job = MakeFleetJob(m, m.entries[1], "/tmp/out");
   EXPECT_EQ(job.title, "r01/x now: fleet axis: B_a, F_c, F_0 from a 2 Hz sine");
-  EXPECT_EQ(job.solver.threads, 2);
-  EXPECT_FALSE(job.solver.progress);
+  EXPECT_EQ(job.problem.solver.threads, 2);
+  EXPECT_FALSE(job.problem.solver.progress);
   EXPECT_EQ(job.out_dir, "/tmp/out/r01/x/now");
-  ASSERT_EQ(job.experiments.size(), 1u);
-  EXPECT_THAT(job.experiments[0].data_path, HasSubstr("r01_x/now.csv"));
-  ASSERT_EQ(job.free.size(), 3u);
-  EXPECT_EQ(job.free[1].name, "F_c");
-  EXPECT_EQ(job.free[1].initial, 20.0);  // r01's model value
+  ASSERT_EQ(job.problem.experiments.size(), 1u);
+  EXPECT_THAT(job.problem.experiments[0].data_path, HasSubstr("r01_x/now.csv"));
+  ASSERT_EQ(job.problem.free.size(), 3u);
+  EXPECT_EQ(job.problem.free[1].name, "F_c");
+  EXPECT_EQ(job.problem.free[1].initial, 20.0);  // r01's model value
 }
 
 TEST(FleetManifestTest, ErrorsNameFileLineAndKey) {

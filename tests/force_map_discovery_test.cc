@@ -16,9 +16,9 @@
 
 #include "discovery/discovery.h"
 #include "discovery/force_map.h"
-#include "discovery/screen.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "discovery/internal/screen.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "run/job_run.h"
 #include "run/write_job_run.h"
 #include "sim/axis_model.h"
@@ -38,7 +38,7 @@ const std::string kRoot = PROJECT_SOURCE_DIR;
 // them at most: the step after the loop is what is tested.
 JobRun RunCase(const std::string& name) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/" + name + ".yaml");
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   job.discover.candidates = {"coulomb", "load_offset", "spring"};
   job.discover.max_effects = 1;
   std::ostringstream out;
@@ -73,7 +73,7 @@ struct ForceError {
 ForceError CompareLoadForce(const std::string& name, const JobRun& run) {
   double truth2 = 0.0, error2 = 0.0;
   int n = 0;
-  for (const FitExperiment& e : run.job.experiments) {
+  for (const FitExperiment& e : run.job.problem.experiments) {
     const ExperimentConfig generating =
         LoadExperiment(kRoot + "/testdata/generate/discover/" + name + "_" + e.name + ".yaml");
     SimulationOptions options = generating.options;
@@ -85,7 +85,7 @@ ForceError CompareLoadForce(const std::string& name, const JobRun& run) {
     const std::vector<double>& v = trace[Channel::kV];
     for (size_t k = 0; k < x.size(); ++k) {
       const double truth = LoadForce(generating.model, generating.model.params, x[k], v[k]);
-      const double learned = LoadForce(run.job.model, run.job.model.params, x[k], v[k]);
+      const double learned = LoadForce(run.job.problem.model, run.job.problem.model.params, x[k], v[k]);
       const AxisParams<double>& p = generating.model.params;
       const double viscous = p.B_a * v[k] + p.B_m * v[k] / (p.r_g * p.r_g);
       truth2 += (truth - viscous) * (truth - viscous);
@@ -103,7 +103,7 @@ double SumOfSquares(const ForceMapReport& r, double ChannelChange::*rms) {
   return s;
 }
 
-// *stopped: how many forms stopped under the level (discovery/screen.h).
+// *stopped: how many forms stopped under the level (discovery/internal/screen.h).
 void ExpectLearned(const std::string& name, const std::string& kind, int* stopped) {
   const JobRun run = RunCase(name);
   const ForceMapReport& map = run.force_map;
@@ -114,7 +114,7 @@ void ExpectLearned(const std::string& name, const std::string& kind, int* stoppe
   EXPECT_LT(map.bic_after, map.bic_before);
   EXPECT_LT(SumOfSquares(map, &ChannelChange::rms_after),
             SumOfSquares(map, &ChannelChange::rms_before));
-  EXPECT_TRUE(run.job.model.structure.force_map.enabled);
+  EXPECT_TRUE(run.job.problem.model.structure.force_map.enabled);
   EXPECT_FALSE(map.significant.empty());
   // The learned load force along the visited states accounts for at least
   // 65 % of the missing force's RMS (the rest of the model, B_a included,
@@ -126,7 +126,7 @@ void ExpectLearned(const std::string& name, const std::string& kind, int* stoppe
   std::cout << name << ": missing force RMS " << f.truth_rms << " N, learned load force error RMS "
             << f.error_rms << " N\n" << FormatForceMap(map);
   EXPECT_LT(f.error_rms, 0.35 * f.truth_rms);
-  // The forms (discovery/screen.h): the winner ran to the end; a form stopped
+  // The forms (discovery/internal/screen.h): the winner ran to the end; a form stopped
   // under the level names the leader (the first form, by score) and ended
   // with a BIC bound above kStopFactor times the leader's BIC. The stop
   // compares with the leader's fit BIC (2·cost + n·ln(m), its roughness
@@ -166,8 +166,8 @@ void ExpectLearned(const std::string& name, const std::string& kind, int* stoppe
   EXPECT_NE(html.find("<section id=\"force-map\">"), std::string::npos);
   EXPECT_NE(html.find("The learned load force (N)"), std::string::npos);
   const AxisConfig back = LoadAxisConfig(dir + "/model_discovered.yaml");
-  EXPECT_EQ(back.structure.force_map.knots, run.job.model.structure.force_map.knots);
-  EXPECT_EQ(back.params.f_map, run.job.model.params.f_map);
+  EXPECT_EQ(back.structure.force_map.knots, run.job.problem.model.structure.force_map.knots);
+  EXPECT_EQ(back.params.f_map, run.job.problem.model.params.f_map);
   const std::string experiment = testing_files::WriteTemp(
       "replay.yaml", "model: " + dir +
                          "/model_discovered.yaml\nduration: 1.0\nstep: 1.0e-4\noutput_rate: "
@@ -196,18 +196,18 @@ TEST(ForceMapDiscoveryTest, VelocityBumpIsLearnedAsAFunctionOfTheVelocity) {
 // A library effect as the truth: the loop explains the data with it alone
 // and no map is fitted.
 void ExpectLibraryEffectWins(FitJob job, const std::string& effect) {
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   std::ostringstream out;
   const JobRun run = RunJob(job, true, out);
   EXPECT_EQ(run.discovery.selected, std::vector<std::string>{effect});
   EXPECT_EQ(run.discovery.verdict.verdict, "explained");
   EXPECT_FALSE(run.force_map.tried) << run.force_map.reason;
-  EXPECT_FALSE(run.job.model.structure.force_map.enabled);
+  EXPECT_FALSE(run.job.problem.model.structure.force_map.enabled);
 }
 
 TEST(ForceMapDiscoveryTest, CoulombFrictionStaysALibraryEffect) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/coulomb.yaml");
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   job.discover.force_map = true;
   ExpectLibraryEffectWins(job, "coulomb");
 }
@@ -233,7 +233,7 @@ TEST(ForceMapDiscoveryTest, SpringStaysALibraryEffect) {
   replace("../../../build/fit/discover_none", dir + "out");
   text.replace(text.find("discover:\n"), 10, "discover:\n  force_map: true\n");
   FitJob job = ParseFitJob(ParseYamlText(text, "spring.yaml"), "spring.yaml", dir);
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   ExpectLibraryEffectWins(job, "spring");
 }
 

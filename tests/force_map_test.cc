@@ -14,7 +14,7 @@
 
 #include "estimation/experiment_cost.h"
 #include "estimation/roughness_cost.h"
-#include "job/fit_job.h"
+#include "run/fit_job.h"
 #include "sim/axis_model.h"
 #include "sim/config.h"
 #include "sim/force_map.h"

@@ -27,7 +27,7 @@ package_dir=$(dirname "$config")
 for f in servo_axis_idConfigVersion.cmake servo_axis_idTargets.cmake system_libraries.cmake; do
   [[ -f $package_dir/$f ]] || fail "no $f beside $config"
 done
-for lib in servo_axis_id_sim servo_axis_id_common servo_axis_id_job servo_axis_id_estimation servo_axis_id_discovery servo_axis_id_design servo_axis_id_report servo_axis_id_run servo_axis_id_fleet; do
+for lib in servo_axis_id_io servo_axis_id_sim servo_axis_id_common servo_axis_id_estimation servo_axis_id_discovery servo_axis_id_design servo_axis_id_report servo_axis_id_run servo_axis_id_fleet; do
   [[ -n $(find "$prefix" -name "lib$lib.*" -print -quit) ]] || fail "library $lib not installed"
 done
 if grep -rlF -e "$source" -e "$build" "$package_dir"; then
@@ -35,9 +35,13 @@ if grep -rlF -e "$source" -e "$build" "$package_dir"; then
 fi
 
 # Headers: the layer folders, each project include found in the prefix.
-for h in sim/simulate.h io/mat_file.h estimation/fit.h job/fit_job.h; do
+for h in sim/simulate.h io/mat_file.h estimation/fit.h run/fit_job.h; do
   [[ -f $prefix/include/$h ]] || fail "header $h not installed"
 done
+# The public API only: no layer's internal/ headers (tests/layering_test.py).
+if [[ -n $(find "$prefix/include" -path '*/internal/*' -print -quit) ]]; then
+  fail "internal headers installed: $(find "$prefix/include" -path '*/internal/*' | head -3)"
+fi
 while IFS= read -r line; do
   header=${line%%:*}
   included=$(sed -E 's/.*#include "([^"]+)".*/\1/' <<< "${line#*:}")

@@ -1,5 +1,5 @@
 // The instant accelerometer's per-sample σ_k at the jumps of y1'
-// (estimation/instant_sample_sigma.h, MODEL.md §6), against closed forms:
+// (estimation/internal/instant_sample_sigma.h, MODEL.md §6), against closed forms:
 // a mass driven by a force step, F = g_F·U on M with viscous friction B_a,
 // whose acceleration jumps by J = g_F·U/M at the step and then decays as
 // J·exp(−B_a·(t − t_s)/M).
@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "estimation/experiment_cost.h"
-#include "estimation/instant_sample_sigma.h"
-#include "job/fit_job.h"
+#include "estimation/internal/instant_sample_sigma.h"
+#include "run/fit_job.h"
 #include "sim/simulate.h"
 
 namespace axis {
@@ -52,7 +52,7 @@ FitExperiment ForceStep(const AxisStructure& s, const AxisParams<double>& p) {
   e.t = trace.t;
   e.measured_channels = {Channel::kA};
   e.measured = {trace[Channel::kA]};
-  e.fitted = {{Channel::kA, kSigma, {}}};
+  e.fitted = {{Channel::kA, kSigma}};
   return e;
 }
 
@@ -105,15 +105,14 @@ TEST(InstantSampleSigmaTest, TheSampleAtTheJumpGetsHalfTheJump) {
     }
   }
   // −2·log L gains log(σ_k²/σ²) for every weighted sample.
-  FitExperiment weighted = e;
-  weighted.fitted[0].sample_sigma = sigma;
+  const std::vector<SampleSigmas> weighted = {{sigma}};
   double expected = 0.0;
   for (double s_k : sigma) expected += 2.0 * std::log(s_k / kSigma);
-  EXPECT_NEAR(SampleSigmaLogTerm({weighted}), expected, 1e-12);
+  EXPECT_NEAR(SampleSigmaLogTerm({e}, weighted), expected, 1e-12);
   // The step's sample carries it; the last adds log(1 + (Δ/σ)²) ≈ 0.004.
-  EXPECT_NEAR(SampleSigmaLogTerm({weighted}),
+  EXPECT_NEAR(SampleSigmaLogTerm({e}, weighted),
               2.0 * std::log(std::hypot(kSigma, jump / 2.0) / kSigma), 0.01);
-  EXPECT_EQ(SampleSigmaLogTerm({e}), 0.0);
+  EXPECT_EQ(SampleSigmaLogTerm({e}, {SampleSigmas{{}}}), 0.0);
 }
 
 // Nothing to weigh: the period-mean accelerometer, `a` not fitted, no jump.
@@ -152,9 +151,9 @@ TEST(InstantSampleSigmaTest, TheCostUsesThePerSampleSigma) {
   ExperimentCost plain(s, map, e, 1, -1, &counter);
   std::vector<double> r(e.t.size()), d(e.t.size());
   ASSERT_TRUE(plain.Directional(theta.data(), direction.data(), r.data(), d.data()));
-  e.fitted[0].sample_sigma.assign(e.t.size(), kSigma);
-  e.fitted[0].sample_sigma[5] = 4.0 * kSigma;
-  ExperimentCost weighted(s, map, e, 1, -1, &counter);
+  SampleSigmas sample_sigma = {std::vector<double>(e.t.size(), kSigma)};
+  sample_sigma[0][5] = 4.0 * kSigma;
+  ExperimentCost weighted(s, map, e, 1, -1, &counter, &sample_sigma);
   std::vector<double> rw(e.t.size());
   ASSERT_TRUE(weighted.Directional(theta.data(), direction.data(), rw.data(), d.data()));
   for (size_t k = 0; k < r.size(); ++k) {

@@ -15,8 +15,8 @@
 
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "report/published.h"
 #include "tests/test_files.h"
 
@@ -121,28 +121,28 @@ TEST(JobKeysTest, PiecewiseConstantInputColumnIsHeld) {
            "    fit: {x: 1.0e-6}\n";
   };
   const FitJob held = LoadFitJob(Write("held.yaml", job("{column: held}")));
-  EXPECT_TRUE(held.experiments[0].drive.input.hold);
-  ASSERT_EQ(held.experiments[0].input_notes.size(), 1u);
-  const std::string& note = held.experiments[0].input_notes[0];
+  EXPECT_TRUE(held.problem.experiments[0].drive.input.hold);
+  ASSERT_EQ(held.problem.experiments[0].input_notes.size(), 1u);
+  const std::string& note = held.problem.experiments[0].input_notes[0];
   EXPECT_NE(note.find("'held' read as held (piecewise constant: 80.8 % of consecutive samples "
                       "equal, 19 changes)"),
             std::string::npos) << note;
   EXPECT_NE(note.find("input.interpolation: linear"), std::string::npos) << note;
 
   const FitJob smooth = LoadFitJob(Write("smooth.yaml", job("{column: smooth}")));
-  EXPECT_FALSE(smooth.experiments[0].drive.input.hold);
-  EXPECT_TRUE(smooth.experiments[0].input_notes.empty());
+  EXPECT_FALSE(smooth.problem.experiments[0].drive.input.hold);
+  EXPECT_TRUE(smooth.problem.experiments[0].input_notes.empty());
 
   const FitJob linear =
       LoadFitJob(Write("linear.yaml", job("{column: held, interpolation: linear}")));
-  EXPECT_FALSE(linear.experiments[0].drive.input.hold);
-  EXPECT_TRUE(linear.experiments[0].input_notes.empty());
+  EXPECT_FALSE(linear.problem.experiments[0].drive.input.hold);
+  EXPECT_TRUE(linear.problem.experiments[0].input_notes.empty());
 }
 
 TEST(JobKeysTest, InitialStateFromTheFirstSamples) {
   const FitJob job = LoadFitJob(
       Write("from_samples.yaml", Job("    initial_state: {from_samples: 20}\n")));
-  const FitExperiment& e = job.experiments[0];
+  const FitExperiment& e = job.problem.experiments[0];
   // std::to_string keeps 6 decimals: x is exact to 5e-7 m.
   EXPECT_NEAR(e.initial_state[0], 0.2 + 0.5 * 0.020, 1e-6);
   EXPECT_NEAR(e.initial_state[1], 0.5, 1e-3);
@@ -181,11 +181,11 @@ TEST(JobKeysTest, InitialStateFromAcceleratingSamples) {
   };
   const double t20 = 0.020;
   const FitJob quadratic = LoadFitJob(Write("quadratic.yaml", job("{from_samples: 20}")));
-  EXPECT_NEAR(quadratic.experiments[0].initial_state[0], 0.1 + 0.2 * t20 + 0.5 * t20 * t20,
+  EXPECT_NEAR(quadratic.problem.experiments[0].initial_state[0], 0.1 + 0.2 * t20 + 0.5 * t20 * t20,
               1e-9);
-  EXPECT_NEAR(quadratic.experiments[0].initial_state[1], 0.2 + t20, 1e-9);
+  EXPECT_NEAR(quadratic.problem.experiments[0].initial_state[1], 0.2 + t20, 1e-9);
   const FitJob line = LoadFitJob(Write("line.yaml", job("{from_samples: 20, degree: 1}")));
-  EXPECT_NEAR(line.experiments[0].initial_state[1], 0.2 + 0.0095, 1e-9);
+  EXPECT_NEAR(line.problem.experiments[0].initial_state[1], 0.2 + 0.0095, 1e-9);
   const std::string too_few = LoadError(Write("two_samples.yaml", job("{from_samples: 2}")));
   EXPECT_NE(too_few.find("initial_state.from_samples': expected more samples than the degree 2"),
             std::string::npos)
@@ -202,7 +202,7 @@ TEST(JobKeysTest, InitialStateFromAcceleratingSamples) {
 TEST(JobKeysTest, DeclaredInitialState) {
   const FitJob job = LoadFitJob(
       Write("declared_state.yaml", Job("    initial_state: {y0: 0.25, y1: 0.5}\n")));
-  const FitExperiment& e = job.experiments[0];
+  const FitExperiment& e = job.problem.experiments[0];
   EXPECT_EQ(e.initial_state[0], 0.25);
   EXPECT_EQ(e.initial_state[1], 0.5);
   EXPECT_EQ(e.t.size(), 100u);  // nothing dropped
@@ -409,12 +409,12 @@ TEST(JobKeysTest, QuickFormBoundsRespectTheRange) {
   const std::string model = kRoot + "/configs/axes/x_axis.yaml";
   const std::string data = kRoot + "/testdata/x_step_10V_clean.csv";
   const FitJob job = MakeQuickJob(model, data, "u", {"tach"}, {"F_s", "B_a"});
-  ASSERT_EQ(job.free.size(), 2u);
-  EXPECT_EQ(job.free[0].name, "F_s");
-  EXPECT_EQ(job.free[0].lower, 0.0);
-  EXPECT_EQ(job.free[0].upper, 1.0);
-  EXPECT_EQ(job.free[1].lower, 20.0);  // B_a = 200: unchanged
-  EXPECT_EQ(job.free[1].upper, 2000.0);
+  ASSERT_EQ(job.problem.free.size(), 2u);
+  EXPECT_EQ(job.problem.free[0].name, "F_s");
+  EXPECT_EQ(job.problem.free[0].lower, 0.0);
+  EXPECT_EQ(job.problem.free[0].upper, 1.0);
+  EXPECT_EQ(job.problem.free[1].lower, 20.0);  // B_a = 200: unchanged
+  EXPECT_EQ(job.problem.free[1].upper, 2000.0);
   std::ifstream in(model);
   std::string text((std::istreambuf_iterator<char>(in)), {});
   text.replace(text.find("V_L: 2.7"), 8, "V_L: .inf");
@@ -447,12 +447,12 @@ TEST(JobKeysTest, PublishedModelIsSimulatedHere) {
       "published.yaml",
       Job("", "published:\n  source: test\n  set: {M: 95}\n"
               "  relative_error_percent: {ramp: {x: 1.5}}\n")));
-  job.solver.progress = false;
-  job.free[0].initial = 95;
-  job.solver.max_iterations = 1;
-  FitResult result = FitParameters(job);
+  job.problem.solver.progress = false;
+  job.problem.free[0].initial = 95;
+  job.problem.solver.max_iterations = 1;
+  FitResult result = FitParameters(job.problem);
   job.published.model.params.M = Estimate(result);
-  const PublishedComparison c = ComparePublished(job, result);
+  const PublishedComparison c = ComparePublished(job.problem, result, job.published);
   ASSERT_EQ(c.parameters.size(), 1u);
   EXPECT_EQ(c.parameters[0].name, "M");
   EXPECT_TRUE(c.parameters[0].free);
@@ -470,7 +470,7 @@ TEST(JobKeysTest, PublishedModelIsSimulatedHere) {
   // where a comparison that ignored the published model would repeat the
   // fitted error to the last digit.
   job.published.model.params.M = 2.0 * Estimate(result);
-  const PublishedComparison d = ComparePublished(job, result);
+  const PublishedComparison d = ComparePublished(job.problem, result, job.published);
   found = false;
   for (const ChannelComparison& r : d.channels) {
     if (r.channel != "x") continue;

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "run/fit_job.h"
 #include "sim/config.h"
 #include "tune/joint_region.h"
 

@@ -23,9 +23,10 @@
 
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "io/csv.h"
+#include "io/data_file.h"
 #include "io/data_table.h"
 #include "io/mat_file.h"
 #include "tests/test_files.h"
@@ -463,8 +464,8 @@ void ExpectSameSignal(const InputSignal& a, const InputSignal& b, const std::str
 TEST(MatFileJobTest, EmpsJobLoadsTheSameExperimentsAsFromTheCsvs) {
   const FitJob csv = LoadFitJob(kRoot + "/configs/jobs/emps.yaml");
   const FitJob mat = LoadFitJob(kRoot + "/configs/jobs/emps_mat.yaml");
-  const std::vector<FitExperiment>* lists[][2] = {{&csv.experiments, &mat.experiments},
-                                                  {&csv.validate, &mat.validate}};
+  const std::vector<FitExperiment>* lists[][2] = {{&csv.problem.experiments, &mat.problem.experiments},
+                                                  {&csv.problem.validate, &mat.problem.validate}};
   size_t compared = 0;
   for (const auto& pair : lists) {
     ASSERT_EQ(pair[0]->size(), pair[1]->size());
@@ -519,10 +520,10 @@ TEST(MatFileJobTest, ShortEmpsFitIsTheSameFromTheMatFile) {
       WriteTemp("csv.yaml", job("DATA_EMPS.csv", "t_s", "{x: qm_m, u: vir_V}", "qg_m")));
   FitJob from_mat =
       LoadFitJob(WriteTemp("mat.yaml", job("DATA_EMPS.mat", "t", "{x: qm, u: vir}", "qg")));
-  from_csv.solver.progress = false;
-  from_mat.solver.progress = false;
-  const FitResult a = FitParameters(from_csv);
-  const FitResult b = FitParameters(from_mat);
+  from_csv.problem.solver.progress = false;
+  from_mat.problem.solver.progress = false;
+  const FitResult a = FitParameters(from_csv.problem);
+  const FitResult b = FitParameters(from_mat.problem);
   ASSERT_EQ(a.parameters.size(), b.parameters.size());
   for (size_t i = 0; i < a.parameters.size(); ++i) {
     EXPECT_EQ(a.parameters[i].name, b.parameters[i].name);
@@ -565,7 +566,7 @@ TEST(MatFileJobTest, JobErrorsNameTheKeyTheFileAndTheVariable) {
                   "key 'experiments[0].channels.x': expected a variable of " + data);
   EXPECT_CONTAINS(ErrorOf([&] { LoadFitJob(missing); }), "(t, x), got 'qm'");
   const FitJob good = LoadFitJob(job("{x: x}"));
-  EXPECT_EQ(good.experiments[0].measured[0].size(), 50u);
+  EXPECT_EQ(good.problem.experiments[0].measured[0].size(), 50u);
 }
 
 // One dropped sample in a MAT log's time (issue 46) is named at its sample,

@@ -14,8 +14,8 @@
 
 #include "estimation/at_estimate.h"
 #include "estimation/fit.h"
-#include "job/load_fit_job.h"
-#include "job/tune_settings.h"
+#include "run/load_fit_job.h"
+#include "tune/tune_settings.h"
 #include "sim/config.h"
 #include "sim/controller.h"
 #include "sim/experiment.h"
@@ -116,11 +116,11 @@ TEST(MoveTuneTest, MoveFiguresFromAResponseBuiltByHand) {
 // and on the axis with the paper's values that made the records.
 TEST(MoveTuneTest, TheProposalMeetsTheSpecOnTheAxisThatMadeTheData) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/tune/x_axis_move.yaml");
-  job.solver.progress = false;
-  const FitResult result = FitParameters(job, nullptr);
-  const AnalogLoopTuning analog = TuneAnalogLoop(job, result);
+  job.problem.solver.progress = false;
+  const FitResult result = FitParameters(job.problem, nullptr);
+  const AnalogLoopTuning analog = TuneAnalogLoop(job.problem, result, job.tune);
   ASSERT_TRUE(analog.ran);
-  const MoveTuning t = TuneMove(job, result, &analog);
+  const MoveTuning t = TuneMove(job.problem, result, job.tune, &analog);
   ASSERT_TRUE(t.ran) << t.note;
   EXPECT_TRUE(t.on_proposed_analog_loop);
   EXPECT_FALSE(t.current.violations.empty());
@@ -143,7 +143,7 @@ TEST(MoveTuneTest, TheProposalMeetsTheSpecOnTheAxisThatMadeTheData) {
   EXPECT_EQ(t.current.response.t.size(), t.proposed.response.t.size());
   const std::string dir = testing_files::TestTempDir();
   std::vector<std::string> files;
-  WriteMoveTuning(dir, AtEstimate(job, result).model, t, &files);
+  WriteMoveTuning(dir, AtEstimate(job.problem, result).model, t, &files);
   EXPECT_EQ(files, (std::vector<std::string>{"tune_move.csv", "model_tuned_move.yaml",
                                              "tune_move_verify.yaml"}));
   const ExperimentConfig verify = LoadExperiment(dir + "/tune_move_verify.yaml");

@@ -1,8 +1,8 @@
 // Issue 42's checks of a fit, each against a case whose answer is known:
-// random starts at the job's cost or below it (estimation/start_agreement.h),
+// random starts at the job's cost or below it (estimation/internal/start_agreement.h),
 // probe rounds with gains below the roughness scale
-// (estimation/rough_optimum.h), and the covariance at the smooth scale of a
-// cost whose local slope is a sawtooth's (estimation/smooth_scale.h).
+// (estimation/internal/rough_optimum.h), and the covariance at the smooth scale of a
+// cost whose local slope is a sawtooth's (estimation/internal/smooth_scale.h).
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -12,9 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "estimation/experiment_cost.h"
-#include "estimation/rough_optimum.h"
-#include "estimation/smooth_scale.h"
-#include "estimation/start_agreement.h"
+#include "estimation/internal/rough_optimum.h"
+#include "estimation/internal/smooth_scale.h"
+#include "estimation/internal/start_agreement.h"
 
 namespace axis {
 namespace {

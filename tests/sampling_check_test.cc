@@ -15,7 +15,7 @@
 #include "discovery/accelerometer_convention.h"
 #include "discovery/discovery_report.h"
 #include "run/job_run.h"
-#include "job/load_fit_job.h"
+#include "run/load_fit_job.h"
 #include "tests/test_files.h"
 
 namespace axis {
@@ -69,14 +69,14 @@ FitJob StepJob(const std::string& convention, const std::string& effects = "",
           "output: {dir: " +
           TestTempDir() + "out}\n");
   FitJob job = LoadFitJob(job_path);
-  job.solver.progress = false;
+  job.problem.solver.progress = false;
   return job;
 }
 
 TEST(SamplingCheckTest, InstantRecordsReadAsPeriodMeansAreNamed) {
   const FitJob job = StepJob("instant");
-  const FitResult fit = FitParameters(job);
-  const SamplingCheck check = CheckAccelerometerSampling(job, fit);
+  const FitResult fit = FitParameters(job.problem);
+  const SamplingCheck check = CheckAccelerometerSampling(job.problem, fit);
   ASSERT_TRUE(check.ran);
   EXPECT_EQ(check.declared, "period_mean");
   EXPECT_EQ(check.other, "instant");
@@ -101,7 +101,7 @@ TEST(SamplingCheckTest, PeriodMeanRecordsFittedAsSuchGetNoNote) {
   for (const std::string effects : {"", "effects: {sensor_delay: {a: -2.0e-4}}\n"}) {
     SCOPED_TRACE(effects);
     const FitJob job = StepJob("period_mean", effects);
-    const SamplingCheck check = CheckAccelerometerSampling(job, FitParameters(job));
+    const SamplingCheck check = CheckAccelerometerSampling(job.problem, FitParameters(job.problem));
     ASSERT_TRUE(check.ran);
     EXPECT_GT(check.chi2_other_delay, check.chi2_declared_delay);
     EXPECT_TRUE(check.note.empty()) << check.note;
@@ -127,8 +127,8 @@ const std::string kJobFilterOnA = "effects: {sensor_lowpass2: {a: {tau: 5.0e-4, 
 // the other convention's refit fits to the noise.
 TEST(SamplingCheckTest, AFilterKeptOnAInPlaceOfTheConventionIsJudgedByBic) {
   const FitJob job = StepJob("instant", kFilterOnA, kJobFilterOnA, kFreeFilterOfA);
-  const FitResult fit = FitParameters(job);
-  const SamplingCheck check = CheckAccelerometerSampling(job, fit, SamplingRule::kBestBic);
+  const FitResult fit = FitParameters(job.problem);
+  const SamplingCheck check = CheckAccelerometerSampling(job.problem, fit, SamplingRule::kBestBic);
   ASSERT_TRUE(check.ran);
   EXPECT_EQ(check.other, "instant");
   EXPECT_GT(check.bic_declared - check.bic_other, kSamplingBicMargin);
@@ -153,7 +153,7 @@ TEST(SamplingCheckTest, PeriodMeanRecordsBehindAFilterKeepTheirConventionByBic) 
     SCOPED_TRACE(effects);
     const FitJob job = StepJob("period_mean", effects, job_effects, job_free);
     const SamplingCheck check =
-        CheckAccelerometerSampling(job, FitParameters(job), SamplingRule::kBestBic);
+        CheckAccelerometerSampling(job.problem, FitParameters(job.problem), SamplingRule::kBestBic);
     ASSERT_TRUE(check.ran);
     EXPECT_LT(check.bic_declared - check.bic_other, kSamplingBicMargin);
     EXPECT_TRUE(check.note.empty()) << check.note;
@@ -168,10 +168,10 @@ TEST(SamplingCheckTest, PeriodMeanRecordsBehindAFilterKeepTheirConventionByBic) 
 // optimum is as good. No note: the convention is not the misfit.
 TEST(SamplingCheckTest, AModelFarOffDoesNotMakeTheOtherConventionWin) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/discover/payload.yaml");
-  job.solver.progress = false;
-  const FitResult fit = FitParameters(job);
+  job.problem.solver.progress = false;
+  const FitResult fit = FitParameters(job.problem);
   ASSERT_GT(2.0 * fit.final_cost / fit.residual_dof, 10.0);  // the misfit is there
-  const SamplingCheck check = CheckAccelerometerSampling(job, fit);
+  const SamplingCheck check = CheckAccelerometerSampling(job.problem, fit);
   ASSERT_TRUE(check.ran);
   EXPECT_TRUE(check.note.empty()) << check.note;
 }
@@ -191,7 +191,7 @@ TEST(SamplingCheckTest, DiscoveryAdoptsTheConventionAsAFrontEndStep) {
   ASSERT_FALSE(run.discovery.selected.empty());
   EXPECT_EQ(run.discovery.selected[0], "accelerometer.instant");
   EXPECT_TRUE(SplitSelected(run.discovery.selected).plant.empty()) << out.str();
-  EXPECT_EQ(run.job.model.structure.accelerometer, AccelerometerSampling::kInstant);
+  EXPECT_EQ(run.job.problem.model.structure.accelerometer, AccelerometerSampling::kInstant);
 }
 
 }  // namespace

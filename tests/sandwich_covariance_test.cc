@@ -1,4 +1,4 @@
-// NeweyWestCovariance (estimation/sandwich_covariance.h) against closed
+// NeweyWestCovariance (estimation/internal/sandwich_covariance.h) against closed
 // forms of linear regression: the mean of autocorrelated errors by hand, and
 // the group means of heteroscedastic groups (HC0 = Σe²/n_g² per group).
 #include <stdexcept>
@@ -8,7 +8,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
-#include "estimation/sandwich_covariance.h"
+#include "estimation/internal/sandwich_covariance.h"
 
 namespace axis {
 namespace {

@@ -1,4 +1,4 @@
-// GoOnPastScreen and RanksByBound (discovery/screen.h): which competing refits
+// GoOnPastScreen and RanksByBound (discovery/internal/screen.h): which competing refits
 // go on past the screen under the lowest-BIC rule, against rankings worked out
 // by hand.
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "discovery/screen.h"
+#include "discovery/internal/screen.h"
 
 namespace axis {
 namespace {

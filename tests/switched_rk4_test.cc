@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
 #include "sim/experiment.h"
 #include "sim/switched_rk4.h"
 #include "tests/cost_checks.h"
@@ -196,9 +196,9 @@ void CheckPrbsCostJacobian(const std::string& model_yaml) {
       testing_files::CheckJobJacobian(job, 1e-7);
   for (int k = 0; k < 5; ++k) {
     const testing_files::ColumnCheck& c = checks[k];
-    EXPECT_LT(c.error_norm / c.difference_norm, 1e-4) << job.free[k].name;
+    EXPECT_LT(c.error_norm / c.difference_norm, 1e-4) << job.problem.free[k].name;
     EXPECT_NEAR(c.gradient, c.difference_gradient, 1e-4 * std::abs(c.difference_gradient))
-        << job.free[k].name;
+        << job.problem.free[k].name;
   }
 }
 

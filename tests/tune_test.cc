@@ -11,8 +11,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include "estimation/fit.h"
-#include "job/load_fit_job.h"
-#include "job/tune_settings.h"
+#include "run/load_fit_job.h"
+#include "tune/tune_settings.h"
 #include "sim/config.h"
 #include "tune/analog_loop_tuning.h"
 #include "tune/step_response.h"
@@ -108,13 +108,13 @@ TEST(TuneTest, ThePapersSeriesOfStepsInTp) {
 // point of the curve must break it.
 TEST(TuneTest, ThePapersProcedureStopsNearItsChoiceOfTp) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/tune/x_axis_paper.yaml");
-  job.solver.progress = false;
-  const FitResult result = FitParameters(job, nullptr);
+  job.problem.solver.progress = false;
+  const FitResult result = FitParameters(job.problem, nullptr);
   job.tune.spec = TuneSpec{};
   job.tune.spec.velocity_gain = 0.1;
   job.tune.spec.max_ringing_decay = 0.075;
   job.tune.samples = 0;
-  const AnalogLoopTuning t = TuneAnalogLoop(job, result);
+  const AnalogLoopTuning t = TuneAnalogLoop(job.problem, result, job.tune);
   ASSERT_TRUE(t.ran) << t.note;
   EXPECT_TRUE(t.proposed.violations.empty());
   EXPECT_GT(t.proposed.T_p, 0.03);
@@ -132,9 +132,9 @@ TEST(TuneTest, ThePapersProcedureStopsNearItsChoiceOfTp) {
 // on the axis that made the records (the paper's values) too.
 TEST(TuneTest, TheProposalMeetsTheSpecOnTheAxisThatMadeTheData) {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/tune/x_axis_paper.yaml");
-  job.solver.progress = false;
-  const FitResult result = FitParameters(job, nullptr);
-  const AnalogLoopTuning t = TuneAnalogLoop(job, result);
+  job.problem.solver.progress = false;
+  const FitResult result = FitParameters(job.problem, nullptr);
+  const AnalogLoopTuning t = TuneAnalogLoop(job.problem, result, job.tune);
   ASSERT_TRUE(t.ran) << t.note;
   EXPECT_TRUE(t.proposed.violations.empty());
   EXPECT_TRUE(t.proposed.robust);

@@ -16,15 +16,26 @@
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
 #include "estimation/uncertainty.h"
-#include "job/fit_job.h"
-#include "job/load_fit_job.h"
-#include "job/solver_settings.h"
+#include "run/fit_job.h"
+#include "run/load_fit_job.h"
+#include "estimation/solver_settings.h"
 
 namespace axis {
 namespace {
 
 const std::string kRoot = PROJECT_SOURCE_DIR;
 const std::vector<double> kSteps = {0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16};
+
+// LikelihoodRatioIntervals at kSteps on one thread.
+RatioScan Ratio(ceres::Problem* problem, std::vector<double> lower, std::vector<double> upper,
+                const Eigen::MatrixXd& cov, int n_free, double t975, double residual_variance,
+                std::vector<double>* theta) {
+  RatioScanOptions options;
+  options.basis = {std::move(lower), std::move(upper), cov, n_free, t975, residual_variance};
+  options.steps = kSteps;
+  options.threads = 1;
+  return LikelihoodRatioIntervals(problem, options, theta);
+}
 
 // r = A·θ − b, two parameters, three residuals: a quadratic cost.
 struct Linear {
@@ -73,8 +84,7 @@ TEST(LikelihoodRatioTest, QuadraticCostGivesTheGaussNewtonInterval) {
   const double t = StudentTQuantile975(1000);
   const std::vector<double> lower = {-100, -100}, upper = {100, 100};
   const std::vector<double> centre = theta;
-  const RatioScan scan = LikelihoodRatioIntervals(&problem, lower, upper, cov, 2, t,
-                                                  1.0, kSteps, 1, &theta);
+  const RatioScan scan = Ratio(&problem, lower, upper, cov, 2, t, 1.0, &theta);
   ASSERT_EQ(scan.intervals.size(), 2u);
   for (int k = 0; k < 2; ++k) {
     const double sd = std::sqrt(cov(k, k));
@@ -100,8 +110,7 @@ TEST(LikelihoodRatioTest, KinkedCostFollowsTheFlatSideAndReportsTheLowerValley) 
   const double t = 1.96;
   Eigen::MatrixXd cov(1, 1);
   cov(0, 0) = 1.0;
-  const RatioScan scan = LikelihoodRatioIntervals(&problem, {-100}, {100}, cov, 1, t,
-                                                  1.0, kSteps, 1, &x);
+  const RatioScan scan = Ratio(&problem, {-100}, {100}, cov, 1, t, 1.0, &x);
   ASSERT_EQ(scan.intervals.size(), 1u);
   EXPECT_NEAR(scan.intervals[0].low, -4.0 * t, 0.05);
   // Above: the first crossing is at t, but beyond the bump the cost falls
@@ -122,9 +131,7 @@ TEST(LikelihoodRatioTest, NotFiniteCovarianceGivesNothing) {
                            nullptr, x.data());
   Eigen::MatrixXd cov(1, 1);
   cov(0, 0) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_TRUE(LikelihoodRatioIntervals(&problem, {-100}, {100}, cov, 1, 1.96, 1.0,
-                                       kSteps, 1, &x)
-                  .intervals.empty());
+  EXPECT_TRUE(Ratio(&problem, {-100}, {100}, cov, 1, 1.96, 1.0, &x).intervals.empty());
 }
 
 // Exponential decay y = a·exp(−b·t) + e at 7 times, σ = 0.05: the model
@@ -173,12 +180,25 @@ Eigen::MatrixXd CovarianceAt(ceres::Problem* problem, int n) {
   return (j.transpose() * j).inverse();
 }
 
-ceres::Solver::Options ProfileOptions() {
+ceres::Solver::Options RefitOptions() {
   ceres::Solver::Options o;
   o.function_tolerance = 1e-12;
   o.parameter_tolerance = 1e-12;
   o.gradient_tolerance = 1e-14;
   return o;
+}
+
+// ProfileLikelihoodIntervals with RefitOptions and the given settings.
+ProfileScan Profile(ceres::Problem* problem, std::vector<double> lower,
+                    std::vector<double> upper, const Eigen::MatrixXd& cov, int n_free,
+                    double t975, double residual_variance, double lowest_allowed,
+                    bool stop_at_lower, std::vector<double>* theta) {
+  ProfileOptions options;
+  options.basis = {std::move(lower), std::move(upper), cov, n_free, t975, residual_variance};
+  options.solver = RefitOptions();
+  options.lowest_allowed = lowest_allowed;
+  options.stop_at_lower = stop_at_lower;
+  return ProfileLikelihoodIntervals(problem, options, theta);
 }
 
 // On a quadratic cost the profile is the parabola itself: its ends are
@@ -190,12 +210,12 @@ TEST(ProfileTest, QuadraticCostGivesTheGaussNewtonInterval) {
   problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Linear, 3, 2>(new Linear),
                            nullptr, theta.data());
   ceres::Solver::Summary summary;
-  ceres::Solve(ProfileOptions(), &problem, &summary);
+  ceres::Solve(RefitOptions(), &problem, &summary);
   const Eigen::MatrixXd cov = CovarianceAt(&problem, 2);
   const double t = StudentTQuantile975(1000);
   const std::vector<double> centre = theta;
-  const ProfileScan scan = ProfileLikelihoodIntervals(
-      &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 2, t, 1.0,
+  const ProfileScan scan = Profile(
+      &problem, {-100, -100}, {100, 100}, cov, 2, t, 1.0,
       summary.final_cost - 1e-9, true, &theta);
   ASSERT_EQ(scan.intervals.size(), 2u);
   for (int k = 0; k < 2; ++k) {
@@ -222,7 +242,7 @@ TEST(ProfileTest, ExponentialDecayMatchesTheClosedFormProfile) {
       new ceres::AutoDiffCostFunction<Decay, Decay::kN, 2>(new Decay), nullptr,
       theta.data());
   ceres::Solver::Summary summary;
-  ceres::Solve(ProfileOptions(), &problem, &summary);
+  ceres::Solve(RefitOptions(), &problem, &summary);
   ASSERT_TRUE(summary.IsSolutionUsable());
   const Eigen::MatrixXd cov = CovarianceAt(&problem, 2);
   const double t = 1.96;
@@ -239,8 +259,8 @@ TEST(ProfileTest, ExponentialDecayMatchesTheClosedFormProfile) {
   };
   const double low = crossing(b_star - 0.99 * b_star), high = crossing(3.0 * b_star);
   ASSERT_GT(Decay::Profile(3.0 * b_star) - c0, threshold);
-  const ProfileScan scan = ProfileLikelihoodIntervals(
-      &problem, ProfileOptions(), {-100, 1e-3}, {100, 100}, cov, 2, t, 1.0,
+  const ProfileScan scan = Profile(
+      &problem, {-100, 1e-3}, {100, 100}, cov, 2, t, 1.0,
       c0 - 1e-9, true, &theta);
   ASSERT_EQ(scan.intervals.size(), 2u);
   const double half = 0.5 * (high - low), sd = std::sqrt(cov(1, 1));
@@ -284,8 +304,8 @@ TEST(ProfileTest, SecondValleyBelowTheThresholdWidensTheInterval) {
   Eigen::Matrix2d jtj;
   jtj << 1.25, -0.5, -0.5, 1.0;
   const Eigen::MatrixXd cov = 0.81 * jtj.inverse();
-  const ProfileScan scan = ProfileLikelihoodIntervals(
-      &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 1, 1.96, 1.0, -1e-9,
+  const ProfileScan scan = Profile(
+      &problem, {-100, -100}, {100, 100}, cov, 1, 1.96, 1.0, -1e-9,
       true, &theta);
   ASSERT_EQ(scan.intervals.size(), 1u);
   EXPECT_NEAR(scan.intervals[0].low, -1.96, 1e-6);
@@ -328,8 +348,8 @@ TEST(ProfileTest, RefitStuckInALocalMinimumIsRetriedFromOutside) {
       new ceres::AutoDiffCostFunction<LocalMinimum, 2, 2>(new LocalMinimum), nullptr,
       theta.data());
   const Eigen::MatrixXd cov = Eigen::Matrix2d::Identity();
-  const ProfileScan scan = ProfileLikelihoodIntervals(
-      &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 1, 1.96, 1.0, -1e-9,
+  const ProfileScan scan = Profile(
+      &problem, {-100, -100}, {100, 100}, cov, 1, 1.96, 1.0, -1e-9,
       true, &theta);
   ASSERT_EQ(scan.intervals.size(), 1u);
   EXPECT_NEAR(scan.intervals[0].low, -3.0 * 1.96, 1e-6);
@@ -348,18 +368,18 @@ TEST(ProfileTest, LowerCostStopsTheSearch) {
   problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Linear, 3, 2>(new Linear),
                            nullptr, theta.data());
   ceres::Solver::Summary summary;
-  ceres::Solve(ProfileOptions(), &problem, &summary);
+  ceres::Solve(RefitOptions(), &problem, &summary);
   const Eigen::MatrixXd cov = CovarianceAt(&problem, 2);
   theta[1] += std::sqrt(cov(1, 1));
   const double c0 = CostAt(&problem, theta, 1, &theta);
-  const ProfileScan stopped = ProfileLikelihoodIntervals(
-      &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 2, 1.96, 1.0,
+  const ProfileScan stopped = Profile(
+      &problem, {-100, -100}, {100, 100}, cov, 2, 1.96, 1.0,
       c0 - 1e-6, true, &theta);
   EXPECT_TRUE(stopped.intervals.empty());
   EXPECT_LT(stopped.lowest_cost, c0 - 1e-6);
   EXPECT_NEAR(CostAt(&problem, stopped.lowest_point, 1, &theta), stopped.lowest_cost, 1e-12);
-  const ProfileScan full = ProfileLikelihoodIntervals(
-      &problem, ProfileOptions(), {-100, -100}, {100, 100}, cov, 2, 1.96, 1.0,
+  const ProfileScan full = Profile(
+      &problem, {-100, -100}, {100, 100}, cov, 2, 1.96, 1.0,
       c0 - 1e-6, false, &theta);
   EXPECT_EQ(full.intervals.size(), 2u);
   EXPECT_LT(full.lowest_cost, c0 - 1e-6);
@@ -402,11 +422,11 @@ FitJob Job(const std::string& extra) {
 TEST(BootstrapTest, PaperStepRecordsAgreeWithGaussNewton) {
   FitJob job =
       Job("uncertainty: {method: likelihood_ratio, bootstrap: 8, block: 1, seed: 3}\n");
-  job.solver.progress = false;
-  FitResult result = FitParameters(job);
+  job.problem.solver.progress = false;
+  FitResult result = FitParameters(job.problem);
   ASSERT_TRUE(std::isfinite(result.final_cost));
   EXPECT_EQ(result.uncertainty_method, "likelihood_ratio");
-  ResidualBootstrap(job, &result, nullptr);
+  ResidualBootstrap(job.problem, &result, nullptr);
   EXPECT_EQ(result.bootstrap_replicates, 8);
   for (const ParameterEstimate& p : result.parameters) {
     if (!p.free) continue;
@@ -424,12 +444,12 @@ TEST(BootstrapTest, PaperStepRecordsAgreeWithGaussNewton) {
 }
 
 TEST(UncertaintyKeyTest, StrictLoader) {
-  EXPECT_EQ(Job("").uncertainty.method, UncertaintySettings::Method::kProfile);
-  EXPECT_EQ(Job("uncertainty: {method: gauss_newton}\n").uncertainty.method,
+  EXPECT_EQ(Job("").problem.uncertainty.method, UncertaintySettings::Method::kProfile);
+  EXPECT_EQ(Job("uncertainty: {method: gauss_newton}\n").problem.uncertainty.method,
             UncertaintySettings::Method::kGaussNewton);
-  EXPECT_EQ(Job("uncertainty: {method: likelihood_ratio}\n").uncertainty.method,
+  EXPECT_EQ(Job("uncertainty: {method: likelihood_ratio}\n").problem.uncertainty.method,
             UncertaintySettings::Method::kLikelihoodRatio);
-  EXPECT_EQ(Job("uncertainty: {method: profile}\n").uncertainty.method,
+  EXPECT_EQ(Job("uncertainty: {method: profile}\n").problem.uncertainty.method,
             UncertaintySettings::Method::kProfile);
   for (const std::string bad :
        {"uncertainty: {method: profile_likelihood}\n", "uncertainty: {bootstrap: -1}\n",

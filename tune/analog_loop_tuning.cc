@@ -65,8 +65,8 @@ double Objective(const StepMetrics& m, const TuneSpec& s) {
 
 class AnalogLoopTuner {
  public:
-  AnalogLoopTuner(const FitJob& job, const FitResult& result)
-      : job_(job), result_(result), settings_(job.tune), spec_(job.tune.spec) {}
+  AnalogLoopTuner(const EstimationProblem& job, const FitResult& result, const TuneSettings& tune)
+      : job_(job), result_(result), settings_(tune), spec_(tune.spec) {}
 
   AnalogLoopTuning Run() {
     const auto start = std::chrono::steady_clock::now();
@@ -208,7 +208,7 @@ class AnalogLoopTuner {
     }
   }
 
-  const FitJob& job_;
+  const EstimationProblem& job_;
   const FitResult& result_;
   const TuneSettings& settings_;
   const TuneSpec& spec_;
@@ -220,8 +220,9 @@ class AnalogLoopTuner {
 
 }  // namespace
 
-AnalogLoopTuning TuneAnalogLoop(const FitJob& job, const FitResult& result) {
-  return AnalogLoopTuner(job, result).Run();
+AnalogLoopTuning TuneAnalogLoop(const EstimationProblem& job, const FitResult& result,
+                                const TuneSettings& tune) {
+  return AnalogLoopTuner(job, result, tune).Run();
 }
 
 std::vector<std::string> ViolationsOn(const AxisConfig& axis, double step, const TunedSetting& s,

@@ -1,5 +1,5 @@
 // The analog velocity loop of the identified axis tuned to a specification
-// (issue 45; job key `tune:`, job/tune_settings.h): the paper's procedure
+// (issue 45; job key `tune:`, tune/tune_settings.h): the paper's procedure
 // automated. Nelson & Chang (1984, section III) set K_2 at its maximum
 // (870), K_1 for the desired 0.1 m/s per volt, and reduced the preamp's
 // T_p "in a series of steps from the maximum of 4.74 s" until the
@@ -26,7 +26,8 @@
 #include <vector>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
+#include "tune/tune_settings.h"
 #include "tune/interval_ends.h"
 #include "tune/step_response.h"
 
@@ -76,13 +77,14 @@ struct AnalogLoopTuning {
 };
 
 // Tunes K_1 (if spec.velocity_gain is set) and T_p of the axis `job`'s
-// model at `result`'s estimate (AtEstimate) under job.tune, simulating at
+// model at `result`'s estimate (AtEstimate) under `tune`, simulating at
 // the first fitted experiment's RK4 step. The model must have the analog
 // velocity loop (amplifier: analog_velocity_loop); otherwise ran is false
 // with a note. Throws std::runtime_error if the model at the estimate does
 // not simulate; never for a specification that cannot be met (the
 // proposal then has the least violation, with its violations listed).
-AnalogLoopTuning TuneAnalogLoop(const FitJob& job, const FitResult& result);
+AnalogLoopTuning TuneAnalogLoop(const EstimationProblem& job, const FitResult& result,
+                                const TuneSettings& tune);
 
 // The setting `s` (its K1 and T_p) applied to another axis, `axis` (e.g.
 // the model that generated the records, with effects the fit did not

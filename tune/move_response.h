@@ -1,5 +1,5 @@
 // The test of a move tuning (issue 45; job key `tune.move:`,
-// job/tune_settings.h MoveSpec): a point-to-point move of the identified
+// tune/tune_settings.h MoveSpec): a point-to-point move of the identified
 // axis under the sampled position controller of MODEL.md §5, simulated with
 // the model's limits, and the figures a servo engineer reads off it (move
 // time, settling after the move, following error, overshoot, peak current,
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "job/tune_settings.h"
+#include "tune/tune_settings.h"
 #include "sim/config.h"
 #include "sim/controller.h"
 

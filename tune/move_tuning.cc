@@ -78,12 +78,14 @@ struct Check {
 
 class MoveTuner {
  public:
-  MoveTuner(const FitJob& job, const FitResult& result, const AnalogLoopTuning* analog)
+  MoveTuner(const EstimationProblem& job, const FitResult& result, const TuneSettings& tune,
+            const AnalogLoopTuning* analog)
       : job_(job),
         result_(result),
         analog_(analog),
-        settings_(job.tune.move),
-        spec_(job.tune.move.spec) {}
+        settings_(tune.move),
+        spec_(tune.move.spec),
+        samples_(tune.samples) {}
 
   MoveTuning Run() {
     const auto start = std::chrono::steady_clock::now();
@@ -174,7 +176,7 @@ class MoveTuner {
       checks_.push_back({EndName(end), end.parameter, std::move(end.model), step_});
     }
     for (RegionSample& s :
-         JointRegionSamples(result_, model_, fixed_, job_.free, job_.tune.samples)) {
+         JointRegionSamples(result_, model_, fixed_, job_.free, samples_)) {
       checks_.push_back({s.name, "", std::move(s.model), step_, true});
     }
     if (model_.structure.amplifier != Amplifier::kAnalogVelocityLoop ||
@@ -182,7 +184,7 @@ class MoveTuner {
       return;
     }
     double full_step = 0.0;
-    FitJob full = WithFullLoop(AtEstimate(job_, result_), &full_step);
+    EstimationProblem full = WithFullLoop(AtEstimate(job_, result_), &full_step);
     full.model.params.K1 = model_.params.K1;
     full.model.params.T_p = model_.params.T_p;
     checks_.push_back({"the full current loop", "current loop", std::move(full.model),
@@ -392,11 +394,12 @@ class MoveTuner {
     }
   }
 
-  const FitJob& job_;
+  const EstimationProblem& job_;
   const FitResult& result_;
   const AnalogLoopTuning* analog_;
   const MoveTuneSettings& settings_;
   const MoveSpec& spec_;
+  const int samples_;  // TuneSettings::samples: points of the joint region
   MoveSpec search_spec_;  // spec_ with the design margin (the search's)
   AxisConfig model_;
   ControllerConfig base_;
@@ -421,8 +424,9 @@ double* ControllerGain(ControllerConfig* c, const std::string& name) {
   return nullptr;
 }
 
-MoveTuning TuneMove(const FitJob& job, const FitResult& result, const AnalogLoopTuning* analog) {
-  return MoveTuner(job, result, analog).Run();
+MoveTuning TuneMove(const EstimationProblem& job, const FitResult& result,
+                    const TuneSettings& tune, const AnalogLoopTuning* analog) {
+  return MoveTuner(job, result, tune, analog).Run();
 }
 
 std::vector<std::string> MoveViolationsOn(const AxisConfig& axis, double step,

@@ -1,5 +1,5 @@
 // The sampled position controller and the move of the identified axis tuned
-// to a specification (issue 45; job key `tune.move:`, job/tune_settings.h
+// to a specification (issue 45; job key `tune.move:`, tune/tune_settings.h
 // MoveTuneSettings). Nelson & Chang (1984) built their simulation for
 // "off-line testing of system changes and new control schemes" and named
 // minimum-time and minimum-jerk moves as the strategies to evaluate; with
@@ -41,7 +41,8 @@
 #include <vector>
 
 #include "estimation/fit_result.h"
-#include "job/fit_job.h"
+#include "estimation/estimation_problem.h"
+#include "tune/tune_settings.h"
 #include "sim/controller.h"
 #include "tune/analog_loop_tuning.h"
 #include "tune/interval_ends.h"
@@ -102,17 +103,18 @@ struct MoveTuning {
   double seconds = 0.0;
 };
 
-// Tunes the controller gains and the move of job.tune.move on the model of
+// Tunes the controller gains and the move of tune.move on the model of
 // `job` at `result`'s estimate (AtEstimate) — with the K_1 and T_p that
 // `analog` proposes if it is given and ran — simulating at the first
 // fitted experiment's RK4 step. The model's amplifier may be any; the controller
 // is the model's (AxisConfig::controller) if it has one, else the AID 600
-// defaults. ran is false with a note if job.tune.move is not enabled.
+// defaults; the joint region's samples are tune.samples. ran is false
+// with a note if tune.move is not enabled.
 // Throws std::runtime_error if the job has no experiment or the model at
 // the estimate does not simulate the current setting; never for a spec
 // that cannot be met (the proposal then has the least violation).
-MoveTuning TuneMove(const FitJob& job, const FitResult& result,
-                    const AnalogLoopTuning* analog = nullptr);
+MoveTuning TuneMove(const EstimationProblem& job, const FitResult& result,
+                    const TuneSettings& tune, const AnalogLoopTuning* analog = nullptr);
 
 // The field of `c` that TunedGain::name `name` names ("G_p", "G_i", "G_v",
 // "G_ff", "alpha"; MODEL.md §5), nullptr for another name. Never throws.

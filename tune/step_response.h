@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "job/tune_settings.h"
+#include "tune/tune_settings.h"
 #include "sim/config.h"
 
 namespace axis {

@@ -1,0 +1,648 @@
+#include "discovery/internal/discovery_loop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <iterator>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <utility>
+
+#include "common/progress.h"
+#include "discovery/channel_changes.h"
+#include "discovery/diagnostics.h"
+#include "discovery/removal.h"
+#include "discovery/internal/screen.h"
+#include "discovery/significance.h"
+#include "estimation/at_estimate.h"
+#include "estimation/fit.h"
+#include "estimation/fit_control.h"
+#include "estimation/horizon_checkpoint.h"
+
+namespace axis {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Wall time since `start`, s.
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The progress line's fraction when it is not known.
+constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+
+// Above this s² (residual variance in units of the declared noise) the model
+// error outweighs the noise and the score ranking is not trusted: the top
+// significant candidates are all refitted (Discover). 2: the misfit's
+// variance exceeds the noise's.
+constexpr double kMisspecifiedS2 = 2.0;
+
+// The index of the fit with the lowest finite BIC in `fits` among those
+// that ran to the whole record (else among those stopped early, whose BIC
+// is a lower bound: FitResult::abandoned_horizon), or fits.size() if none
+// is finite.
+size_t LowestFiniteBic(const std::vector<FitResult>& fits) {
+  size_t best = fits.size();
+  const auto better = [&](size_t k) {
+    if (!std::isfinite(fits[k].bic)) return false;
+    if (best == fits.size()) return true;
+    const bool whole = fits[k].abandoned_horizon == 0.0;
+    const bool best_whole = fits[best].abandoned_horizon == 0.0;
+    if (whole != best_whole) return whole;
+    return fits[k].bic < fits[best].bic;
+  };
+  for (size_t k = 0; k < fits.size(); ++k) {
+    if (better(k)) best = k;
+  }
+  return best;
+}
+
+}  // namespace
+
+DiscoveryLoop::DiscoveryLoop(const DiscoverySettings& settings, EstimationProblem* job, FitResult* result,
+                             std::ostream* progress)
+    : settings_(settings),
+      job_(job),
+      result_(result),
+      progress_(progress),
+      first_horizon_(job->solver.first_horizon),
+      status_(AsProgressStream(progress)) {}
+
+DiscoveryReport DiscoveryLoop::Run() {
+  if (status_ != nullptr) status_->BeginPhase("discovery");
+  for (step_ = 0; step_ < settings_.max_effects; ++step_) {
+    if (!ForwardStep()) break;
+  }
+  if (report_.stop_reason.empty()) report_.stop_reason = "maximum number of effects reached";
+  BackwardPass();
+  DropInsignificantEffects();
+  DiagnoseFinalModel();
+  return std::move(report_);
+}
+
+// ---------------------------------------------------------------- a forward step
+
+bool DiscoveryLoop::ForwardStep() {
+  if (!RankStepCandidates()) return false;
+  ChooseRule();
+  RefitCandidates();
+  return KeepLowest();
+}
+
+bool DiscoveryLoop::RankStepCandidates() {
+  ApplyEstimates(*result_, job_);
+  candidates_ = ListCandidates(*job_, settings_.candidates);
+  if (candidates_.empty()) {
+    report_.stop_reason = "no candidate left";
+    return false;
+  }
+  step_name_ = "discovery step " + std::to_string(step_ + 1) + " (at most " +
+               std::to_string(settings_.max_effects) + ")";
+  if (status_ != nullptr) {
+    status_->Status(step_name_ + ": score tests of " + std::to_string(candidates_.size()) +
+                        " candidates",
+                    kUnknown);
+  }
+  const Clock::time_point ranking_start = Clock::now();
+  ranking_ = RankCandidates(*job_, candidates_, settings_.alpha);
+  report_.score_seconds += SecondsSince(ranking_start);
+  ++report_.score_rankings;
+  if (step_ == 0) report_.ranking = ranking_;
+  threshold_ = settings_.alpha / candidates_.size();
+  const Score& best = ranking_.scores.front();
+  if (progress_) {
+    *progress_ << "discovery step " << step_ + 1 << ": best candidate " << best.name
+               << " (chi2 " << best.chi2 << ", dof " << best.dof << ", p "
+               << best.p_value << ", threshold " << threshold_ << ")\n";
+  }
+  if (!(best.p_value < threshold_)) {
+    report_.stop_reason = "no significant candidate (best " + best.name +
+                          ", p = " + std::to_string(best.p_value) + ")";
+    return false;
+  }
+  return true;
+}
+
+// The score test is a linearisation at the current fit; the refit and
+// BIC decide. A significant candidate whose refit does not improve BIC
+// (the refit found a worse local minimum, or the candidate only mimics
+// another effect locally) makes way for the next one, up to
+// settings.tries refits per step. Far from a model that explains the
+// data (s² above kMisspecifiedS2) the score ranking itself is not
+// reliable (a stand-in can outrank the effect: motor-side Coulomb
+// friction above the load-side one at χ² 2.9e6 against 2.5e6; the
+// payload ninth on its own data): then the top
+// `misspecified_tries` (default: all) significant candidates are
+// refitted and the lowest BIC wins.
+void DiscoveryLoop::ChooseRule() {
+  const double s2 = result_->residual_variance;
+  by_refit_ = s2 > kMisspecifiedS2;
+  std::ostringstream rule;
+  rule << std::setprecision(3);
+  if (by_refit_) {
+    rule << "lowest BIC of the refitted significant candidates (s^2 = " << s2
+         << " > " << kMisspecifiedS2 << ": the score ranking is not reliable)";
+  } else {
+    rule << "first significant candidate in score order whose refit improves BIC (s^2 = "
+         << s2 << ")";
+  }
+  rule_ = rule.str();
+  if (progress_) *progress_ << "  rule: " << rule_ << "\n";
+}
+
+void DiscoveryLoop::RefitCandidates() {
+  improved_.clear();
+  queued_.clear();
+  tries_ = 0;
+  rejected_.clear();
+  batch_.clear();
+  level_ = {result_->bic, "the BIC before the step"};
+  for (const Score& score : ranking_.scores) {
+    if ((!by_refit_ && !improved_.empty()) ||
+        tries_ >= (by_refit_ ? settings_.misspecified_tries : settings_.tries) ||
+        !(score.p_value < threshold_)) {
+      break;
+    }
+    // Candidates the data cannot tell from this one. A twin with more
+    // parameters is a richer alternative (Stribeck contains a
+    // Coulomb-like shape): parsimony keeps this one. A twin of the same
+    // size is a rival explanation: the loop stops and says so.
+    if (queued_.count(score.name) > 0) continue;  // refitted with its family
+    // The front end's terms on one channel — a delay, a first- and a
+    // second-order low-pass — have one score column to first order (a lag
+    // of the channel's slope): the score test cannot tell them apart, their
+    // refits can (they differ at second order). They are refitted together
+    // and the lowest BIC decides, never a stop.
+    const std::vector<std::string> family = FrontEndFamily(score);
+    if (!family.empty()) {
+      for (const std::string& name : family) {
+        for (const Score& member : ranking_.scores) {
+          if (member.name == name && member.p_value < threshold_) QueueRefit(member);
+        }
+      }
+      if (!by_refit_) RunBatch();
+      continue;
+    }
+    const std::string twin = TwinOf(score);
+    // Beyond the top `tries` (misspecified rule only) a candidate with a
+    // twin is passed over: the loop's stop is decided by the top ones.
+    if (!twin.empty() && by_refit_ && tries_ >= settings_.tries) continue;
+    if (!twin.empty()) {
+      report_.stop_reason = score.name + " and " + twin +
+                            " cannot be told apart on this data (projected "
+                            "columns nearly parallel): add an experiment that "
+                            "separates them, e.g. motion in both directions";
+      break;
+    }
+    QueueRefit(score);
+    if (!by_refit_) RunBatch();
+  }
+  RunBatch();
+}
+
+std::vector<std::string> DiscoveryLoop::FrontEndFamily(const Score& score) const {
+  std::vector<std::string> family;
+  for (const auto& [a, b] : ranking_.indistinguishable) {
+    const std::string other = a == score.name ? b : (b == score.name ? a : "");
+    if (other.empty() || !SameChannelFrontEnd(score.name, other)) continue;
+    if (family.empty()) family.push_back(score.name);
+    if (std::find(family.begin(), family.end(), other) == family.end()) family.push_back(other);
+  }
+  return family;
+}
+
+std::string DiscoveryLoop::TwinOf(const Score& score) const {
+  std::string twin;
+  for (const auto& [a, b] : ranking_.indistinguishable) {
+    const std::string other = a == score.name ? b : (b == score.name ? a : "");
+    if (!other.empty() && DofOf(other) <= score.dof) twin = other;
+  }
+  return twin;
+}
+
+int DiscoveryLoop::DofOf(const std::string& name) const {
+  for (const Score& sc : ranking_.scores) {
+    if (sc.name == name) return sc.dof;
+  }
+  return 0;
+}
+
+void DiscoveryLoop::QueueRefit(const Score& score) {
+  const Candidate& chosen = *std::find_if(
+      candidates_.begin(), candidates_.end(),
+      [&](const Candidate& c) { return c.name == score.name; });
+  queued_.insert(score.name);
+  Pending q{&score, chosen, RefitJobs(chosen, score), {}};
+  for (size_t k = job_->free.size(); k < q.starts[0].free.size(); ++k) {
+    q.names.push_back(q.starts[0].free[k].name);
+  }
+  ++tries_;
+  batch_.push_back(std::move(q));
+}
+
+// One start each, no optimum check, Gauss–Newton intervals; but the
+// horizon continuation stays: from the optimum with the effect at its
+// score step, the whole record at once ended in higher minima (EMPS: the
+// Stribeck refit at BIC 1.145e4 instead of 1.135e4, B_a 379 instead of 153
+// N·s/m; coulomb_viscous_asymmetry: motor-side Coulomb friction at 3.2e6
+// instead of 2.6e5), so refits with an effect added keep it.
+std::vector<EstimationProblem> DiscoveryLoop::RefitJobs(const Candidate& candidate,
+                                             const Score& score) const {
+  std::vector<EstimationProblem> out;
+  for (size_t k = 0; k < StartsOf(candidate); ++k) {
+    EstimationProblem refit = *job_;
+    AddEffect(candidate, score, k, &refit);
+    AsWarmRefit(&refit);
+    refit.solver.first_horizon = first_horizon_;
+    out.push_back(std::move(refit));
+  }
+  return out;
+}
+
+bool DiscoveryLoop::KeepLowest() {
+  if (improved_.empty()) {
+    if (report_.stop_reason.empty()) {
+      report_.stop_reason = "no significant candidate improved BIC (tried " + rejected_ + ")";
+    }
+    return false;
+  }
+  size_t lowest = 0;
+  for (size_t k = 1; k < improved_.size(); ++k) {
+    if (improved_[k].fit.bic < improved_[lowest].fit.bic) lowest = k;
+  }
+  for (size_t k = 0; k < improved_.size(); ++k) {
+    if (k == lowest) continue;
+    DiscoveryStep& other = report_.steps[improved_[k].step];
+    other.kept = false;
+    std::ostringstream why;
+    why << "BIC " << other.bic_after << " above " << improved_[lowest].candidate.name << "'s "
+        << improved_[lowest].fit.bic;
+    other.outranked = why.str();
+  }
+  Trial& winner = improved_[lowest];
+  if (progress_) *progress_ << "  kept " << winner.candidate.name << "\n";
+  report_.selected.push_back(winner.candidate.name);
+  *job_ = std::move(winner.job);
+  *result_ = std::move(winner.fit);
+  return true;
+}
+
+// ---------------------------------------------------------------- a batch of refits
+
+void DiscoveryLoop::RunBatch() {
+  if (batch_.empty()) return;  // the call after the loop, all run already
+  ShowBatchStatus();
+  ScreenBatch();
+  CutAfterScreen();
+  RunAgainstLevel();
+  for (size_t b = 0; b < batch_.size(); ++b) {
+    if (goes_on_[b]) {
+      JudgeCandidate(b);
+    } else {
+      RecordCut(b);
+    }
+  }
+  batch_.clear();
+}
+
+void DiscoveryLoop::ShowBatchStatus() const {
+  std::string names;
+  for (const Pending& q : batch_) names += (names.empty() ? "" : ", ") + q.candidate.name;
+  if (status_ != nullptr && !batch_.empty()) {
+    status_->Status(step_name_ + ": " +
+                        (batch_.size() == 1
+                             ? "candidate refit " + std::to_string(tries_) + " of at most " +
+                                   std::to_string(settings_.tries) + " (" + names + ")"
+                             : "refitting " + std::to_string(batch_.size()) +
+                                   " candidates at once (" + names + ")"),
+                    kUnknown);
+  }
+}
+
+// The screen (several candidates, a horizon continuation): every refit
+// runs the first kScreenStages horizons only
+// (FitControl::stop_after_horizon), and the refits then run in the order
+// of their BICs' lower bounds there, lowest first, so that the leading
+// refits are the likeliest to set a low level. The order changes only
+// which refits stop early, not which wins (the lowest BIC of those that
+// run to the end).
+void DiscoveryLoop::ScreenBatch() {
+  order_ = std::vector<size_t>(batch_.size());
+  std::iota(order_.begin(), order_.end(), size_t{0});
+  screen_seconds_.assign(batch_.size(), 0.0);
+  screen_bound_.assign(batch_.size(), std::numeric_limits<double>::infinity());
+  // The screen's shorter horizons, per candidate and start, which its
+  // refit goes on after instead of running them again
+  // (FitControl::resume): the same points, costs and stops, up to
+  // the last bits of a cost summed on another number of threads (the
+  // leader's refit runs on more than its screen did). On the
+  // coulomb_load_offset case (issue 11) 17.0 → 15.1 s whole process,
+  // the same steps and stops, estimates equal to 12 digits.
+  resume_ = std::vector<std::vector<std::shared_ptr<const HorizonCheckpoint>>>(batch_.size());
+  if (batch_.size() > 1 && first_horizon_ > 0.0) {
+    std::vector<EstimationProblem> screen;
+    for (const Pending& q : batch_) screen.insert(screen.end(), q.starts.begin(), q.starts.end());
+    const std::vector<ScreenedFit> screened = ScreenFits(std::move(screen), job_->solver.threads);
+    std::vector<double> key(batch_.size(), std::numeric_limits<double>::infinity());
+    size_t k = 0;
+    for (size_t c = 0; c < batch_.size(); ++c) {
+      resume_[c].resize(batch_[c].starts.size());
+      for (size_t s = 0; s < batch_[c].starts.size(); ++s, ++k) {
+        key[c] = std::min(key[c], screened[k].bound);
+        screen_seconds_[c] += screened[k].seconds;
+        resume_[c][s] = screened[k].checkpoint;
+      }
+    }
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](size_t x, size_t y) { return key[x] < key[y]; });
+    screen_bound_ = key;
+  }
+}
+
+// By the lowest BIC rule (by_refit_) only the candidates GoOnPastScreen
+// names (discovery/internal/screen.h): the top `tries` by score or by the screen's
+// bound, and those whose screen failed.
+void DiscoveryLoop::CutAfterScreen() {
+  const size_t n = batch_.size();
+  goes_on_.assign(n, true);
+  if (by_refit_) {
+    std::vector<size_t> score_rank(n);
+    for (size_t b = 0; b < n; ++b) score_rank[b] = ScoreRank(b);
+    goes_on_ = GoOnPastScreen(score_rank, screen_bound_,
+                              static_cast<size_t>(std::max(1, settings_.tries)));
+  }
+  order_.erase(std::remove_if(order_.begin(), order_.end(),
+                              [&](size_t c) { return !goes_on_[c]; }),
+               order_.end());
+}
+
+// The refits in that order. The leading one, the first candidate's (every
+// start, each fit's evaluation on the threads left), runs before the
+// others so that it can set the level; the rest run after, stopped above
+// it. (The first two candidates as leaders, one per core, were slower on
+// the coulomb_load_offset case, 58.7 against 48.6 s: after the screen the
+// second leader was the payload, whose refit ran 16 s to BIC 2.6e5 beside
+// Coulomb friction's 1.2e4.)
+void DiscoveryLoop::RunAgainstLevel() {
+  pos_.assign(batch_.size(), 0);
+  level_of_.assign(batch_.size(), level_);
+  fits_.clear();
+  seconds_.clear();
+  RunCandidates(order_.begin(), order_.begin() + 1);
+  if (order_.size() > 1) {
+    SetLevelFromLeader();
+    // The others all run against the same level, so their order only
+    // decides which finish first: the longest screens first
+    // (longest-processing-time order, the screen's time standing in
+    // for the refit's), so that a long refit does not start last.
+    std::stable_sort(order_.begin() + 1, order_.end(), [&](size_t x, size_t y) {
+      return screen_seconds_[x] > screen_seconds_[y];
+    });
+    RunCandidates(order_.begin() + 1, order_.end());
+  }
+}
+
+// On copies of their starts (those in batch_, one of which the loop may
+// adopt, keep no level and no checkpoint); pos_[c]: candidate c's first
+// start in fits_, level_of_[c]: the level it ran against.
+void DiscoveryLoop::RunCandidates(std::vector<size_t>::const_iterator from,
+                                  std::vector<size_t>::const_iterator to) {
+  std::vector<EstimationProblem> jobs;
+  std::vector<FitControl> controls;
+  for (auto it = from; it != to; ++it) {
+    pos_[*it] = fits_.size() + jobs.size();
+    level_of_[*it] = level_;
+    for (size_t k = 0; k < batch_[*it].starts.size(); ++k) {
+      jobs.push_back(batch_[*it].starts[k]);
+      FitControl control;
+      control.abandon_above_bic = kStopFactor * level_.bic;
+      if (k < resume_[*it].size()) control.resume = resume_[*it][k];
+      controls.push_back(std::move(control));
+    }
+  }
+  std::vector<double> secs;
+  std::vector<FitResult> out = FitConcurrently(jobs, job_->solver.threads, &secs, controls);
+  fits_.insert(fits_.end(), std::make_move_iterator(out.begin()),
+               std::make_move_iterator(out.end()));
+  seconds_.insert(seconds_.end(), secs.begin(), secs.end());
+}
+
+// The leader's BIC becomes the level if it ran to the end below it and
+// would be kept (a physical value).
+void DiscoveryLoop::SetLevelFromLeader() {
+  const Pending& q = batch_[order_[0]];
+  for (size_t s = 0; s < q.starts.size(); ++s) {
+    const FitResult& fit = fits_[s];
+    if (fit.abandoned_horizon == 0.0 && std::isfinite(fit.bic) && fit.bic < level_.bic &&
+        ImplausibleValue(q.candidate.name, fit, q.starts[s]).empty()) {
+      level_ = {fit.bic, q.candidate.name + "'s BIC"};
+    }
+  }
+}
+
+size_t DiscoveryLoop::ScoreRank(size_t b) const {
+  return static_cast<size_t>(batch_[b].score - ranking_.scores.data()) + 1;
+}
+
+void DiscoveryLoop::RecordCut(size_t b) {
+  const Pending& q = batch_[b];
+  DiscoveryStep record = StepOf(q);
+  record.bic_after = screen_bound_[b];
+  record.seconds = screen_seconds_[b];
+  std::ostringstream why;
+  why << std::setprecision(4) << "after the screen: BIC >= " << screen_bound_[b] << " at the "
+      << ScreenHorizon(first_horizon_) << " s horizon, " << RanksByBound(screen_bound_)[b]
+      << " of " << batch_.size() << " there, and " << ScoreRank(b)
+      << " by score: only the top " << std::max(1, settings_.tries)
+      << " by either went on to the whole record";
+  record.stopped = why.str();
+  record.kept = false;
+  report_.steps.push_back(record);
+  PrintRefit(q, record);
+  rejected_ += (rejected_.empty() ? "" : ", ") + q.candidate.name;
+}
+
+// Candidate b's refit as a step of the report; one that improved BIC
+// waits in improved_ for the step's choice.
+void DiscoveryLoop::JudgeCandidate(size_t b) {
+  Pending& q = batch_[b];
+  const size_t n = q.starts.size();
+  const size_t first = pos_[b];  // q's first start in fits_
+  std::vector<FitResult> own(fits_.begin() + first, fits_.begin() + first + n);
+  DiscoveryStep record = StepOf(q);
+  record.seconds = screen_seconds_[b];
+  for (size_t k = 0; k < n; ++k) record.seconds += seconds_[first + k];
+  const size_t best = ChooseStart(b, &own, &record);
+  FitResult& refit = own[best];
+  EstimationProblem& refit_job = q.starts[best];
+  RecordRefit(q, level_of_[b], refit, refit_job, &record);
+  report_.steps.push_back(record);
+  PrintRefit(q, record);
+  if (!record.kept) {
+    rejected_ += (rejected_.empty() ? "" : ", ") + q.candidate.name;
+    return;
+  }
+  improved_.push_back({report_.steps.size() - 1, q.candidate, std::move(refit_job),
+                       std::move(refit)});
+}
+
+size_t DiscoveryLoop::ChooseStart(size_t b, std::vector<FitResult>* own,
+                                  DiscoveryStep* record) {
+  const size_t n = batch_[b].starts.size();
+  size_t best = LowestFiniteBic(*own);
+  if (best == n) best = RetryFromTenth(b, own, record);
+  if (n > 1) record->starts = StartsText(batch_[b], *own, best);
+  if (best == n) best = 0;  // none finite: report the first
+  // An added parameter that ended on a bound of its search interval
+  // (Linear: the score step ± 100 times it + 1): the step was too
+  // small a guide (the base fit had absorbed most of the effect:
+  // a record in motion, Coulomb friction's step 0.11 N where the
+  // truth is 40 N, B_a at 455 instead of 200 N·s/m), so that side is
+  // widened 100-fold and the refit continued from where it ended.
+  if (std::isfinite((*own)[best].bic) && (*own)[best].abandoned_horizon == 0.0) {
+    WidenIfOnBound(b, best, own, record);
+  }
+  return best;
+}
+
+// Seen on the power_load_offset campaign (seed 4, s² = 204): the offset,
+// first by score, failed in 0.27 s from its score step and a stand-in
+// (cogging) took the step.
+size_t DiscoveryLoop::RetryFromTenth(size_t b, std::vector<FitResult>* own,
+                                     DiscoveryStep* record) {
+  Pending& q = batch_[b];
+  Score damped = *q.score;
+  for (double& x : damped.step) x *= 0.1;
+  for (double& x : damped.single_step) x *= 0.1;
+  q.starts = RefitJobs(q.candidate, damped);
+  FitControl control;
+  control.abandon_above_bic = kStopFactor * level_.bic;
+  level_of_[b] = level_;
+  std::vector<double> again;
+  *own = FitConcurrently(q.starts, job_->solver.threads, &again,
+                         std::vector<FitControl>(q.starts.size(), control));
+  for (double s : again) record->seconds += s;
+  const size_t best = LowestFiniteBic(*own);
+  record->retried = "refit from the score step failed; retried from a tenth of it";
+  return best;
+}
+
+std::string DiscoveryLoop::StartsText(const Pending& q, const std::vector<FitResult>& own,
+                                      size_t best) const {
+  const size_t n = q.starts.size();
+  std::ostringstream starts;
+  starts << std::setprecision(4) << n << " starts, BIC";
+  for (size_t k = 0; k < n; ++k) {
+    starts << (k == 0 ? " " : ", ") << (own[k].abandoned_horizon > 0.0 ? ">= " : "")
+           << own[k].bic << " from " << StartLabel(q.candidate, k);
+  }
+  if (best < n) starts << "; kept the start from " << StartLabel(q.candidate, best);
+  return starts.str();
+}
+
+void DiscoveryLoop::WidenIfOnBound(size_t b, size_t best, std::vector<FitResult>* own,
+                                   DiscoveryStep* record) {
+  Pending& q = batch_[b];
+  EstimationProblem wider = q.starts[best];
+  if (WidenSearchBounds((*own)[best], q.names, &wider)) {
+    ApplyEstimates((*own)[best], &wider);
+    const Clock::time_point again = Clock::now();
+    FitResult further = FitParameters(wider, nullptr);
+    record->seconds += std::chrono::duration<double>(Clock::now() - again).count();
+    if (std::isfinite(further.bic) && further.bic < (*own)[best].bic) {
+      (*own)[best] = std::move(further);
+      q.starts[best] = std::move(wider);
+      record->widened = "an added parameter ended on its search bound; refitted "
+                        "with that bound widened 100-fold";
+    }
+  }
+}
+
+DiscoveryStep DiscoveryLoop::StepOf(const Pending& q) const {
+  DiscoveryStep record;
+  record.effect = q.candidate.name;
+  record.rule = rule_;
+  record.chi2 = q.score->chi2;
+  record.dof = q.score->dof;
+  record.p_value = q.score->p_value;
+  record.bic_before = result_->bic;
+  return record;
+}
+
+void DiscoveryLoop::RecordRefit(const Pending& q, const Level& level, const FitResult& refit,
+                                const EstimationProblem& refit_job, DiscoveryStep* record) const {
+  record->bic_after = refit.bic;
+  record->stopped = StoppedText(refit, level.bic, level.name);
+  if (record->stopped.empty()) {
+    record->implausible = ImplausibleValue(q.candidate.name, refit, refit_job);
+    for (const ParameterEstimate& e : refit.parameters) {
+      if (e.free && std::find(q.names.begin(), q.names.end(), e.name) != q.names.end()) {
+        record->parameters.push_back(e);
+      }
+    }
+    record->channels = ChannelChanges(*result_, refit);
+  }
+  record->kept =
+      refit.bic < result_->bic && record->implausible.empty() && record->stopped.empty();
+}
+
+void DiscoveryLoop::PrintRefit(const Pending& q, const DiscoveryStep& record) const {
+  if (!progress_) return;
+  *progress_ << "  refit with " << q.candidate.name << ": BIC " << record.bic_before
+             << " -> " << BoundMark(record) << record.bic_after
+             << (record.kept ? " (improves)" : " (rejected)")
+             << (record.implausible.empty() ? "" : ": " + record.implausible)
+             << (record.stopped.empty() ? "" : ": stopped " + record.stopped)
+             << (record.retried.empty() ? "" : " (" + record.retried + ")")
+             << (record.widened.empty() ? "" : " (" + record.widened + ")")
+             << (record.starts.empty() ? "" : " (" + record.starts + ")")
+             << " (" << record.seconds << " s)\n";
+}
+
+// ---------------------------------------------------------------- after the forward steps
+
+// Backward pass: without each added effect but the last.
+void DiscoveryLoop::BackwardPass() {
+  const std::vector<std::string> added = report_.selected;
+  if (status_ != nullptr) status_->BeginPhase("backward pass");
+  for (size_t k = 0; k + 1 < added.size(); ++k) {
+    const Candidate candidate = CandidateNamed(added[k]);
+    if (candidate.effect == "coulomb" && job_->model.structure.effects.stribeck) continue;
+    if (status_ != nullptr) {
+      status_->Status("discovery backward pass: refit without " + candidate.name + " (" +
+                          std::to_string(k + 1) + " of " + std::to_string(added.size() - 1) +
+                          ")",
+                      static_cast<double>(k) / static_cast<double>(added.size() - 1));
+    }
+    EstimationProblem without;
+    auto [record, refit] =
+        RefitWithout(candidate, EffectParameters(candidate), job_, *result_, &without);
+    report_.steps.push_back(record);
+    if (progress_) {
+      *progress_ << "  refit without " << candidate.name << ": BIC " << record.bic_before
+                 << " -> " << BoundMark(record) << record.bic_after
+                 << (record.kept ? " (removed)" : " (stays)")
+                 << (record.stopped.empty() ? "" : ": stopped " + record.stopped) << "\n";
+    }
+    if (record.kept) {
+      DropEffect(candidate.name, std::move(without), std::move(refit), job_, result_,
+                 &report_);
+    }
+  }
+}
+
+void DiscoveryLoop::DropInsignificantEffects() {
+  report_.level = settings_.alpha / std::max<size_t>(1, report_.ranking.scores.size());
+  DropInsignificant(report_.level, job_, result_, &report_, progress_);
+}
+
+void DiscoveryLoop::DiagnoseFinalModel() {
+  if (status_ != nullptr) status_->Status("discovery: diagnosing the final model", kUnknown);
+  report_.final_diagnostics = DiagnoseResiduals(*job_);
+  report_.verdict = JudgeResiduals(report_.final_diagnostics, *result_, settings_.alpha);
+}
+
+}  // namespace axis

@@ -1,0 +1,180 @@
+// The model-discovery loop as a sequence of named steps, its state in
+// members (as estimation/internal/fitter.h Fitter): per forward step the score tests
+// of the candidates, the rule, the refits (screened and run against the
+// level that decides the step), the choice of the step's effect; then the
+// backward pass, the removal of insignificant effects, and the final
+// model's diagnostics and verdict. Discover (discovery/discovery.h) is the
+// public entry; this class is internal to discovery/. What each step does
+// and why: discovery/discovery.h Discover, discovery/discovery_settings.h.
+#ifndef DISCOVERY_INTERNAL_DISCOVERY_LOOP_H_
+#define DISCOVERY_INTERNAL_DISCOVERY_LOOP_H_
+
+#include <cstddef>
+#include <memory>
+#include <ostream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "common/progress.h"
+#include "discovery/candidates.h"
+#include "discovery/discovery_report.h"
+#include "discovery/score_test.h"
+#include "estimation/fit_result.h"
+#include "estimation/horizon_checkpoint.h"
+#include "discovery/discovery_settings.h"
+#include "estimation/estimation_problem.h"
+
+namespace axis {
+
+class DiscoveryLoop {
+ public:
+  // `settings`, `job`, `result` and `progress` (may be null) must outlive
+  // the loop; `job` and `result` are the loop's model and fit, replaced as
+  // it adds and removes effects.
+  DiscoveryLoop(const DiscoverySettings& settings, EstimationProblem* job, FitResult* result,
+                std::ostream* progress);
+  DiscoveryLoop(const DiscoveryLoop&) = delete;
+  DiscoveryLoop& operator=(const DiscoveryLoop&) = delete;
+
+  // Runs the loop once (Discover). Throws as Discover.
+  DiscoveryReport Run();
+
+ private:
+  // A refit that improved BIC, waiting for the step's choice.
+  struct Trial {
+    size_t step;  // index in report_.steps
+    Candidate candidate;
+    EstimationProblem job;
+    FitResult fit;
+  };
+  // Refits waiting to run: in score order, one at a time by the first
+  // rule (the first that improves BIC ends the step), all of the top
+  // `misspecified_tries` at once, concurrently, by the second
+  // (FitConcurrently).
+  struct Pending {
+    const Score* score;
+    Candidate candidate;
+    std::vector<EstimationProblem> starts;      // one job per start (StartsOf)
+    std::vector<std::string> names;  // the effect's parameters, now free
+  };
+  // The level a refit must end below to matter (issue 11): a refit whose
+  // BIC's lower bound passes kStopFactor times it stops on a shorter
+  // horizon (FitControl::abandon_above_bic). First the BIC before the
+  // step (a refit above it is rejected); once a batch's leading refit has
+  // run, its BIC if it would be kept (no other refit above it can win the
+  // step).
+  struct Level {
+    double bic;
+    std::string name;  // for DiscoveryStep::stopped
+  };
+
+  // ---- a forward step; false ends the forward steps
+  bool ForwardStep();
+  bool RankStepCandidates();  // the score tests; false if none is significant
+  void ChooseRule();          // score order, or the lowest BIC of the refits
+  void RefitCandidates();     // the significant candidates, by the rule
+  // The candidate the data cannot tell from `score`'s with no more
+  // parameters than it, or "".
+  std::string TwinOf(const Score& score) const;
+  // `score` and the front-end candidates on its channel the score test
+  // cannot tell from it (RefitCandidates), or nothing if it is not a
+  // front-end term or has no such twin.
+  std::vector<std::string> FrontEndFamily(const Score& score) const;
+  int DofOf(const std::string& name) const;
+  void QueueRefit(const Score& score);
+  // The jobs of a candidate's refit: the effect added at `score`'s step,
+  // one per start.
+  std::vector<EstimationProblem> RefitJobs(const Candidate& candidate, const Score& score) const;
+  bool KeepLowest();  // the step's effect; false if no refit improved BIC
+
+  // ---- a batch of refits (batch_)
+  void RunBatch();
+  void ShowBatchStatus() const;
+  void ScreenBatch();      // order_, screen_seconds_, screen_bound_, resume_
+  // Which refits go on past the screen (goes_on_): all, but by the lowest
+  // BIC rule only the top `tries` by score, the top `tries` by the screen's
+  // bound, and those whose screen failed.
+  void CutAfterScreen();
+  void RunAgainstLevel();  // the leader, then the others against its level
+  // Fits candidates [from, to) of order_ against the current level.
+  void RunCandidates(std::vector<size_t>::const_iterator from,
+                     std::vector<size_t>::const_iterator to);
+  void SetLevelFromLeader();
+  void JudgeCandidate(size_t b);
+  // Candidate b's step when it did not go on past the screen.
+  void RecordCut(size_t b);
+  // Candidate b's place in the step's score ranking (1-based).
+  size_t ScoreRank(size_t b) const;
+  // Candidate b's start to keep (its lowest BIC): retried from a tenth of
+  // the step if every start failed, its search bounds widened if it ended
+  // on one; fills the record's timing and notes.
+  size_t ChooseStart(size_t b, std::vector<FitResult>* own, DiscoveryStep* record);
+  size_t RetryFromTenth(size_t b, std::vector<FitResult>* own, DiscoveryStep* record);
+  std::string StartsText(const Pending& q, const std::vector<FitResult>& own,
+                         size_t best) const;
+  void WidenIfOnBound(size_t b, size_t best, std::vector<FitResult>* own,
+                      DiscoveryStep* record);
+  // The step's fields that come from the candidate and its score (effect,
+  // rule, chi2, dof, p_value, bic_before); RecordRefit or RecordCut add the
+  // rest.
+  DiscoveryStep StepOf(const Pending& q) const;
+  void RecordRefit(const Pending& q, const Level& level, const FitResult& refit,
+                   const EstimationProblem& refit_job, DiscoveryStep* record) const;
+  void PrintRefit(const Pending& q, const DiscoveryStep& record) const;
+
+  // ---- after the forward steps
+  void BackwardPass();
+  void DropInsignificantEffects();
+  void DiagnoseFinalModel();  // the final diagnostics and verdict
+
+  const DiscoverySettings& settings_;
+  EstimationProblem* job_;
+  FitResult* result_;
+  std::ostream* progress_;
+  // The job's continuation, kept by the loop's refits (AsWarmRefit
+  // switches it off).
+  double first_horizon_ = 0.0;
+  // Progress (common/progress.h): the stage only. How many refits a step
+  // takes, and how many steps the loop makes, is known only as it goes, so
+  // no remaining time is estimated here.
+  ProgressStream* status_ = nullptr;
+  DiscoveryReport report_;
+
+  // ---- the forward step's state
+  int step_ = 0;
+  std::vector<Candidate> candidates_;
+  std::string step_name_;
+  Ranking ranking_;
+  double threshold_ = 0.0;  // alpha / number of candidates
+  bool by_refit_ = false;   // s² above kMisspecifiedS2: the lowest BIC wins
+  std::string rule_;
+  std::vector<Trial> improved_;
+  int tries_ = 0;
+  std::string rejected_;
+  std::vector<Pending> batch_;
+  std::set<std::string> queued_;  // the step's candidates queued so far
+  Level level_;
+
+  // ---- the batch's state
+  // The order the refits run in: the screen's, by bound, lowest first;
+  // after the leader, those that go on are reordered by screen time.
+  std::vector<size_t> order_;
+  std::vector<double> screen_seconds_;
+  // Per candidate: the screen's BIC bound (lowest over its starts; +inf if
+  // every start failed or nothing was screened), whether its refit goes on
+  // past the screen.
+  std::vector<double> screen_bound_;
+  std::vector<bool> goes_on_;
+  // The screen's shorter horizons, per candidate and start, which its
+  // refit goes on after instead of running them again (FitControl::resume).
+  std::vector<std::vector<std::shared_ptr<const HorizonCheckpoint>>> resume_;
+  std::vector<size_t> pos_;     // candidate c's first start in fits_
+  std::vector<Level> level_of_;  // the level candidate c ran against
+  std::vector<FitResult> fits_;
+  std::vector<double> seconds_;
+};
+
+}  // namespace axis
+
+#endif  // DISCOVERY_INTERNAL_DISCOVERY_LOOP_H_

@@ -1,0 +1,31 @@
+#include "estimation/estimation_problem.h"
+
+#include <stdexcept>
+
+#include "sim/channels.h"
+
+namespace axis {
+
+const std::vector<double>& FitExperiment::Measured(Channel c) const {
+  for (size_t k = 0; k < measured_channels.size(); ++k) {
+    if (measured_channels[k] == c) return measured[k];
+  }
+  throw std::invalid_argument("experiment '" + name + "': expected channel '" +
+                              ChannelName(c) + "' to be measured, got none");
+}
+
+const FitExperiment* FindExperiment(const std::vector<FitExperiment>& list,
+                                    const std::string& name) {
+  for (const FitExperiment& e : list) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
+}
+
+int EstimatedStateCount(const EstimationProblem& problem) {
+  int n = 0;
+  for (const FitExperiment& e : problem.experiments) n += e.estimate_initial_state ? 2 : 0;
+  return n;
+}
+
+}  // namespace axis
