@@ -166,14 +166,18 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, EstimationProbl
     added.push_back(Linear("F_st", p.F_st));
     added.push_back(Positive("v_st", p.v_st, 1e-4, 1.0));
   } else if (c.effect == "sensor_delay") {
-    // Either sign (a skew between channels), any length: a search interval
-    // of ±0.1 s, widened if the refit ends on it.
+    // Either sign (a skew between channels), any length: from the step (the
+    // score step, or the records' alignment lag where that is longer:
+    // discovery/internal/discovery_loop.cc, estimation/alignment_lag.h), a
+    // search interval of ±0.1 s or twice the step, widened if the refit
+    // ends on it.
     const std::string name = c.columns[0].param;
-    const double tau = std::clamp(s.step[0], -0.05, 0.05);
+    const double reach = std::max(0.1, 2.0 * std::abs(s.step[0]));
+    const double tau = std::clamp(s.step[0], -0.5 * reach, 0.5 * reach);
     *FindParam(&p, name) = tau;
     added.push_back(Linear(name, tau));
-    added.back().lower = -0.1;
-    added.back().upper = 0.1;
+    added.back().lower = -reach;
+    added.back().upper = reach;
   } else if (c.effect == "sensor_lowpass" || c.effect == "sensor_lowpass2") {
     // A time constant ≥ 0; the score step of a lag (an advance, step < 0,
     // is no filter's: the refit starts from 10 µs and finds nothing).
@@ -184,7 +188,8 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, EstimationProbl
     if (c.effect == "sensor_lowpass2") {
       const std::string zeta = "zeta_lp2." + std::string(ChannelName(c.channel));
       *FindParam(&p, zeta) = kButterworthDamping;
-      added.push_back(Positive(zeta, kButterworthDamping, 0.05, 5.0));
+      added.push_back(Positive(zeta, kButterworthDamping, kLowpass2DampingBounds[0],
+                               kLowpass2DampingBounds[1]));
     }
   } else {
     const std::string name = c.columns[0].param;

@@ -32,6 +32,11 @@ struct CandidateColumn {
 
 // A candidate effect: a MODEL.md §7 name, for sensor effects with the channel
 // ("sensor_delay.a").
+// The search interval of a discovered second-order filter's damping ζ
+// (AddEffect); a refit that ends within 1 % of either end is implausible
+// (discovery/significance.h ImplausibleValue).
+constexpr double kLowpass2DampingBounds[2] = {0.05, 5.0};
+
 struct Candidate {
   std::string name;
   std::string effect;

@@ -50,6 +50,7 @@ void FormatStep(size_t k, const DiscoveryStep& s, std::ostream& out) {
         << s.seconds << " s)\n";
     if (!s.stopped.empty()) out << "  stopped " << s.stopped << "\n";
     if (!s.insignificant.empty()) out << "  not significant: " << s.insignificant << "\n";
+    if (!s.negligible.empty()) out << "  negligible: " << s.negligible << "\n";
   } else {
     out << "\nStep " << k + 1 << ": " << s.effect << (s.kept ? " (kept)" : " (rejected)")
         << "  chi2 " << s.chi2 << " (dof " << s.dof << ", p " << s.p_value
@@ -103,6 +104,7 @@ void FormatOutcome(const DiscoveryReport& report, std::ostream& out) {
     for (const std::string& r : report.removed) out << r << " ";
   }
   out << "\nStopped: " << report.stop_reason << "\n";
+  for (const std::string& note : report.notes) out << "Note: " << note << "\n";
   double refits = 0.0;
   for (const DiscoveryStep& s : report.steps) refits += s.seconds;
   out << "Time: base fit " << report.base_fit_seconds << " s, score tests "
@@ -174,6 +176,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     step["seconds"] = JsonNumber(s.seconds);
     if (!s.implausible.empty()) step["implausible"] = s.implausible;
     if (!s.insignificant.empty()) step["insignificant"] = s.insignificant;
+    if (!s.negligible.empty()) step["negligible"] = s.negligible;
     if (!s.rule.empty()) step["rule"] = s.rule;
     if (!s.outranked.empty()) step["outranked"] = s.outranked;
     if (!s.starts.empty()) step["starts"] = s.starts;
@@ -201,6 +204,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
                                       {"separated", q.separated}});
   }
   out["stop_reason"] = report.stop_reason;
+  out["notes"] = report.notes;
   out["level"] = JsonNumber(report.level);
   out["significance"] = nlohmann::json::array();
   for (const EffectSignificance& w : report.significance) {

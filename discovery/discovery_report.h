@@ -32,6 +32,9 @@ struct DiscoveryStep {
   // A removal for lack of significance (EffectWald after the backward
   // pass), with the test's figures; empty for a BIC removal.
   std::string insignificant;
+  // A removal of a significant effect too small to matter
+  // (discovery/materiality.h: its contribution and floor); empty otherwise.
+  std::string negligible;
   // Why the fitted value is not physical, if it is not (ImplausibleValue):
   // such an effect is rejected whatever BIC says (issue 10).
   std::string implausible;
@@ -91,6 +94,11 @@ struct DiscoveryReport {
   double base_fit_seconds = 0.0;
   double score_seconds = 0.0;
   int score_rankings = 0;
+  // What the user should read beside the selection: a declaration of the
+  // front end kept against the evidence, with its figures
+  // (discovery/discovery_session.h); a significant effect too small to
+  // matter, dropped (discovery/materiality.h). One sentence each.
+  std::vector<std::string> notes;
 };
 
 // The selected effects split into the plant's and the sensor front end's
@@ -107,7 +115,9 @@ std::string FormatDiscovery(const DiscoveryReport& report);
 // report.json's "discovery" block: {"selected", "selected_plant",
 // "selected_front_end", "steps": [{"effect",
 // "parameters": {name: {"value", "std_error"}}, "chi2", "dof", "p_value",
-// "bic_before", "bic_after", "kept", "removal", "implausible", "insignificant", "rule", "outranked", "starts", "stopped" (if any), "channels": [...]}],
+// "bic_before", "bic_after", "kept", "removal", "implausible", "insignificant",
+// "negligible", "rule", "outranked", "starts", "stopped" (if any), "channels": [...]}],
+// "notes": [sentences],
 // "removed": [names], "level", "significance": [{"effect", "chi2", "dof",
 // "p_value"}], "verdict": "explained" | "incomplete", "verdict_detail":
 // {"s2", "s2_p_value", "tests", "threshold", "channels", "remains",

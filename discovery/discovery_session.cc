@@ -30,9 +30,12 @@ class DiscoverySession {
 
   DiscoveryOutcome Run(double base_fit_seconds) {
     // The sampling convention first (discovery/accelerometer_convention.h):
-    // the loop's delays and filters would stand in for it.
-    const std::optional<DiscoveryStep> convention =
-        AdoptAccelerometerConvention(outcome_.sampling_check, &problem_, &result_);
+    // the loop's delays and filters would stand in for it. A declared one
+    // is kept: the evidence against it is a note.
+    std::optional<DiscoveryStep> convention;
+    if (!KeepsDeclaredConvention()) {
+      convention = AdoptAccelerometerConvention(outcome_.sampling_check, &problem_, &result_);
+    }
     if (convention) {
       out_ << "\nFront end: " << convention->effect << " adopted, BIC " << convention->bic_before
            << " -> " << convention->bic_after << " (" << convention->rule << ")\n";
@@ -40,7 +43,11 @@ class DiscoverySession {
     DiscoveryReport& report = outcome_.report;
     report = Discover(settings_, &problem_, &result_, &out_);
     if (convention) PrependConventionStep(*convention, &report);
-    if (!convention) CheckTheConventionAgain();
+    if (KeepsDeclaredConvention()) {
+      NoteTheDeclaredConvention();
+    } else if (!convention) {
+      CheckTheConventionAgain();
+    }
     report.base_fit_seconds = base_fit_seconds;
     out_ << "\nFinal model:\n" << FormatDiagnostics(report.final_diagnostics) << "\n"
          << FormatDiscovery(report);
@@ -109,6 +116,25 @@ class DiscoverySession {
     DropInsignificant(report.level, &problem_, &result_, &report, &out_);
     report.final_diagnostics = DiagnoseResiduals(AtEstimate(problem_, result_));
     report.verdict = JudgeResiduals(report.final_diagnostics, result_, settings_.alpha);
+  }
+
+  // Whether the model or job declares the accelerometer's convention
+  // (AxisConfig::declared) and the settings keep declarations.
+  bool KeepsDeclaredConvention() const {
+    return problem_.model.declared.count("accelerometer") > 0 && !settings_.revisit_declared;
+  }
+
+  // The check's evidence against a declared convention, as a note of the
+  // report (its figures are the check's note).
+  void NoteTheDeclaredConvention() {
+    const SamplingCheck& check = outcome_.sampling_check;
+    if (check.note.empty()) return;
+    const std::string note = "the declared 'accelerometer: " + check.declared +
+                             "' is kept (a declaration is the user's knowledge of the "
+                             "recorder; discover.revisit_declared: true lets the loop replace "
+                             "it), against this evidence: " + check.note;
+    outcome_.report.notes.push_back(note);
+    out_ << "\nnote: " << note << "\n";
   }
 
   // Whether the loop selected a filter or a delay on `a`

@@ -38,7 +38,10 @@ struct DiscoveryOutcome {
 // 1. the convention `check` (estimation/sampling_check.h, on the declared
 //    model) recommends is adopted first where its refit has the lower BIC
 //    (discovery/accelerometer_convention.h): the loop's delays and filters
-//    would stand in for it;
+//    would stand in for it. Not where the model or job declares the
+//    convention (AxisConfig::declared) and settings.revisit_declared is
+//    off: a declaration is kept, and the check's evidence against it is a
+//    note of the report (steps 1 and 3 skipped);
 // 2. the loop (Discover);
 // 3. if none was adopted in 1 and the check ran: where the loop's verdict
 //    is not `explained`, or it kept a filter or a delay on `a` (to first

@@ -35,6 +35,12 @@ struct DiscoverySettings {
   // (8..kMaxForceMapKnots: half at quantiles, half uniform, merged).
   bool force_map = false;
   int force_map_knots = 24;
+  // Whether the loop may replace what the model or job declares about the
+  // sensor front end (AxisConfig::declared: the accelerometer's convention,
+  // a declared filter or delay). Off: a declaration is kept, and the
+  // evidence against it is a warning with figures; on: the loop treats it
+  // as it treats a default (discovery/discovery_session.h).
+  bool revisit_declared = false;
 
   // The keys of `discover:` other than `candidates` (io/settings_reader.h).
   template <typename Archive>
@@ -45,6 +51,7 @@ struct DiscoverySettings {
     a->Visit("misspecified_tries", &misspecified_tries, 1, 40);
     a->Visit("force_map", &force_map);
     a->Visit("force_map_knots", &force_map_knots, 8, kMaxForceMapKnots);
+    a->Visit("revisit_declared", &revisit_declared);
   }
 };
 

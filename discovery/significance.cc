@@ -3,14 +3,21 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <vector>
 
 #include "common/statistics.h"
+#include "sim/channels.h"
 #include "discovery/candidates.h"
 #include "discovery/internal/find_estimate.h"
 
 namespace axis {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
 
 EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
   const Candidate candidate = CandidateNamed(effect);
@@ -84,10 +91,42 @@ std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
           << " is below zero: friction opposes the motion, a negative level does not";
     }
   }
-  // A front-end term is physical at any fitted value within its bounds: a
-  // delay or a filter's time constant shorter than a sample is what an
-  // anti-alias filter, a sensor's bandwidth or a skew between channels is.
-  (void)job;
+  // The sensor's filters (MODEL.md §6) must be filters of this record: a
+  // cut-off above the record's Nyquist frequency cannot be told from none
+  // (at f_N = 1/(2T) a first-order filter with f_c above it lags by less
+  // than T/π, a fraction of a sample the delay and the sampling convention
+  // already cover; seen: τ_lp.a = 6.9 µs kept on a 1 kHz record, a stand-in
+  // beside a delay), and a second-order filter at its damping bound is a
+  // resonance the fit pushed as far as it could, a stand-in for something
+  // else (seen: ζ = 0.05 near 1 kHz standing in for part of a 3 ms delay).
+  // Delays have no such rule: any length, sub-sample included, is a
+  // recorder's skew.
+  const size_t dot = effect.find('.');
+  const std::string base = effect.substr(0, dot);
+  if ((base == "sensor_lowpass" || base == "sensor_lowpass2") && dot != std::string::npos) {
+    const std::string channel = effect.substr(dot + 1);
+    const std::optional<Channel> c = ParseChannel(channel);
+    double period = 0.0;  // the longest output period of the experiments fitting it
+    for (const FitExperiment& e : job.experiments) {
+      for (const FittedChannel& f : e.fitted) {
+        if (c && f.channel == *c) period = std::max(period, e.options.output_period);
+      }
+    }
+    const std::string tau_name = (base == "sensor_lowpass" ? "tau_lp." : "tau_lp2.") + channel;
+    const double tau = value(tau_name);
+    if (period > 0.0 && tau < period / kPi) {
+      why << effect << " " << tau_name << " = " << tau << " s puts the cut-off at "
+          << 1.0 / (2.0 * kPi * tau) << " Hz, above the record's Nyquist frequency "
+          << 0.5 / period << " Hz: such a filter cannot be told from none";
+    } else if (base == "sensor_lowpass2") {
+      const double zeta = value("zeta_lp2." + channel);
+      if (zeta <= kLowpass2DampingBounds[0] * 1.01 || zeta >= kLowpass2DampingBounds[1] / 1.01) {
+        why << effect << " zeta_lp2." << channel << " = " << zeta
+            << " is at its bound: a resonance the fit pushed as far as it could, a "
+               "stand-in for something else";
+      }
+    }
+  }
   return why.str();
 }
 

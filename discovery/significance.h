@@ -34,9 +34,13 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit);
 // physical meaning, or "" if it has one: a payload below zero (the declared
 // mass is too large: a stand-in for M); a Coulomb friction level below zero
 // (coulomb F_c, stribeck F_st, motor_coulomb T_c: friction opposes the
-// motion). Effects without such a rule — the sensor front end's among them,
-// at any length, sub-sample included — are physical at any value within
-// their bounds. `job` is not read (kept for rules that need the record).
+// motion); a sensor filter (sensor_lowpass.<ch>, sensor_lowpass2.<ch>) whose
+// cut-off 1/(2π·τ) is above the Nyquist frequency of the records fitting
+// that channel in `job` (τ < T/π, T the longest output period), or a
+// second-order one whose damping ζ ended at a bound of its search
+// (kLowpass2DampingBounds, discovery/candidates.h; within 1 %). Effects without such a rule — a
+// delay of any length, sub-sample included, among them — are physical at
+// any value within their bounds.
 std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
                              const EstimationProblem& job);
 

@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "estimation/alignment_lag.h"
 #include "estimation/at_estimate.h"
 #include "estimation/fit.h"
 
@@ -30,32 +31,44 @@ int SamplesOfA(const EstimationProblem& job) {
 }
 
 // `job` under `convention`, with a free delay on every fitted channel
-// (sensor_delay.<channel>, MODEL.md §6: either sign, from 0, within ± the
-// longest output period of the experiments that fit it, which holds the
-// half-period between the conventions and sub-sample skews; wider, a refit
-// can slip a whole period of the gear's ringing) that has none yet: a skew
-// between the channels is not the convention's. *added counts them.
-EstimationProblem WithConventionAndDelays(const EstimationProblem& job, AccelerometerSampling convention, int* added) {
+// (sensor_delay.<channel>, MODEL.md §6: either sign) that has none yet: a
+// skew between the channels is not the convention's. Each starts from 0
+// within ± the longest output period of the experiments that fit it, which
+// holds the half-period between the conventions and sub-sample skews
+// (wider, a refit from 0 can slip a whole period of the gear's ringing);
+// or, where the declared fit's records line up with its simulation at a lag
+// beyond a period (estimation/alignment_lag.h, searched over a quarter of
+// the longest record), from that lag within ± two periods of it: a refit
+// from 0 stops three samples short of a 3 ms delay on a 1 kHz record, and
+// the other convention's half-sample lag then looks better (issue 56).
+// *added counts them.
+EstimationProblem WithConventionAndDelays(const EstimationProblem& job, const FitResult& fit,
+                                          AccelerometerSampling convention, int* added) {
   EstimationProblem out = job;
   out.model.structure.accelerometer = convention;
   std::array<double, kNumChannels> period{};
+  double longest = 0.0;
   for (const FitExperiment& e : job.experiments) {
     for (const FittedChannel& c : e.fitted) {
       const int k = static_cast<int>(c.channel);
       period[k] = std::max(period[k], e.options.output_period);
     }
+    if (!e.t.empty()) longest = std::max(longest, e.t.back());
   }
   *added = 0;
   for (int k = 0; k < kNumChannels; ++k) {
     if (!(period[k] > 0.0) || out.model.structure.sensors.delay[k]) continue;
+    const char* channel = ChannelName(static_cast<Channel>(k));
+    const double lag = AlignmentLag(fit, channel, 0.25 * longest);
+    const bool far = std::isfinite(lag) && std::abs(lag) > period[k];
     out.model.structure.sensors.delay[k] = true;
-    out.model.params.tau_d[k] = 0.0;
+    out.model.params.tau_d[k] = far ? lag : 0.0;
     FreeParameter f;
-    f.name = std::string("tau_d.") + ChannelName(static_cast<Channel>(k));
+    f.name = std::string("tau_d.") + channel;
     f.unit = ParamUnit(f.name);
-    f.initial = 0.0;
-    f.lower = -period[k];
-    f.upper = period[k];
+    f.initial = far ? lag : 0.0;
+    f.lower = far ? lag - 2.0 * period[k] : -period[k];
+    f.upper = far ? lag + 2.0 * period[k] : period[k];
     out.free.push_back(f);
     ++*added;
   }
@@ -147,8 +160,8 @@ SamplingCheck CheckAccelerometerSampling(const EstimationProblem& job, const Fit
   int added = 0;
   const AccelerometerSampling declared = at.model.structure.accelerometer;
   check.chi2_declared_delay =
-      WarmRefitChi2(WithConventionAndDelays(at, declared, &added), nullptr);
-  const EstimationProblem other_job = WithConventionAndDelays(at, other, &added);
+      WarmRefitChi2(WithConventionAndDelays(at, result, declared, &added), nullptr);
+  const EstimationProblem other_job = WithConventionAndDelays(at, result, other, &added);
   FitResult other_fit;
   check.chi2_other_delay = WarmRefitChi2(other_job, &other_fit);
   check.dof = static_cast<int>(result.residual_dof) - added;  // the refits' own

@@ -116,7 +116,17 @@ class JobPipeline {
     } catch (const std::runtime_error&) {
       run_.sampling_check = SamplingCheck{};  // the estimate does not simulate: no check
     }
-    if (!run_.sampling_check.note.empty()) out_ << "note: " << run_.sampling_check.note << "\n";
+    if (!run_.sampling_check.note.empty()) out_ << SamplingLine() << "\n";
+  }
+
+  // The sampling check's note as printed: a warning where the model or job
+  // declares the convention (a declaration is the user's knowledge of the
+  // recorder: kept, discovery/discovery_session.h), else a note.
+  std::string SamplingLine() const {
+    if (run_.job.problem.model.declared.count("accelerometer") > 0) {
+      return "warning: the declared convention is kept; " + run_.sampling_check.note;
+    }
+    return "note: " + run_.sampling_check.note;
   }
 
   // The residual diagnostics of the model as declared, before adding
@@ -331,7 +341,7 @@ class JobPipeline {
     if (!result.model_note.empty()) out_ << "note: " << result.model_note << "\n";
     if (!result.auto_starts_note.empty()) out_ << "starts: " << result.auto_starts_note << "\n";
     if (!result.sample_sigma_note.empty()) out_ << "weights: " << result.sample_sigma_note << "\n";
-    if (!run_.sampling_check.note.empty()) out_ << "note: " << run_.sampling_check.note << "\n";
+    if (!run_.sampling_check.note.empty()) out_ << SamplingLine() << "\n";
     if (!result.residual_note.empty()) out_ << "warning: " << result.residual_note << "\n";
     out_ << result.optimum_check << "\n";
     out_ << "uncertainty: " << result.uncertainty_note << "\n";
@@ -359,6 +369,7 @@ class JobPipeline {
           {"chi2_declared_with_delay", JsonNumber<nlohmann::json>(c.chi2_declared_delay)},
           {"chi2_other_with_delay", JsonNumber<nlohmann::json>(c.chi2_other_delay)},
           {"samples", c.samples},
+          {"declared_by_user", run_.job.problem.model.declared.count("accelerometer") > 0},
           {"note", c.note}};
       if (!c.note.empty()) extra.markdown += "\n## Accelerometer sampling\n\n" + c.note + "\n";
     }

@@ -142,6 +142,7 @@ void ParseSensorEffect(YamlMap& map, const SensorEffectInfo& effect, AxisConfig*
                        "'" + channel_name + "'");
     }
     (config->structure.sensors.*(effect.flag))[static_cast<int>(*channel)] = true;
+    config->declared.insert(std::string(effect.name) + "." + channel_name);
     const std::string suffix = "." + channel_name;
     if (effect.params.size() == 1) {
       const std::string name = effect.params[0] + suffix;
@@ -293,6 +294,7 @@ AxisConfig ParseAxisConfig(const YAML::Node& document, const std::string& path) 
   config.structure.coupling = ParseCoupling(root.Choice("coupling", kCouplings));
   config.structure.current_loop =
       ParseCurrentLoop(root.Choice("current_loop", kCurrentLoops, "full"));
+  if (root.Has("accelerometer")) config.declared.insert("accelerometer");
   config.structure.accelerometer =
       ParseAccelerometer(root.Choice("accelerometer", kAccelerometer, "period_mean"));
   config.structure.instant_window =
@@ -372,6 +374,7 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
       model->structure.current_loop = ParseCurrentLoop(map.Choice("current_loop", kCurrentLoops));
     }
     if (map.Has("accelerometer")) {
+      model->declared.insert("accelerometer");
       model->structure.accelerometer =
           ParseAccelerometer(map.Choice("accelerometer", kAccelerometer));
     }

@@ -7,6 +7,7 @@
 #ifndef SIM_AXIS_CONFIG_H_
 #define SIM_AXIS_CONFIG_H_
 
+#include <set>
 #include <string>
 
 #include <yaml-cpp/yaml.h>
@@ -28,6 +29,14 @@ struct AxisConfig {
   AxisParams<double> params;
   bool has_controller = false;
   ControllerConfig controller;  // MODEL.md §5, if has_controller
+  // What the config, or the experiment or job that loaded it with its
+  // overrides, states about the sensor front end (MODEL.md §6) rather than
+  // leaves at its default: "accelerometer" where it names the convention,
+  // and each front-end effect it switches on by channel ("sensor_delay.a",
+  // "sensor_lowpass2.tach", …). A declaration is the user's knowledge of
+  // the recorder: the discovery loop keeps it and reports the evidence
+  // against it (discovery/discovery_session.h).
+  std::set<std::string> declared;
 };
 
 // Loads a model config. Throws std::invalid_argument as described above,

@@ -13,9 +13,11 @@
 #include "common/progress.h"
 #include "discovery/channel_changes.h"
 #include "discovery/diagnostics.h"
+#include "discovery/materiality.h"
 #include "discovery/removal.h"
 #include "discovery/internal/screen.h"
 #include "discovery/significance.h"
+#include "estimation/alignment_lag.h"
 #include "estimation/at_estimate.h"
 #include "estimation/fit.h"
 #include "estimation/fit_control.h"
@@ -23,6 +25,22 @@
 
 namespace axis {
 namespace {
+
+// A BIC gain above 10 is "very strong" evidence (Kass & Raftery 1995,
+// J. Am. Stat. Assoc. 90, 773–795: 2 ln B > 10); below it the simpler of
+// two front ends of one channel is kept.
+constexpr double kDecisiveBic = 10.0;
+
+// The front end's terms on one channel, simplest first: a delay, a
+// first-order low-pass, a second-order one (−1: not a front-end term of
+// that kind).
+int FrontEndOrder(const std::string& name) {
+  const std::string base = name.substr(0, name.find('.'));
+  if (base == "sensor_delay") return 0;
+  if (base == "sensor_lowpass") return 1;
+  if (base == "sensor_lowpass2") return 2;
+  return -1;
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -79,6 +97,7 @@ DiscoveryReport DiscoveryLoop::Run() {
   if (report_.stop_reason.empty()) report_.stop_reason = "maximum number of effects reached";
   BackwardPass();
   DropInsignificantEffects();
+  DropNegligible(job_, result_, &report_, progress_);
   DiagnoseFinalModel();
   return std::move(report_);
 }
@@ -252,14 +271,57 @@ void DiscoveryLoop::QueueRefit(const Score& score) {
 std::vector<EstimationProblem> DiscoveryLoop::RefitJobs(const Candidate& candidate,
                                              const Score& score) const {
   std::vector<EstimationProblem> out;
+  const Score start = DelayStart(candidate, score);
   for (size_t k = 0; k < StartsOf(candidate); ++k) {
     EstimationProblem refit = *job_;
-    AddEffect(candidate, score, k, &refit);
+    AddEffect(candidate, start, k, &refit);
     AsWarmRefit(&refit);
     refit.solver.first_horizon = first_horizon_;
     out.push_back(std::move(refit));
   }
   return out;
+}
+
+// A delay's score step is its first-order estimate, a lag times the
+// channel's slope: good to a fraction of a sample. Where the records line up
+// with the simulation at a lag more than half a sample away from it
+// (estimation/alignment_lag.h, searched over a quarter of the longest
+// record), the refit starts from that lag instead.
+Score DiscoveryLoop::DelayStart(const Candidate& candidate, const Score& score) const {
+  if (candidate.effect != "sensor_delay" || score.step.empty()) return score;
+  double period = 0.0, longest = 0.0;
+  for (const FitExperiment& e : job_->experiments) {
+    for (const FittedChannel& f : e.fitted) {
+      if (f.channel != candidate.channel) continue;
+      period = std::max(period, e.options.output_period);
+      longest = std::max(longest, e.t.empty() ? 0.0 : e.t.back());
+    }
+  }
+  const double lag = AlignmentLag(*result_, ChannelName(candidate.channel), 0.25 * longest);
+  if (!std::isfinite(lag) || !(std::abs(lag - score.step[0]) > 0.5 * period)) return score;
+  Score from_lag = score;
+  from_lag.step[0] = lag;
+  if (progress_) {
+    *progress_ << "  " << candidate.name << ": the records line up at a lag of " << lag
+               << " s (score step " << score.step[0] << " s): the refit starts there\n";
+  }
+  return from_lag;
+}
+
+// improved_[lowest], or a simpler front-end term of the same channel whose
+// BIC is above it by at most kDecisiveBic (the simplest such).
+size_t DiscoveryLoop::SimplestFrontEnd(size_t lowest) const {
+  const std::string& best = improved_[lowest].candidate.name;
+  size_t chosen = lowest;
+  for (size_t k = 0; k < improved_.size(); ++k) {
+    const std::string& name = improved_[k].candidate.name;
+    if (k == lowest || !SameChannelFrontEnd(name, best) || FrontEndOrder(name) < 0) continue;
+    if (FrontEndOrder(name) < FrontEndOrder(improved_[chosen].candidate.name) &&
+        improved_[k].fit.bic - improved_[lowest].fit.bic <= kDecisiveBic) {
+      chosen = k;
+    }
+  }
+  return chosen;
 }
 
 bool DiscoveryLoop::KeepLowest() {
@@ -273,15 +335,23 @@ bool DiscoveryLoop::KeepLowest() {
   for (size_t k = 1; k < improved_.size(); ++k) {
     if (improved_[k].fit.bic < improved_[lowest].fit.bic) lowest = k;
   }
+  const size_t chosen = SimplestFrontEnd(lowest);
   for (size_t k = 0; k < improved_.size(); ++k) {
-    if (k == lowest) continue;
+    if (k == chosen) continue;
     DiscoveryStep& other = report_.steps[improved_[k].step];
     other.kept = false;
     std::ostringstream why;
-    why << "BIC " << other.bic_after << " above " << improved_[lowest].candidate.name << "'s "
-        << improved_[lowest].fit.bic;
+    if (k == lowest) {
+      why << "BIC " << other.bic_after << " below " << improved_[chosen].candidate.name
+          << "'s " << improved_[chosen].fit.bic << " by less than " << kDecisiveBic
+          << ": the simpler front end is kept";
+    } else {
+      why << "BIC " << other.bic_after << " above " << improved_[chosen].candidate.name
+          << "'s " << improved_[chosen].fit.bic;
+    }
     other.outranked = why.str();
   }
+  lowest = chosen;
   Trial& winner = improved_[lowest];
   if (progress_) *progress_ << "  kept " << winner.candidate.name << "\n";
   report_.selected.push_back(winner.candidate.name);

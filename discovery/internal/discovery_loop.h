@@ -86,6 +86,15 @@ class DiscoveryLoop {
   // The jobs of a candidate's refit: the effect added at `score`'s step,
   // one per start.
   std::vector<EstimationProblem> RefitJobs(const Candidate& candidate, const Score& score) const;
+  // The score the refits of a delay start from: `score`, or with its step at
+  // the records' alignment lag where that is more than half a sample away.
+  Score DelayStart(const Candidate& candidate, const Score& score) const;
+  // Among the refits that improved BIC, the one the step keeps given the
+  // lowest, improved_[lowest]: a simpler front-end term of the same channel
+  // (a delay before a first-order low-pass before a second-order one) whose
+  // BIC is within kDecisiveBic of the lowest wins instead (issue 56: a
+  // delay split into a shorter delay and a resonant filter).
+  size_t SimplestFrontEnd(size_t lowest) const;
   bool KeepLowest();  // the step's effect; false if no refit improved BIC
 
   // ---- a batch of refits (batch_)

@@ -13,7 +13,9 @@
 //   second-order low-pass are ODE states driven by the plant's signal, the
 //   period-mean accelerometer the integral of the (filtered) acceleration,
 //   a delay a sample of the state's cubic Hermite interpolant at t − τ_d;
-//   the `instant` accelerometer is a point sample of y1' (no window);
+//   the `instant` accelerometer is a point sample of y1' (no window), the
+//   period-mean one (the default, MODEL.md §6) the mean of y1' over the
+//   output period ending at the sample;
 // - noise is Gaussian from std::mt19937_64 through std::normal_distribution.
 //
 // Usage: independent-records SPEC.yaml --out DIR [--seed N] [--noise-free]
@@ -26,7 +28,7 @@
 //   output_rate: 1000                       # Hz
 //   channels: [u, a, tach]
 //   front_end:                              # per channel (optional)
-//     a: {sampling: instant, delay: 0.003, lowpass: 4.0e-4,
+//     a: {sampling: instant, delay: 0.003, lowpass: 4.0e-4,   # sampling: period_mean by default
 //         lowpass2: {tau: 6.4e-4, zeta: 0.707}, bias: 0.0}
 //   noise: {a: 0.02, tach: 0.005}           # σ per channel (channel unit)
 //   seed: 7                                 # noise seed (record k: seed + k); --seed adds 1000·N
@@ -614,6 +616,9 @@ Spec ReadSpec(const std::string& path) {
   s.rate = root["output_rate"] ? root["output_rate"].as<double>() : 1000.0;
   for (const auto& c : root["channels"]) s.channels.push_back(c.as<std::string>());
   for (const std::string& c : s.channels) s.front_end[c] = FrontEnd{};
+  // MODEL.md §6: the accelerometer's samples are period means unless the
+  // spec says `sampling: instant`.
+  if (s.front_end.count("a")) s.front_end["a"].period_mean = true;
   if (root["front_end"]) {
     for (const auto& e : root["front_end"]) {
       FrontEnd& f = s.front_end[e.first.as<std::string>()];
