@@ -17,12 +17,14 @@
 #include <CLI/CLI.hpp>
 #include <glog/logging.h>
 
+#include "common/allocator.h"
 #include "apps/integer_option.h"
 #include "apps/mpi_command_line.h"
 #include "fleet/campaign_run.h"
 #include "run/campaign.h"
 
 int main(int argc, char** argv) {
+  axis::KeepFreedMemory();  // common/allocator.h: a fit reuses its buffers
   google::InitGoogleLogging(argv[0]);
   FLAGS_minloglevel = google::GLOG_FATAL;
   try {

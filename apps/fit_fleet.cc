@@ -13,10 +13,12 @@
 #include <CLI/CLI.hpp>
 #include <glog/logging.h>
 
+#include "common/allocator.h"
 #include "apps/mpi_command_line.h"
 #include "fleet/fleet_run.h"
 
 int main(int argc, char** argv) {
+  axis::KeepFreedMemory();  // common/allocator.h: a fit reuses its buffers
   google::InitGoogleLogging(argv[0]);
   FLAGS_minloglevel = google::GLOG_FATAL;  // as fit-params: the fits report their own trouble
   try {

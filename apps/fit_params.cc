@@ -15,11 +15,13 @@
 #include <CLI/CLI.hpp>
 #include <glog/logging.h>
 
+#include "common/allocator.h"
 #include "common/progress.h"
 #include "run/fit_params.h"
 #include "io/interrupt.h"
 
 int main(int argc, char** argv) {
+  axis::KeepFreedMemory();  // common/allocator.h: a fit reuses its buffers
   // Ceres logs through glog; fit-params reports solver trouble itself
   // (termination message, undetermined parameters), so only fatal messages.
   axis::InstallInterruptHandlers("fit-params");

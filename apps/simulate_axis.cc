@@ -13,12 +13,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include "common/allocator.h"
 #include "apps/integer_option.h"
 #include "sim/config.h"
 #include "sim/experiment.h"
 #include "io/interrupt.h"
 
 int main(int argc, char** argv) {
+  axis::KeepFreedMemory();  // common/allocator.h: a fit reuses its buffers
   axis::InstallInterruptHandlers("simulate-axis");
   CLI::App app{"Simulate one servo-axis experiment (Nelson & Chang 1984 model)"};
   axis::SimulateAxisOptions options;

@@ -194,5 +194,3 @@ void BM_TuneMove(benchmark::State& state) {
 BENCHMARK(BM_TuneMove)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
-
-BENCHMARK_MAIN();

@@ -152,5 +152,3 @@ BENCHMARK_TEMPLATE(BM_Rk4Step, ceres::Jet<double, 1>);
 BENCHMARK_TEMPLATE(BM_Rk4Step, ceres::Jet<double, 5>);
 
 }  // namespace
-
-BENCHMARK_MAIN();

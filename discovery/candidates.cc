@@ -16,7 +16,6 @@ namespace axis {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kButterworthDamping = 0.70710678118654752;  // 1/√2
 
 // The Stribeck velocities tried (m/s): its shape has no effect at
 // F_st = F_c, so the test spans this small grid of shapes.

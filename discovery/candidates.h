@@ -36,6 +36,9 @@ struct CandidateColumn {
 // (AddEffect); a refit that ends within 1 % of either end is implausible
 // (discovery/significance.h ImplausibleValue).
 constexpr double kLowpass2DampingBounds[2] = {0.05, 5.0};
+// The damping a discovered second-order filter starts from: the
+// Butterworth filter's 1/√2.
+constexpr double kButterworthDamping = 0.70710678118654752;
 
 struct Candidate {
   std::string name;

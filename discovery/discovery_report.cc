@@ -62,6 +62,7 @@ void FormatStep(size_t k, const DiscoveryStep& s, std::ostream& out) {
     if (!s.starts.empty()) out << "  starts: " << s.starts << "\n";
     if (!s.retried.empty()) out << "  " << s.retried << "\n";
     if (!s.widened.empty()) out << "  " << s.widened << "\n";
+    if (!s.realigned.empty()) out << "  " << s.realigned << "\n";
     if (!s.rule.empty()) out << "  rule: " << s.rule << "\n";
   }
   for (const ParameterEstimate& p : s.parameters) {
@@ -182,6 +183,7 @@ nlohmann::json DiscoveryToJson(const DiscoveryReport& report) {
     if (!s.starts.empty()) step["starts"] = s.starts;
     if (!s.retried.empty()) step["retried"] = s.retried;
     if (!s.widened.empty()) step["widened"] = s.widened;
+    if (!s.realigned.empty()) step["realigned"] = s.realigned;
     if (!s.stopped.empty()) step["stopped"] = s.stopped;
     step["channels"] = ChannelChangesToJson(s.channels);
     out["steps"].push_back(step);

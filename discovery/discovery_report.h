@@ -52,6 +52,10 @@ struct DiscoveryStep {
   // Set when an added parameter's refit ended on a bound of its search
   // interval and was continued with that side widened 100-fold.
   std::string widened;
+  // Set when a delay's refit was moved to where its own simulation lined up
+  // with the records and continued (discovery/internal/discovery_loop.cc
+  // RealignDelay).
+  std::string realigned;
   // A forward refit from more than one start (Stribeck: one per v_st of
   // the score test's grid): each start's BIC and which was kept (the
   // lowest); empty for one start.

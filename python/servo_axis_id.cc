@@ -21,6 +21,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "common/allocator.h"
 #include "io/output_staging.h"
 #include "common/progress.h"
 #include "discovery/discovery.h"
@@ -612,6 +613,7 @@ void DefineResult(py::module_& m) {
 }  // namespace axis::python
 
 PYBIND11_MODULE(servo_axis_id, m) {
+  axis::KeepFreedMemory();  // common/allocator.h: a fit reuses its buffers
   namespace ap = axis::python;
   // Ceres logs through glog; the results carry its messages (termination,
   // undetermined parameters), so only fatal ones, as in fit-params.

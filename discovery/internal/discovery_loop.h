@@ -89,6 +89,16 @@ class DiscoveryLoop {
   // The score the refits of a delay start from: `score`, or with its step at
   // the records' alignment lag where that is more than half a sample away.
   Score DelayStart(const Candidate& candidate, const Score& score) const;
+  // Queues the front-end terms of the channels that already have one, while
+  // the residual is above the noise (s² past 3 standard deviations of its
+  // χ²), whatever their score (a filter after a delay is second order).
+  void QueueFrontEndCompanions();
+  // Whether `candidate` is a low-pass on a channel whose delay is already in
+  // the model, and the refits of one such: three starts (FilterAfterDelayJobs
+  // in discovery_loop.cc says which).
+  bool IsFilterAfterDelay(const Candidate& candidate) const;
+  std::vector<EstimationProblem> FilterAfterDelayJobs(const Candidate& candidate,
+                                                      const Score& score) const;
   // Among the refits that improved BIC, the one the step keeps given the
   // lowest, improved_[lowest]: a simpler front-end term of the same channel
   // (a delay before a first-order low-pass before a second-order one) whose
@@ -122,6 +132,7 @@ class DiscoveryLoop {
   size_t RetryFromTenth(size_t b, std::vector<FitResult>* own, DiscoveryStep* record);
   std::string StartsText(const Pending& q, const std::vector<FitResult>& own,
                          size_t best) const;
+  void RealignDelay(size_t b, size_t best, std::vector<FitResult>* own, DiscoveryStep* record);
   void WidenIfOnBound(size_t b, size_t best, std::vector<FitResult>* own,
                       DiscoveryStep* record);
   // The step's fields that come from the candidate and its score (effect,

@@ -124,7 +124,9 @@ void Fitter::BuildStages() {
   for (double h = job_.solver.first_horizon; h > 0.0 && h < longest_; h *= 2.0) {
     HorizonStage stage;
     stage.horizon = h;
-    for (const FitExperiment& e : job_.experiments) stage.experiments.push_back(Truncate(e, h));
+    for (const FitExperiment& e : job_.experiments) {
+      stage.experiments.push_back(Truncate(e, h, Lookahead(job_)));
+    }
     stages_.push_back(std::move(stage));
   }
   HorizonStage full;
