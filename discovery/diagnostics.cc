@@ -115,10 +115,16 @@ std::vector<ChannelDiagnostics> DiagnoseResiduals(const EstimationProblem& job) 
       d.xcorr_lag = c.input_xcorr_lag;
       std::vector<double> r(c.measured.size());
       for (size_t k = 0; k < r.size(); ++k) r[k] = c.simulated[k] - c.measured[k];
-      d.bins.push_back(Bin("v", "m/s", trace[Channel::kV], r));
-      d.bins.push_back(Bin("x", "m", trace[Channel::kX], r));
-      d.bins.push_back(Bin("a", "m/s^2", trace[Channel::kA], r));
-      d.bins.push_back(Bin("theta mod rev", "rad", angle, r));
+      // Over the fitted samples (a record simulated past them: a tail
+      // left unfitted, estimation/record_prefix.h).
+      const auto head = [&r](std::vector<double> values) {
+        values.resize(std::min(values.size(), r.size()));
+        return values;
+      };
+      d.bins.push_back(Bin("v", "m/s", head(trace[Channel::kV]), r));
+      d.bins.push_back(Bin("x", "m", head(trace[Channel::kX]), r));
+      d.bins.push_back(Bin("a", "m/s^2", head(trace[Channel::kA]), r));
+      d.bins.push_back(Bin("theta mod rev", "rad", head(angle), r));
       out.push_back(d);
     }
   }

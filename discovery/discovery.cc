@@ -5,8 +5,9 @@
 namespace axis {
 
 DiscoveryReport Discover(const DiscoverySettings& settings, EstimationProblem* job,
-                         FitResult* result, std::ostream* progress) {
-  DiscoveryLoop loop(settings, job, result, progress);
+                         FitResult* result, std::ostream* progress,
+                         const std::function<void(const char*)>& stage) {
+  DiscoveryLoop loop(settings, job, result, progress, stage);
   return loop.Run();
 }
 

@@ -15,6 +15,7 @@
 #ifndef DISCOVERY_DISCOVERY_H_
 #define DISCOVERY_DISCOVERY_H_
 
+#include <functional>
 #include <ostream>
 
 #include "discovery/discovery_report.h"
@@ -38,8 +39,12 @@ namespace axis {
 // (DiscoveryStep::stopped); when several candidates are refitted at once
 // (s² far above 1), a screen of their first four horizons orders them, and
 // the lowest there runs first and alone to set that level.
+// `stage`, if set, is called with the name of each step as it begins
+// ("discovery step 1 (at most 3)", "discovery backward pass"), for the
+// run's phases (common/phase_log.h).
 DiscoveryReport Discover(const DiscoverySettings& settings, EstimationProblem* job,
-                         FitResult* result, std::ostream* progress);
+                         FitResult* result, std::ostream* progress,
+                         const std::function<void(const char*)>& stage = {});
 
 }  // namespace axis
 

@@ -41,7 +41,7 @@ class DiscoverySession {
            << " -> " << convention->bic_after << " (" << convention->rule << ")\n";
     }
     DiscoveryReport& report = outcome_.report;
-    report = Discover(settings_, &problem_, &result_, &out_);
+    report = Discover(settings_, &problem_, &result_, &out_, stage_);
     if (convention) PrependConventionStep(*convention, &report);
     if (KeepsDeclaredConvention()) {
       NoteTheDeclaredConvention();
@@ -111,7 +111,7 @@ class DiscoverySession {
     int added = 0;
     for (const std::string& name : report.selected) added += !IsConventionStep(name);
     second_settings.max_effects = std::max(0, settings_.max_effects - added);
-    DiscoveryReport second = Discover(second_settings, &problem_, &result_, &out_);
+    DiscoveryReport second = Discover(second_settings, &problem_, &result_, &out_, stage_);
     report = JoinSecondPass(std::move(report), *convention, std::move(second));
     DropInsignificant(report.level, &problem_, &result_, &report, &out_);
     report.final_diagnostics = DiagnoseResiduals(AtEstimate(problem_, result_));

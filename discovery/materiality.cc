@@ -1,5 +1,6 @@
 #include "discovery/materiality.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -55,9 +56,11 @@ Contribution EffectContribution(const std::string& effect, const EstimationProbl
       const std::vector<double>& b = without[f.channel];
       double share = std::numeric_limits<double>::infinity();  // a failed simulation
       if (with.finite && without.finite && a.size() == b.size() && !a.empty()) {
+        // Over the fitted samples (not a tail simulated past them).
+        const size_t n = std::min(a.size(), experiment.t.size());
         double sum = 0.0;
-        for (size_t j = 0; j < a.size(); ++j) sum += (a[j] - b[j]) * (a[j] - b[j]);
-        share = std::sqrt(sum / a.size()) / f.sigma;
+        for (size_t j = 0; j < n; ++j) sum += (a[j] - b[j]) * (a[j] - b[j]);
+        share = std::sqrt(sum / n) / f.sigma;
       }
       if (share > out.share || out.channel.empty()) {
         out.share = std::max(out.share, share);

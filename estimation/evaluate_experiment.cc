@@ -22,7 +22,10 @@ ExperimentFit EvaluateExperiment(const AxisStructure& structure,
   const SimulationGrid grid = MakeGrid(e.options, e.drive);
   const Trace<double> trace =
       Simulate(structure, params, e.initial_state, e.drive, e.options, grid);
-  const std::vector<double>& u = trace[Channel::kU];
+  // A record simulated past its last fitted sample (a tail left unfitted:
+  // estimation/record_prefix.h) is compared over its samples only.
+  std::vector<double> u = trace[Channel::kU];
+  if (u.size() > e.t.size()) u.resize(e.t.size());
   for (size_t j = 0; j < e.measured_channels.size(); ++j) {
     const Channel c = e.measured_channels[j];
     ChannelFit f;
@@ -36,6 +39,7 @@ ExperimentFit EvaluateExperiment(const AxisStructure& structure,
     }
     f.measured = e.measured[j];
     f.simulated = trace[c];
+    if (f.simulated.size() > f.measured.size()) f.simulated.resize(f.measured.size());
     if (!trace.finite) {
       const double nan = std::numeric_limits<double>::quiet_NaN();
       f.rms = f.fit_percent = f.max_error = f.relative_error_percent = nan;

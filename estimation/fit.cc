@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -41,9 +42,10 @@ void AsWarmRefit(EstimationProblem* job) {
   job->uncertainty.method = UncertaintySettings::Method::kGaussNewton;
 }
 
-std::vector<FitResult> FitConcurrently(const std::vector<EstimationProblem>& jobs, int threads,
-                                       std::vector<double>* seconds,
-                                       const std::vector<FitControl>& controls) {
+std::vector<FitResult> FitConcurrently(
+    const std::vector<EstimationProblem>& jobs, int threads, std::vector<double>* seconds,
+    const std::vector<FitControl>& controls,
+    const std::function<void(size_t done, size_t total)>& on_done) {
   const size_t n = jobs.size();
   if (!controls.empty() && controls.size() != n) {
     throw std::invalid_argument("FitConcurrently: expected no controls or one per job (" +
@@ -56,12 +58,18 @@ std::vector<FitResult> FitConcurrently(const std::vector<EstimationProblem>& job
       static_cast<int>(std::min<size_t>(std::max(1, threads), std::max<size_t>(1, n)));
   const int inner = std::max(1, std::max(1, threads) / at_once);
   const FitControl none;
+  std::mutex done_lock;
+  size_t done = 0;
   ForEachConcurrently(n, at_once, [&](size_t k) {
     const auto start = std::chrono::steady_clock::now();
     EstimationProblem job = jobs[k];
     job.solver.threads = inner;
     out[k] = FitParameters(job, nullptr, controls.empty() ? none : controls[k]);
     wall[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (on_done) {
+      const std::lock_guard<std::mutex> hold(done_lock);
+      on_done(++done, n);
+    }
   });
   if (seconds != nullptr) *seconds = wall;
   return out;

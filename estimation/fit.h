@@ -5,6 +5,7 @@
 #ifndef ESTIMATION_FIT_H_
 #define ESTIMATION_FIT_H_
 
+#include <functional>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -94,10 +95,14 @@ void AsWarmRefit(EstimationProblem* job);
 // the lowest-indexed fit that threw (std::invalid_argument for an
 // inconsistent job), after every fit has run (common/concurrency.h
 // ForEachConcurrently); std::invalid_argument at once if `controls` is
-// neither empty nor of jobs' size. threads < 1 counts as 1.
-std::vector<FitResult> FitConcurrently(const std::vector<EstimationProblem>& jobs, int threads,
-                                       std::vector<double>* seconds = nullptr,
-                                       const std::vector<FitControl>& controls = {});
+// neither empty nor of jobs' size. threads < 1 counts as 1. `on_done`, if
+// set, is called after each fit ends with the number ended so far and
+// n (for a progress line), one call at a time (under a lock) on the thread
+// that ran the fit.
+std::vector<FitResult> FitConcurrently(
+    const std::vector<EstimationProblem>& jobs, int threads,
+    std::vector<double>* seconds = nullptr, const std::vector<FitControl>& controls = {},
+    const std::function<void(size_t done, size_t total)>& on_done = {});
 
 }  // namespace axis
 

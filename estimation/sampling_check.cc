@@ -205,6 +205,14 @@ SamplingCheck CheckAccelerometerSampling(const EstimationProblem& job, const Fit
   check.samples = SamplesOfA(at);
   check.chi2_declared = Deviance(result);
   check.chi2_other = std::numeric_limits<double>::quiet_NaN();
+  const double dof0 = result.residual_dof;
+  if (rule == SamplingRule::kMisfit && dof0 > 0.0 &&
+      check.chi2_declared - dof0 <= 3.0 * std::sqrt(2.0 * dof0)) {
+    check.explained = true;
+    check.dof = static_cast<int>(dof0);
+    check.chi2_declared_delay = check.chi2_other_delay = std::numeric_limits<double>::quiet_NaN();
+    return check;
+  }
   int added = 0;
   const AccelerometerSampling declared = at.model.structure.accelerometer;
   check.chi2_declared_delay =

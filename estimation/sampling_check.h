@@ -69,6 +69,11 @@ enum class SamplingRule {
 
 struct SamplingCheck {
   bool ran = false;            // some fitted experiment fits channel `a`
+  // With kMisfit: the fit as it stands explains the records to their noise
+  // (Σ(r/σ)² − dof at most 3·√(2·dof), three standard deviations of χ²):
+  // there is no misfit for the other convention to explain, and no refit
+  // was run (the delays' and the other convention's χ² are NaN).
+  bool explained = false;
   std::string declared;        // "period_mean" or "instant"
   std::string other;           // the other one
   double chi2_declared = 0.0;  // Σ(r/σ)² of the fit (2·FitResult::final_cost)

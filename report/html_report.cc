@@ -750,6 +750,9 @@ std::string SummaryHtml(const HtmlReportInput& input) {
   std::string phases = FormatPhases(r);
   if (phases.rfind("time: ", 0) == 0) phases.erase(0, 6);
   item(input.discovery != nullptr ? "time (final refit)" : "time", HtmlEscape(phases));
+  if (!input.run_phases.empty()) {
+    item("run (phase: wall time, simulations)", HtmlEscape(FormatPhaseLog(input.run_phases)));
+  }
   return out + "</dl>\n";
 }
 

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "design/experiment_design.h"
+#include "common/phase_log.h"
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
 #include "discovery/force_map.h"
@@ -65,6 +66,9 @@ struct HtmlReportInput {
   std::vector<std::string> input_notes;
   // The run's other output files, listed on the page (names, no links).
   std::vector<std::string> files;
+  // Where the run's time went, phase by phase (common/phase_log.h); none
+  // drawn if empty.
+  std::vector<RunPhase> run_phases;
 };
 
 // The number of inline SVG plots RenderHtmlReport draws when gnuplot works:

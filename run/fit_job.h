@@ -34,6 +34,9 @@ struct FitJob {
   PublishedReference published;     // `published:` key (report/published.h)
   BenchmarkSettings benchmark;      // `benchmark:` key (run/benchmark.h)
   std::string out_dir;  // from output.dir (relative to the job file) or --out
+  // How the integration step was chosen where simulation.step is absent
+  // (sim/auto_step.h AutoStepNote); empty where the job gives the step.
+  std::string step_note;
 };
 
 }  // namespace axis

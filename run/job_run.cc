@@ -22,6 +22,7 @@
 #include "estimation/full_loop_refit.h"
 #include "estimation/residual_bootstrap.h"
 #include "run/fit_job.h"
+#include "sim/simulation_count.h"
 #include "report/published.h"
 #include "report/report.h"
 #include "report/tuning_report.h"
@@ -37,7 +38,12 @@ namespace {
 class JobPipeline {
  public:
   JobPipeline(FitJob job, bool discover, std::ostream& out)
-      : out_(out), progress_line_(dynamic_cast<ProgressStream*>(&out)) {
+      : out_(out),
+        progress_line_(dynamic_cast<ProgressStream*>(&out)),
+        phases_([] {
+          const SimulationCount c = SimulationsSoFar();
+          return WorkCount{c.values, c.derivatives};
+        }) {
     run_.job = std::move(job);
     discover_ = discover;
   }
@@ -57,11 +63,16 @@ class JobPipeline {
     // The fit's s² settled (the force map's, the full loop's): the warning.
     result_.residual_note = ResidualNote(result_.residual_variance);
     if (!run_.discovered) DiagnoseTheFit();
+    if (run_.job.problem.uncertainty.bootstrap > 0) phases_.Begin("residual bootstrap");
     ResidualBootstrap(run_.job.problem, &result_, &out_);
     if (run_.job.design.enabled) DesignTheNextExperiment();
+    phases_.Begin("tables");
     PrintTables();
     if (run_.job.tune.enabled) TuneTheAxis();
+    phases_.End();
+    run_.phases = phases_.phases();
     AddSections();
+    out_ << "run: " << FormatPhaseLog(run_.phases) << "\n";
     run_.result = std::move(result_);
     return std::move(run_);
   }
@@ -70,6 +81,7 @@ class JobPipeline {
   // A stage of the run after the fit, on the progress line when `out` is
   // fit-params' progress stream (common/progress.h).
   void Stage(const char* what) {
+    phases_.Begin(what);
     if (run_.job.problem.solver.progress && progress_line_ != nullptr) {
       progress_line_->Status(what, std::numeric_limits<double>::quiet_NaN());
     }
@@ -98,6 +110,7 @@ class JobPipeline {
   }
 
   void FitDeclaredModel() {
+    phases_.Begin("base fit");
     const auto start = std::chrono::steady_clock::now();
     result_ = FitParameters(run_.job.problem, &out_);
     base_fit_seconds_ =
@@ -337,7 +350,8 @@ class JobPipeline {
          << result.simulations << " simulations, " << result.jacobian_evaluations
          << " Jacobian evaluations\n";
     out_ << FormatPhases(result) << "\n";
-    out_ << "integration: " << result.integration << "\n";
+    out_ << "integration: " << result.integration
+         << (run_.job.step_note.empty() ? "" : "; " + run_.job.step_note) << "\n";
     if (!result.model_note.empty()) out_ << "note: " << result.model_note << "\n";
     if (!result.auto_starts_note.empty()) out_ << "starts: " << result.auto_starts_note << "\n";
     if (!result.sample_sigma_note.empty()) out_ << "weights: " << result.sample_sigma_note << "\n";
@@ -359,10 +373,20 @@ class JobPipeline {
       extra.json["input_notes"] = input_notes_;
     }
     if (run_.loop_check.ran) AddCurrentLoopSection();
+    if (!run_.job.step_note.empty()) extra.json["integration_step_rule"] = run_.job.step_note;
+    nlohmann::json phases = nlohmann::json::array();
+    for (const RunPhase& p : run_.phases) {
+      phases.push_back({{"name", p.name},
+                        {"seconds", JsonNumber<nlohmann::json>(p.seconds)},
+                        {"simulations", p.simulations},
+                        {"derivative_simulations", p.derivative_simulations}});
+    }
+    extra.json["run_phases"] = phases;
     if (run_.sampling_check.ran) {
       const SamplingCheck& c = run_.sampling_check;
       extra.json["accelerometer_check"] = {
           {"declared", c.declared},
+          {"explained_as_declared", c.explained},
           {"other", c.other},
           {"chi2_declared", JsonNumber<nlohmann::json>(c.chi2_declared)},
           {"chi2_other", JsonNumber<nlohmann::json>(c.chi2_other)},
@@ -436,6 +460,7 @@ class JobPipeline {
 
   std::ostream& out_;
   ProgressStream* const progress_line_;
+  PhaseLog phases_;  // run_.phases at the end
   bool discover_ = false;
   JobRun run_;
   FitResult result_;  // moved into run_.result at the end

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "common/phase_log.h"
 #include "design/experiment_design.h"
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
@@ -28,6 +29,10 @@ namespace axis {
 
 // A job run as fit-params runs it, before anything is written (RunJob).
 struct JobRun {
+  // Where the run's time went (common/phase_log.h): the base fit, the
+  // checks, each discovery step, the backward pass, the full-loop refit,
+  // the tables; writing the outputs comes after and is not among them.
+  std::vector<RunPhase> phases;
   // The job; after discovery its model holds the selected effects with
   // their fitted values.
   FitJob job;

@@ -26,6 +26,7 @@
 #include "run/benchmark_settings.h"
 #include "run/fit_job.h"
 #include "sim/drive_config.h"
+#include "sim/auto_step.h"
 #include "sim/preflight.h"
 
 namespace axis {
@@ -167,6 +168,14 @@ ChannelSpec ParseChannelSpec(YamlMap& channels, const std::string& name,
 
 namespace {
 
+// The job's integration step: `fixed` (s, > 0) where simulation.step gives
+// one, else each record's own from the model (sim/auto_step.h) under
+// `limit`.
+struct StepRule {
+  double fixed = 0.0;
+  double limit = 0.0;
+};
+
 // One experiment of a job (an entry of `experiments:` or `validate:`) as a
 // sequence of named steps over its keys, in the order its checks run: the
 // name, the data file and its window, the initial state, the sampling and
@@ -175,8 +184,8 @@ class ExperimentParser {
  public:
   // `map` (the entry), `model` and `base_dir` must outlive the parser.
   ExperimentParser(YamlMap& map, const std::string& role, const AxisConfig& model,
-                   double step, const std::string& base_dir)
-      : map_(map), model_(model), step_(step), base_dir_(base_dir) {
+                   const StepRule& step, const std::string& base_dir)
+      : map_(map), model_(model), rule_(step), base_dir_(base_dir) {
     e_.role = role;
   }
   ExperimentParser(const ExperimentParser&) = delete;
@@ -204,7 +213,8 @@ class ExperimentParser {
 
   YamlMap& map_;
   const AxisConfig& model_;
-  const double step_;
+  const StepRule rule_;
+  double step_ = 0.0;  // s, the record's RK4 step (SetTimeGrid)
   const std::string& base_dir_;
 
   FitExperiment e_;
@@ -409,6 +419,16 @@ void ExperimentParser::SetTimeGrid() {
   for (size_t k = first_; k < first_ + count_; ++k) e_.t.push_back(time[k] - e_.t_offset);
   // The simulation samples on the data grid: the period rounded to whole
   // integration steps (the EMPS clock jitters by 3e-8 s).
+  if (rule_.fixed > 0.0) {
+    step_ = rule_.fixed;
+  } else {
+    try {
+      step_ = AutoStep(rule_.limit, period_,
+                       model_.has_controller ? model_.controller.T_s : 0.0);
+    } catch (const std::invalid_argument& err) {
+      throw std::invalid_argument(std::string("key 'simulation.step' (none set): ") + err.what());
+    }
+  }
   e_.options.step = step_;
   e_.options.output_period = std::max(1L, std::lround(period_ / step_)) * step_;
   if (std::abs(e_.options.output_period - period_) > 1e-3 * period_) {
@@ -547,7 +567,7 @@ std::vector<FitExperiment> ParseExperimentList(YamlMap& root,
                                                const std::string& key,
                                                const std::string& role,
                                                const AxisConfig& model,
-                                               double step,
+                                               const StepRule& step,
                                                const std::string& base_dir,
                                                bool required,
                                                std::map<std::string, std::string>* names) {
@@ -606,6 +626,7 @@ class FitJobParser {
  private:
   void ParseModel();       // title, description, model, overrides, controller
   void ParseSimulation();  // simulation: (step_), the RK4 step's check
+  void ChooseStep();       // without simulation.step: the limit of sim/auto_step.h
   void ParseFree();
   FreeParameter ParseFreeParameter(YamlMap& free, const YAML::Node& key,
                                    const std::string& name);
@@ -618,13 +639,14 @@ class FitJobParser {
   const std::string& dir_;
   FitJob job_;
   YamlMap root_;
-  double step_ = 1e-5;  // s, simulation.step
+  StepRule step_;  // simulation.step, or the model's own (ChooseStep)
 };
 
 FitJob FitJobParser::Parse() {
   ParseModel();
   ParseSimulation();
   ParseFree();
+  ChooseStep();
   ParseSolver();
   if (const YAML::Node node = root_.Optional("discover")) {
     ReadDiscoverySettings(node, path_, &job_.discover);
@@ -664,15 +686,28 @@ void FitJobParser::ParseModel() {
 void FitJobParser::ParseSimulation() {
   if (const YAML::Node node = root_.Optional("simulation")) {
     YamlMap map(node, path_, "simulation.");
-    step_ = map.Number("step", step_, Range::kFinitePositive);
+    if (map.Has("step")) step_.fixed = map.Number("step", Range::kFinitePositive);
     ReadSettings(&map, &job_.full_loop);
     map.Finish();
   }
+  if (!(step_.fixed > 0.0)) return;
   const YAML::Node sim = root_.node()["simulation"];
   const YAML::Node node = sim && sim.IsMap() ? sim["step"] : YAML::Node();
-  CheckRk4Step(job_.problem.model.structure, job_.problem.model.params, step_,
+  CheckRk4Step(job_.problem.model.structure, job_.problem.model.params, step_.fixed,
                node ? path_ + ":" + std::to_string(node.Mark().line + 1) : path_,
                "simulation.step");
+}
+
+void FitJobParser::ChooseStep() {
+  if (step_.fixed > 0.0) return;
+  std::vector<ParameterRange> ranges;
+  for (const FreeParameter& f : job_.problem.free) ranges.push_back({f.name, f.lower, f.upper});
+  try {
+    step_.limit = AutoStepLimit(job_.problem.model.structure, job_.problem.model.params, ranges);
+  } catch (const std::invalid_argument& err) {
+    throw std::invalid_argument(path_ + ": key 'simulation.step' (none set): " + err.what());
+  }
+  job_.step_note = AutoStepNote(step_.limit);
 }
 
 void FitJobParser::ParseFree() {

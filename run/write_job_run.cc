@@ -35,6 +35,7 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
   html.move_tuning = run.job.tune.move.enabled ? &run.move_tuning : nullptr;
   html.published = run.has_published ? &run.published : nullptr;
   html.input_notes = run.input_lines;
+  html.run_phases = run.phases;
   html.files = {"params.md", "params.csv", "report.json"};
   for (const std::string& stem : ExperimentFileStems(run.result)) {
     html.files.push_back(stem + ".csv");

@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "sim/axis_model.h"
@@ -20,6 +21,7 @@
 #include "sim/rk4.h"
 #include "sim/scalar.h"
 #include "sim/sensor_front_end.h"
+#include "sim/simulation_count.h"
 #include "sim/switched_rk4.h"
 
 namespace axis {
@@ -652,6 +654,7 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
                   const AxisState<T>& y_init, const Drive& drive,
                   const SimulationOptions& options, const SimulationGrid& grid,
                   const std::function<void(double)>& progress = nullptr) {
+  internal::CountSimulation(!std::is_same_v<T, double>);
   return internal::Simulation<T>(structure, params, y_init, drive, options, grid, progress).Run();
 }
 

@@ -10,6 +10,7 @@
 #define DISCOVERY_INTERNAL_DISCOVERY_LOOP_H_
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <ostream>
 #include <set>
@@ -32,8 +33,9 @@ class DiscoveryLoop {
   // `settings`, `job`, `result` and `progress` (may be null) must outlive
   // the loop; `job` and `result` are the loop's model and fit, replaced as
   // it adds and removes effects.
+  // `stage` (may be empty) is told each step's name as it begins.
   DiscoveryLoop(const DiscoverySettings& settings, EstimationProblem* job, FitResult* result,
-                std::ostream* progress);
+                std::ostream* progress, std::function<void(const char*)> stage = {});
   DiscoveryLoop(const DiscoveryLoop&) = delete;
   DiscoveryLoop& operator=(const DiscoveryLoop&) = delete;
 
@@ -119,6 +121,10 @@ class DiscoveryLoop {
   // Fits candidates [from, to) of order_ against the current level.
   void RunCandidates(std::vector<size_t>::const_iterator from,
                      std::vector<size_t>::const_iterator to);
+  // Stops fitting the records' tail a channel read ahead cannot predict.
+  void TrimAheadOfTheRecords();
+  // The callback FitConcurrently calls as each refit of the batch ends.
+  std::function<void(size_t, size_t)> RefitProgress();
   void SetLevelFromLeader();
   void JudgeCandidate(size_t b);
   // Candidate b's step when it did not go on past the screen.
@@ -159,6 +165,11 @@ class DiscoveryLoop {
   // takes, and how many steps the loop makes, is known only as it goes, so
   // no remaining time is estimated here.
   ProgressStream* status_ = nullptr;
+  std::function<void(const char*)> stage_;
+  // TrimAheadOfTheRecords: the job's records before the first trim, and
+  // how much of their end is not fitted now (s).
+  std::vector<FitExperiment> whole_records_;
+  double trimmed_ = 0.0;
   DiscoveryReport report_;
 
   // ---- the forward step's state
