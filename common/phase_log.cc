@@ -41,7 +41,7 @@ std::string FormatPhaseLog(const std::vector<RunPhase>& phases) {
   for (const RunPhase& p : phases) {
     if (p.seconds < 0.05 && p.simulations == 0 && p.derivative_simulations == 0) continue;
     out << sep << p.name << " " << FormatNumber(p.seconds, 3) << " s: " << p.simulations
-        << " + " << p.derivative_simulations << " with derivatives";
+        << " simulations, " << p.derivative_simulations << " with derivatives";
     sep = "; ";
     any = true;
   }

@@ -51,7 +51,8 @@ class PhaseLog {
   WorkCount at_start_;
 };
 
-// "base fit 2.1 s (120 + 300 Jet simulations), …", the phases as one line;
+// "4.2 s (base fit 2.1 s: 120 simulations, 300 with derivatives; …)", the
+// total and the phases as one line;
 // phases under 0.05 s and without simulations are left out. Never throws
 // but std::bad_alloc.
 std::string FormatPhaseLog(const std::vector<RunPhase>& phases);
