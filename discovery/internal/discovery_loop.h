@@ -170,6 +170,9 @@ class DiscoveryLoop {
   // how much of their end is not fitted now (s).
   std::vector<FitExperiment> whole_records_;
   double trimmed_ = 0.0;
+  // QueueFrontEndCompanions: the front-end terms refitted as companions
+  // since the front end last changed.
+  std::set<std::string> companions_tried_;
   DiscoveryReport report_;
 
   // ---- the forward step's state
