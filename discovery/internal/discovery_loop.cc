@@ -233,7 +233,9 @@ void DiscoveryLoop::RefitCandidates() {
 }
 
 // A channel with a front-end term already in the model (a delay kept at an
-// earlier step, or declared) and a residual still above the noise: the
+// earlier step, or declared) and its own residual still above its noise
+// (ChannelAboveNoise; front_ends seed 15: the tachometer's filters
+// refitted while only `a` was off, 12 refits, 246 s): the
 // channel's other front-end terms are refitted whatever their score says.
 // To first order a filter's lag is the delay's (MODEL.md §6), so once the
 // delay has taken the lag the filter's score column lies in its span and
@@ -246,9 +248,6 @@ void DiscoveryLoop::RefitCandidates() {
 // step, the rejected filters took 100–220 s of a 530 s run on the
 // independent front-end campaign (seed 17).
 void DiscoveryLoop::QueueFrontEndCompanions() {
-  const double s2 = result_->residual_variance;
-  const double dof = result_->residual_dof;
-  if (!(dof > 0.0) || !((s2 - 1.0) * dof > 3.0 * std::sqrt(2.0 * dof))) return;
   const SensorSwitches& on = job_->model.structure.sensors;
   for (const Score& score : ranking_.scores) {
     if (queued_.count(score.name) > 0 || FrontEndOrder(score.name) < 0 ||
@@ -258,10 +257,25 @@ void DiscoveryLoop::QueueFrontEndCompanions() {
     const Candidate& c = *std::find_if(candidates_.begin(), candidates_.end(),
                                        [&](const Candidate& x) { return x.name == score.name; });
     const int k = static_cast<int>(c.channel);
-    if (!(on.delay[k] || on.lowpass[k] || on.lowpass2[k])) continue;
+    if (!(on.delay[k] || on.lowpass[k] || on.lowpass2[k]) || !ChannelAboveNoise(k)) continue;
     companions_tried_.insert(score.name);
     QueueRefit(score);
   }
+}
+
+bool DiscoveryLoop::ChannelAboveNoise(int k) const {
+  const std::string name = ChannelName(static_cast<Channel>(k));
+  double chi2 = 0.0, n = 0.0;
+  for (const ExperimentFit& e : result_->experiments) {
+    if (e.role != "fit") continue;
+    for (const ChannelFit& c : e.channels) {
+      if (!c.fitted || c.channel != name || !(c.sigma > 0.0)) continue;
+      const double samples = static_cast<double>(c.measured.size());
+      chi2 += samples * (c.rms / c.sigma) * (c.rms / c.sigma);
+      n += samples;
+    }
+  }
+  return n > 0.0 && chi2 - n > 3.0 * std::sqrt(2.0 * n);
 }
 
 std::vector<std::string> DiscoveryLoop::FrontEndFamily(const Score& score) const {
@@ -296,9 +310,12 @@ void DiscoveryLoop::QueueRefit(const Score& score) {
       candidates_.begin(), candidates_.end(),
       [&](const Candidate& c) { return c.name == score.name; });
   queued_.insert(score.name);
-  Pending q{&score, chosen, RefitJobs(chosen, score), {}};
+  Pending q{&score, chosen, RefitJobs(chosen, score), {}, {}};
   for (size_t k = job_->free.size(); k < q.starts[0].free.size(); ++k) {
     q.names.push_back(q.starts[0].free[k].name);
+  }
+  if (IsFilterAfterDelay(chosen)) {
+    q.labels = {"tau = 0.5 output period", "tau = 1 output period", "tau = 2 output periods"};
   }
   ++tries_;
   batch_.push_back(std::move(q));
@@ -764,9 +781,13 @@ std::string DiscoveryLoop::StartsText(const Pending& q, const std::vector<FitRes
   starts << std::setprecision(4) << n << " starts, BIC";
   for (size_t k = 0; k < n; ++k) {
     starts << (k == 0 ? " " : ", ") << (own[k].abandoned_horizon > 0.0 ? ">= " : "")
-           << own[k].bic << " from " << StartLabel(q.candidate, k);
+           << own[k].bic << " from "
+           << (k < q.labels.size() ? q.labels[k] : StartLabel(q.candidate, k));
   }
-  if (best < n) starts << "; kept the start from " << StartLabel(q.candidate, best);
+  if (best < n) {
+    starts << "; kept the start from "
+           << (best < q.labels.size() ? q.labels[best] : StartLabel(q.candidate, best));
+  }
   return starts.str();
 }
 

@@ -59,6 +59,9 @@ class DiscoveryLoop {
     Candidate candidate;
     std::vector<EstimationProblem> starts;      // one job per start (StartsOf)
     std::vector<std::string> names;  // the effect's parameters, now free
+    // What each start begins from where StartLabel does not say (a filter
+    // beside a delay: its time constant), else empty.
+    std::vector<std::string> labels;
   };
   // The level a refit must end below to matter (issue 11): a refit whose
   // BIC's lower bound passes kStopFactor times it stops on a shorter
@@ -121,6 +124,9 @@ class DiscoveryLoop {
   // Fits candidates [from, to) of order_ against the current level.
   void RunCandidates(std::vector<size_t>::const_iterator from,
                      std::vector<size_t>::const_iterator to);
+  // Whether fitted channel `k`'s residual is above its noise in the
+  // current fit: Σ(r/σ)² − n above 3·√(2n) over its samples.
+  bool ChannelAboveNoise(int k) const;
   // Stops fitting the records' tail a channel read ahead cannot predict.
   void TrimAheadOfTheRecords();
   // The callback FitConcurrently calls as each refit of the batch ends.
