@@ -11,7 +11,7 @@ every relative link resolves.
 - A flag must appear in the `--help` output of one of the apps
   (fit-params, fit-campaign, fit-fleet, simulate-axis, run from --bin; and
   the bench_* executables' google-benchmark flags, if built) or in
-  a file under scripts/ or examples/, or be one of the few flags of external
+  a file under scripts/, examples/ or bench/, or be one of the few flags of external
   tools listed in EXTERNAL below (mpirun, srun, ctest, cmake).
 - A relative markdown link [text](target) must name an existing file
   (PENDING lists pages another change is writing).
@@ -35,7 +35,7 @@ import tempfile
 
 APPS = ["fit-params", "fit-campaign", "fit-fleet", "simulate-axis"]
 BENCHES = ["bench_rk4_step", "bench_fit", "bench_fleet"]  # their google-benchmark flags
-FLAG_SOURCES = ["scripts", "examples"]
+FLAG_SOURCES = ["scripts", "examples", "bench"]
 # Flags of tools that are not this project's, named in the docs with them.
 EXTERNAL = {
     "--oversubscribe": "mpirun", "--allow-run-as-root": "mpirun", "--mpi": "srun",
@@ -102,7 +102,7 @@ def check_file(md, root, flags):
         for flag in FLAG_RE.findall(line):
             if flag not in flags:
                 problems.append(f"{name}:{lineno}: {flag}: in no app's --help, "
-                                "nor in scripts/ or examples/")
+                                "nor in scripts/, examples/ or bench/")
         for target in LINK_RE.findall(line):
             if re.match(r"^[a-z]+:", target) or target.startswith("#"):
                 continue
