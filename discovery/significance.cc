@@ -114,10 +114,19 @@ std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
     }
     const std::string tau_name = (base == "sensor_lowpass" ? "tau_lp." : "tau_lp2.") + channel;
     const double tau = value(tau_name);
-    if (period > 0.0 && tau < period / kPi) {
+    // On `a` under a convention nobody declared the filter is seen through
+    // a convention that may be the wrong one (a period mean is itself a box
+    // filter): a 250 Hz anti-alias filter on instant samples read as period
+    // means fits at 574 Hz, and the convention is judged again after the
+    // loop with the filter kept (discovery/discovery_session.h). There the
+    // bound is the sample rate (τ < T/(2π)).
+    const bool unsettled = c && *c == Channel::kA && job.model.declared.count("accelerometer") == 0;
+    const double cutoff_limit = unsettled ? 1.0 / period : 0.5 / period;
+    if (period > 0.0 && 1.0 / (2.0 * kPi * tau) > cutoff_limit) {
       why << effect << " " << tau_name << " = " << tau << " s puts the cut-off at "
-          << 1.0 / (2.0 * kPi * tau) << " Hz, above the record's Nyquist frequency "
-          << 0.5 / period << " Hz: such a filter cannot be told from none";
+          << 1.0 / (2.0 * kPi * tau) << " Hz, above the record's "
+          << (unsettled ? "sample rate " : "Nyquist frequency ") << cutoff_limit
+          << " Hz: such a filter cannot be told from none";
     } else if (base == "sensor_lowpass2") {
       const double zeta = value("zeta_lp2." + channel);
       if (zeta <= kLowpass2DampingBounds[0] * 1.01 || zeta >= kLowpass2DampingBounds[1] / 1.01) {

@@ -36,7 +36,9 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit);
 // (coulomb F_c, stribeck F_st, motor_coulomb T_c: friction opposes the
 // motion); a sensor filter (sensor_lowpass.<ch>, sensor_lowpass2.<ch>) whose
 // cut-off 1/(2π·τ) is above the Nyquist frequency of the records fitting
-// that channel in `job` (τ < T/π, T the longest output period), or a
+// that channel in `job` (τ < T/π, T the longest output period; on `a`
+// under a convention neither model nor job declares, above the sample rate,
+// τ < T/(2π): the filter is seen through a convention not yet settled), or a
 // second-order one whose damping ζ ended at a bound of its search
 // (kLowpass2DampingBounds, discovery/candidates.h; within 1 %). Effects without such a rule — a
 // delay of any length, sub-sample included, among them — are physical at
