@@ -1,5 +1,6 @@
 #include "estimation/estimation_problem.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "sim/channels.h"
@@ -12,6 +13,16 @@ const std::vector<double>& FitExperiment::Measured(Channel c) const {
   }
   throw std::invalid_argument("experiment '" + name + "': expected channel '" +
                               ChannelName(c) + "' to be measured, got none");
+}
+
+double FittedPeriod(const EstimationProblem& problem, Channel c) {
+  double period = 0.0;
+  for (const FitExperiment& e : problem.experiments) {
+    for (const FittedChannel& f : e.fitted) {
+      if (f.channel == c) period = std::max(period, e.options.output_period);
+    }
+  }
+  return period;
 }
 
 const FitExperiment* FindExperiment(const std::vector<FitExperiment>& list,

@@ -95,6 +95,10 @@ struct EstimationProblem {
 };
 
 // The experiment of `list` named `name`, or nullptr. Never throws.
+// The longest output period (s) of the experiments of `problem` that fit
+// channel `c`, 0 if none fits it. Never throws.
+double FittedPeriod(const EstimationProblem& problem, Channel c);
+
 const FitExperiment* FindExperiment(const std::vector<FitExperiment>& list,
                                     const std::string& name);
 

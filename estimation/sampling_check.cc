@@ -107,12 +107,7 @@ double AlignedRefitChi2(EstimationProblem job, FitResult* fit) {
       if (f.name.rfind("tau_d.", 0) != 0) continue;
       const std::string channel = f.name.substr(6);
       const std::optional<Channel> c = ParseChannel(channel);
-      double period = 0.0;
-      for (const FitExperiment& e : job.experiments) {
-        for (const FittedChannel& fc : e.fitted) {
-          if (c && fc.channel == *c) period = std::max(period, e.options.output_period);
-        }
-      }
+      const double period = c ? FittedPeriod(job, *c) : 0.0;
       const double lag = AlignmentLag(r, channel, 0.25 * longest);
       if (!std::isfinite(lag) || !(std::abs(lag) > 0.5 * period)) continue;
       const double width = f.upper - f.lower;

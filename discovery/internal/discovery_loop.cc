@@ -399,12 +399,7 @@ bool DiscoveryLoop::IsFilterAfterDelay(const Candidate& candidate) const {
 // explanation (issue 56: τ = 26 µs, above Nyquist, BIC worse than without).
 std::vector<EstimationProblem> DiscoveryLoop::FilterAfterDelayJobs(const Candidate& candidate,
                                                                   const Score& score) const {
-  double period = 0.0;
-  for (const FitExperiment& e : job_->experiments) {
-    for (const FittedChannel& f : e.fitted) {
-      if (f.channel == candidate.channel) period = std::max(period, e.options.output_period);
-    }
-  }
+  const double period = FittedPeriod(*job_, candidate.channel);
   const std::string channel = ChannelName(candidate.channel);
   const bool second = candidate.effect == "sensor_lowpass2";
   const std::string tau_name = (second ? "tau_lp2." : "tau_lp.") + channel;
@@ -806,12 +801,11 @@ void DiscoveryLoop::RealignDelay(size_t b, size_t best, std::vector<FitResult>* 
   if (q.candidate.effect != "sensor_delay") return;
   const std::string channel = ChannelName(q.candidate.channel);
   const std::string name = "tau_d." + channel;
-  double period = 0.0, longest = 0.0;
+  const double period = FittedPeriod(*job_, q.candidate.channel);
+  double longest = 0.0;
   for (const FitExperiment& e : job_->experiments) {
     for (const FittedChannel& f : e.fitted) {
-      if (f.channel != q.candidate.channel) continue;
-      period = std::max(period, e.options.output_period);
-      longest = std::max(longest, e.t.empty() ? 0.0 : e.t.back());
+      if (f.channel == q.candidate.channel) longest = std::max(longest, e.t.empty() ? 0.0 : e.t.back());
     }
   }
   for (int pass = 0; pass < kAlignPasses; ++pass) {
