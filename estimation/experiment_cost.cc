@@ -62,6 +62,13 @@ ExperimentCost::ExperimentCost(const AxisStructure& structure,
   for (const FittedChannel& f : experiment_.fitted) {
     num_residuals_ += static_cast<int>(experiment_.Measured(f.channel).size());
   }
+  for (int j = 0; j < map_.num_free(); ++j) {
+    if (!IsSensorParameter(map_.free()[j].name)) plant_index_.push_back(j);
+  }
+  if (state_index_ >= 0) {
+    plant_index_.push_back(state_index_);
+    plant_index_.push_back(state_index_ + 1);
+  }
 }
 
 ceres::CostFunction* ExperimentCost::Create(const AxisStructure& structure,

@@ -170,9 +170,10 @@ class ExperimentCost {
   }
 
  private:
+  // The experiment's initial state at θ (its (y0, y1) from θ where it is
+  // estimated).
   template <typename T>
-  bool Residuals(const T* theta, T* residuals) const {
-    const AxisParams<T> p = map_.Apply(theta);
+  AxisState<T> InitialState(const T* theta, const AxisParams<T>& p) const {
     AxisState<T> y0 = experiment_.initial_state.cast<T>();
     if (state_index_ >= 0) {
       y0[0] = theta[state_index_];
@@ -180,7 +181,72 @@ class ExperimentCost {
       y0[2] = y0[0] / p.r_g;
       y0[3] = y0[1] / p.r_g;
     }
-    const Trace<T> trace = Simulate(structure_, p, y0, *drive_, experiment_.options, grid_);
+    return y0;
+  }
+
+  // The trace at θ. Where θ's Jets carry more derivative parts than the
+  // entries of θ that act on the plant (the free parameters other than
+  // sensor ones, sim/axis_params.h IsSensorParameter, and this
+  // experiment's own initial state), the plant is integrated with Jets of
+  // those entries alone (the narrowest of the simulator's instantiated
+  // widths, or in double if none), its derivatives chained to θ's, and the
+  // sensor front end applied in T: the integration's cost grows with the
+  // Jet's width, and a discovered front end (a delay, a filter) adds
+  // entries that never act on the plant. The same values and derivatives
+  // as Simulate at θ, up to the rounding of the chain rule's products by
+  // θ's derivative parts (exact for the unit seeds Ceres uses).
+  template <typename T>
+  Trace<T> SimulateAt(const T* theta) const {
+    const AxisParams<T> p = map_.Apply(theta);
+    if constexpr (!std::is_same_v<T, double>) {
+      constexpr int n = T::DIMENSION;
+      const int k = static_cast<int>(plant_index_.size());
+      if (k == 0) return PlantInNarrowerJets<double>(theta, p);
+      if constexpr (n > 4) {
+        if (k <= 4) return PlantInNarrowerJets<ceres::Jet<double, 4>>(theta, p);
+      }
+      if constexpr (n > 5) {
+        if (k <= 5) return PlantInNarrowerJets<ceres::Jet<double, 5>>(theta, p);
+      }
+      if constexpr (n > 6) {
+        if (k <= 6) return PlantInNarrowerJets<ceres::Jet<double, 6>>(theta, p);
+      }
+      if constexpr (n > 8) {
+        if (k <= 8) return PlantInNarrowerJets<ceres::Jet<double, 8>>(theta, p);
+      }
+    }
+    return Simulate(structure_, p, InitialState(theta, p), *drive_, experiment_.options, grid_);
+  }
+
+  // SimulateAt's split: the plant in P (derivative part i: θ entry
+  // plant_index_[i]), lifted to T by the chain rule, then the front end in
+  // T with `p` (the parameters at θ in T).
+  template <typename P, typename T>
+  Trace<T> PlantInNarrowerJets(const T* theta, const AxisParams<T>& p) const {
+    std::vector<P> plant_theta(theta_size_);
+    for (int j = 0; j < theta_size_; ++j) plant_theta[j] = P(ScalarValue(theta[j]));
+    if constexpr (!std::is_same_v<P, double>) {
+      for (size_t i = 0; i < plant_index_.size(); ++i) plant_theta[plant_index_[i]].v[i] = 1.0;
+    }
+    const AxisParams<P> plant_params = map_.Apply(plant_theta.data());
+    const PlantRecord<P> plant =
+        SimulatePlant(structure_, plant_params, InitialState(plant_theta.data(), plant_params),
+                      *drive_, experiment_.options, grid_, nullptr, true);
+    const auto lift = [&](const P& x) {
+      T y(ScalarValue(x));
+      if constexpr (!std::is_same_v<P, double>) {
+        for (size_t i = 0; i < plant_index_.size(); ++i) {
+          y.v += x.v[i] * theta[plant_index_[i]].v;
+        }
+      }
+      return y;
+    };
+    return ApplySensorFrontEnd(structure_, p, grid_, MapPlantRecord<T>(plant, lift));
+  }
+
+  template <typename T>
+  bool Residuals(const T* theta, T* residuals) const {
+    const Trace<T> trace = SimulateAt(theta);
     if (!trace.finite) return false;
     size_t r = 0;
     for (size_t i = 0; i < experiment_.fitted.size(); ++i) {
@@ -218,6 +284,9 @@ class ExperimentCost {
   const Drive* drive_ = nullptr;
   int state_index_;
   int theta_size_;
+  // The entries of θ that act on this experiment's plant, ascending: the
+  // free parameters other than sensor ones and its own initial state.
+  std::vector<int> plant_index_;
   int num_residuals_ = 0;
   EvaluationCounter* counter_;
 };

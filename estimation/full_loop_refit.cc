@@ -64,6 +64,19 @@ EstimationProblem FullLoopRefitProblem(const EstimationProblem& problem, const F
     full.solver.probe_rounds = 0;
     full.solver.local_starts = 0.0;
     full.uncertainty.method = UncertaintySettings::Method::kGaussNewton;
+    // A local solve whose intervals are carried over needs the estimate to
+    // a small fraction of its standard error, not to the last digit: it
+    // stops once a step changes the cost by less than ½·δ²·s², what a
+    // Gauss–Newton step of δ = kFullLoopRefitStepSe standard errors
+    // lowers it by (the cost is ½Σ(r/σ)², s² = 2·cost/dof). Ceres'
+    // function_tolerance is relative to the cost at the current point, the
+    // quasi-steady fit's within the shift's share.
+    if (Positive(quasi.final_cost) && Positive(quasi.residual_variance)) {
+      const double absolute =
+          0.5 * kFullLoopRefitStepSe * kFullLoopRefitStepSe * quasi.residual_variance;
+      full.solver.function_tolerance =
+          std::max(full.solver.function_tolerance, absolute / quasi.final_cost);
+    }
   }
   return full;
 }

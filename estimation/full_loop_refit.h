@@ -50,12 +50,18 @@ struct FullLoopRefitSettings {
   }
 };
 
+// The step, in standard errors, below which the full-loop refit with
+// carried intervals stops (FullLoopRefitProblem): a twentieth of the
+// interval's half-width, below what the carried intervals resolve.
+constexpr double kFullLoopRefitStepSe = 0.05;
+
 // The problem of the refit: WithFullLoop of `problem` at the estimate of
 // `quasi` (AtEstimate), one start, no random starts, no horizon
 // continuation; its free parameters start at value − check.shift (clamped
 // to their bounds; a NaN shift leaves the value). With `intervals`
-// kCarried also no probe rounds, no local restarts and Gauss–Newton
-// intervals. *step, if not null, receives the full loop's step (s). Throws
+// kCarried also no probe rounds, no local restarts, Gauss–Newton intervals
+// and a function tolerance that stops once a step lowers the cost by less
+// than a step of kFullLoopRefitStepSe standard errors would. *step, if not null, receives the full loop's step (s). Throws
 // std::runtime_error as WithFullLoop.
 EstimationProblem FullLoopRefitProblem(const EstimationProblem& problem, const FitResult& quasi,
                                        const CurrentLoopCheck& check,

@@ -12,6 +12,16 @@ const std::vector<SensorEffectInfo>& SensorEffectTable() {
   return effects;
 }
 
+bool IsSensorParameter(const std::string& name) {
+  for (const SensorEffectInfo& e : SensorEffectTable()) {
+    for (const char* prefix : e.params) {
+      const std::string head = std::string(prefix) + ".";
+      if (name.compare(0, head.size(), head) == 0) return true;
+    }
+  }
+  return false;
+}
+
 std::vector<ParamInfo> ListParams() {
   std::vector<ParamInfo> out;
   AxisParams<double> p;

@@ -73,6 +73,12 @@ struct SensorEffectInfo {
 };
 const std::vector<SensorEffectInfo>& SensorEffectTable();
 
+// True if `name` is a sensor parameter of SensorEffectTable ("tau_d.a",
+// "zeta_lp2.tach", ...): one that acts only in the sensor front end of
+// MODEL.md §6, after the plant's integration (sim/simulate.h
+// ApplySensorFrontEnd). Never throws.
+bool IsSensorParameter(const std::string& name);
+
 // How a recorded sample of the accelerometer channel `a` relates to the arm
 // acceleration y1' (MODEL.md §6). y1' jumps by b_g·(r_g·ω − v)/M at every
 // backlash contact (eq. 5), so its value at a sample instant is a

@@ -113,6 +113,52 @@ struct Trace {
   }
 };
 
+// What the integration of the plant records before the sensor front end of
+// MODEL.md §6 (SimulatePlant): `trace` holds t and every wanted channel at
+// the output samples as the plant gives it (for `a`, v where the front end
+// or the period mean forms it from v); `fine` the per-step history of the
+// channels read between output samples (HasGridFrontEnd), `fine_point` y1'
+// at every step for Trace::a_point, `a_initial` y1'(0). Only the sensor
+// parameters (tau_d, b, tau_lp, tau_lp2, zeta_lp2) act after it
+// (ApplySensorFrontEnd), so a fit may integrate the plant with derivatives
+// of the plant's parameters alone (estimation/experiment_cost.h).
+template <typename T>
+struct PlantRecord {
+  Trace<T> trace;
+  std::array<bool, kNumChannels> wanted{};
+  std::array<bool, kNumChannels> on_grid{};
+  std::array<std::vector<T>, kNumChannels> fine;
+  std::vector<T> fine_point;
+  bool point = false;  // Trace::a_point wanted
+  T a_initial = T(0.0);
+};
+
+// The record with every value mapped by f (From → To), e.g. to change the
+// derivative parts of Jets; flags and times copied.
+template <typename To, typename From, typename F>
+PlantRecord<To> MapPlantRecord(const PlantRecord<From>& in, const F& f) {
+  const auto map = [&f](const std::vector<From>& v) {
+    std::vector<To> out;
+    out.reserve(v.size());
+    for (const From& x : v) out.push_back(f(x));
+    return out;
+  };
+  PlantRecord<To> out;
+  out.trace.t = in.trace.t;
+  out.trace.finite = in.trace.finite;
+  for (int c = 0; c < kNumChannels; ++c) {
+    out.trace.values[c] = map(in.trace.values[c]);
+    out.fine[c] = map(in.fine[c]);
+  }
+  out.trace.a_point = map(in.trace.a_point);
+  out.wanted = in.wanted;
+  out.on_grid = in.on_grid;
+  out.fine_point = map(in.fine_point);
+  out.point = in.point;
+  out.a_initial = f(in.a_initial);
+  return out;
+}
+
 // Whether channel c's recorded samples are read off its values at every RK4
 // step (sim/sensor_front_end.h): a delay or a low-pass on it, or the
 // instant accelerometer (the mean of y1' over ±instant_window, from v). A bias alone,
@@ -399,10 +445,10 @@ class StageInput {
   mutable int memo_next_ = 0;
 };
 
-// One run of Simulate as named steps, its state in members: which channels
-// are recorded at every RK4 step, the events of the switched system, the
-// loop (the controller, the recording, the step), the padding of a run that
-// went non-finite, and the sensor front end. Internal to Simulate.
+// One run of SimulatePlant as named steps, its state in members: which
+// channels are recorded at every RK4 step, the events of the switched
+// system, the loop (the controller, the recording, the step) and the padding
+// of a run that went non-finite. Internal to SimulatePlant.
 template <typename T>
 class Simulation {
  public:
@@ -437,15 +483,13 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  Trace<T> Run() {
+  // The plant's record (PlantRecord); a run that went non-finite is padded
+  // with NaN.
+  PlantRecord<T> Run() {
     ChooseChannels();
     Integrate();
-    if (!trace_.finite) {
-      PadNonFinite();
-    } else {
-      ApplyFrontEnd();
-    }
-    return std::move(trace_);
+    if (!record_.trace.finite) PadNonFinite();
+    return std::move(record_);
   }
 
  private:
@@ -456,20 +500,20 @@ class Simulation {
   // low-pass, or the instant accelerometer, read between output samples.
   // y1' itself beside the instant accelerometer's window (Trace::a_point).
   void ChooseChannels() {
-    trace_.t.reserve(grid_.num_outputs);
+    record_.trace.t.reserve(grid_.num_outputs);
     for (Channel c : options_.channels) {
       const int k = static_cast<int>(c);
-      wanted_[k] = true;
-      trace_.values[k].reserve(grid_.num_outputs);
+      record_.wanted[k] = true;
+      record_.trace.values[k].reserve(grid_.num_outputs);
       if (HasGridFrontEnd(structure_, c)) {
-        on_grid_[k] = any_on_grid_ = true;
+        record_.on_grid[k] = any_on_grid_ = true;
         aux_every_step_ = aux_every_step_ || k != kA;
       }
     }
-    point_ = options_.point_acceleration && wanted_[kA] && !a_mean_;
-    if (point_) aux_every_step_ = any_on_grid_ = true;
+    record_.point = options_.point_acceleration && record_.wanted[kA] && !a_mean_;
+    if (record_.point) aux_every_step_ = any_on_grid_ = true;
     for (int k = 0; k < kNumChannels; ++k) {
-      if (on_grid_[k]) fine_[k].reserve(grid_.num_steps + 1);
+      if (record_.on_grid[k]) record_.fine[k].reserve(grid_.num_steps + 1);
     }
   }
 
@@ -520,16 +564,16 @@ class Simulation {
   }
 
   // The channels at step n: at an output sample every wanted one, and
-  // between them those recorded on the grid. False (trace_.finite false) if
+  // between them those recorded on the grid. False (trace.finite false) if
   // the state at an output sample is not finite.
   bool Record(long n, double t) {
     const bool record = n % grid_.steps_per_output == 0;
     if (!record && !aux_every_step_) {
-      if (any_on_grid_) fine_[kA].push_back(y_[1]);  // `a` alone on the grid: v, no derivative
+      if (any_on_grid_) record_.fine[kA].push_back(y_[1]);  // `a` alone on the grid: v
       return true;
     }
     if (record && !StateIsFinite(y_)) {
-      trace_.finite = false;
+      record_.trace.finite = false;
       return false;
     }
     AxisState<T> dy;
@@ -537,18 +581,18 @@ class Simulation {
     const T u = input_(t);
     AxisDerivative(structure_, params_, coeffs_, y_, u, &dy, &aux);
     for (int c = 0; c < kNumChannels; ++c) {
-      if (!wanted_[c] || !(record || on_grid_[c])) continue;
+      if (!record_.wanted[c] || !(record || record_.on_grid[c])) continue;
       // The accelerometer records v here (its source: AccelerationOnGrid).
-      const T value = c == kA && (a_mean_ || on_grid_[c])
+      const T value = c == kA && (a_mean_ || record_.on_grid[c])
                           ? y_[1]
                           : ChannelValue(static_cast<Channel>(c), structure_, params_, y_, aux,
                                          u, ref_, t);
-      if (c == kA && n == 0) a_initial_ = aux.a;
-      if (c == kA && point_) fine_point_.push_back(aux.a);
-      if (on_grid_[c]) fine_[c].push_back(value);
-      if (record) trace_.values[c].push_back(value);
+      if (c == kA && n == 0) record_.a_initial = aux.a;
+      if (c == kA && record_.point) record_.fine_point.push_back(aux.a);
+      if (record_.on_grid[c]) record_.fine[c].push_back(value);
+      if (record) record_.trace.values[c].push_back(value);
     }
-    if (record) trace_.t.push_back(t);
+    if (record) record_.trace.t.push_back(t);
     return true;
   }
 
@@ -556,43 +600,11 @@ class Simulation {
   // reach.
   void PadNonFinite() {
     const T nan(std::numeric_limits<double>::quiet_NaN());
-    for (long j = static_cast<long>(trace_.t.size()); j < grid_.num_outputs; ++j) {
-      trace_.t.push_back(j * grid_.steps_per_output * h_);
+    Trace<T>& trace = record_.trace;
+    for (long j = static_cast<long>(trace.t.size()); j < grid_.num_outputs; ++j) {
+      trace.t.push_back(j * grid_.steps_per_output * h_);
       for (int c = 0; c < kNumChannels; ++c) {
-        if (wanted_[c]) trace_.values[c].push_back(nan);
-      }
-    }
-  }
-
-  // The sensor front end of MODEL.md §6 (sim/sensor_front_end.h): the
-  // accelerometer's convention, the low-pass filters and the delay on the
-  // grid, then the bias.
-  void ApplyFrontEnd() {
-    const double period = grid_.steps_per_output * h_;
-    for (int c = 0; c < kNumChannels; ++c) {
-      if (!wanted_[c]) continue;
-      std::vector<T>& out = trace_.values[c];
-      if (on_grid_[c]) {
-        std::vector<T> s =
-            c == kA ? AccelerationOnGrid(fine_[c], h_, a_mean_ ? grid_.steps_per_output : 0,
-                                         InstantWindowSteps(structure_.instant_window, h_),
-                                         a_initial_)
-                    : std::move(fine_[c]);
-        out = FrontEndSamples(structure_, params_, c, h_, trace_.t, std::move(s));
-        if (c == kA && point_) {
-          trace_.a_point =
-              FrontEndSamples(structure_, params_, c, h_, trace_.t, std::move(fine_point_));
-        }
-      } else if (c == kA && a_mean_) {
-        // The period mean from v at the output samples; y1'(0) at t = 0.
-        for (size_t j = out.size(); j-- > 1;) out[j] = (out[j] - out[j - 1]) / T(period);
-        if (!out.empty()) out[0] = a_initial_;
-      }
-      if (structure_.sensors.bias[c]) {
-        for (T& value : out) value += params_.b[c];
-        if (c == kA) {
-          for (T& value : trace_.a_point) value += params_.b[c];
-        }
+        if (record_.wanted[c]) trace.values[c].push_back(nan);
       }
     }
   }
@@ -606,15 +618,9 @@ class Simulation {
   const double h_;
   const bool a_mean_;  // the period-mean accelerometer
 
-  Trace<T> trace_;
-  std::array<bool, kNumChannels> wanted_{};
-  std::array<bool, kNumChannels> on_grid_{};
+  PlantRecord<T> record_;
   bool any_on_grid_ = false;     // some channel is recorded at every step
   bool aux_every_step_ = false;  // one other than `a` (needs the derivative)
-  bool point_ = false;           // Trace::a_point is recorded
-  std::vector<T> fine_point_;
-  std::array<std::vector<T>, kNumChannels> fine_;  // per-step history
-  T a_initial_ = T(0.0);                          // y1'(0)
 
   AxisState<T> y_;
   ReferenceSample ref_;
@@ -635,6 +641,67 @@ class Simulation {
 
 }  // namespace internal
 
+// The sensor front end of MODEL.md §6 (sim/sensor_front_end.h) on a
+// plant's record made on `grid` (SimulatePlant): the accelerometer's
+// convention, the low-pass filters and the delay on the grid, then the
+// bias, with the sensor parameters of `params` (the others are not read).
+// A record that went non-finite is returned as it is. Never throws.
+template <typename T>
+Trace<T> ApplySensorFrontEnd(const AxisStructure& structure, const AxisParams<T>& params,
+                             const SimulationGrid& grid, PlantRecord<T> record) {
+  constexpr int kA = static_cast<int>(Channel::kA);
+  if (!record.trace.finite) return std::move(record.trace);
+  const double h = grid.step;
+  const bool a_mean = structure.accelerometer == AccelerometerSampling::kPeriodMean;
+  const double period = grid.steps_per_output * h;
+  Trace<T>& trace = record.trace;
+  for (int c = 0; c < kNumChannels; ++c) {
+    if (!record.wanted[c]) continue;
+    std::vector<T>& out = trace.values[c];
+    if (record.on_grid[c]) {
+      std::vector<T> s =
+          c == kA ? AccelerationOnGrid(record.fine[c], h, a_mean ? grid.steps_per_output : 0,
+                                       InstantWindowSteps(structure.instant_window, h),
+                                       record.a_initial)
+                  : std::move(record.fine[c]);
+      out = internal::FrontEndSamples(structure, params, c, h, trace.t, std::move(s));
+      if (c == kA && record.point) {
+        trace.a_point = internal::FrontEndSamples(structure, params, c, h, trace.t,
+                                                  std::move(record.fine_point));
+      }
+    } else if (c == kA && a_mean) {
+      // The period mean from v at the output samples; y1'(0) at t = 0.
+      for (size_t j = out.size(); j-- > 1;) out[j] = (out[j] - out[j - 1]) / T(period);
+      if (!out.empty()) out[0] = record.a_initial;
+    }
+    if (structure.sensors.bias[c]) {
+      for (T& value : out) value += params.b[c];
+      if (c == kA) {
+        for (T& value : trace.a_point) value += params.b[c];
+      }
+    }
+  }
+  return std::move(record.trace);
+}
+
+// The plant of one experiment integrated from y_init on the grid of
+// MakeGrid(), before the sensor front end (PlantRecord; Simulate is
+// ApplySensorFrontEnd of it). The sensor parameters of `params` are not
+// read. Counted once (sim/simulation_count.h), with derivatives if
+// `counted_with_derivatives` (by default where T is a Jet: a Jacobian whose
+// plant has no free parameter integrates it in double). Never throws; a run
+// that goes non-finite has trace.finite false and NaN for the samples it
+// did not reach.
+template <typename T>
+PlantRecord<T> SimulatePlant(const AxisStructure& structure, const AxisParams<T>& params,
+                             const AxisState<T>& y_init, const Drive& drive,
+                             const SimulationOptions& options, const SimulationGrid& grid,
+                             const std::function<void(double)>& progress = nullptr,
+                             bool counted_with_derivatives = !std::is_same_v<T, double>) {
+  internal::CountSimulation(counted_with_derivatives);
+  return internal::Simulation<T>(structure, params, y_init, drive, options, grid, progress).Run();
+}
+
 // Simulates one experiment from initial state y_init on the grid of
 // MakeGrid(). A smooth open-loop input is evaluated at the RK4 stage times;
 // a piecewise-constant one (a held table, a step, zero) is held over each
@@ -654,8 +721,9 @@ Trace<T> Simulate(const AxisStructure& structure, const AxisParams<T>& params,
                   const AxisState<T>& y_init, const Drive& drive,
                   const SimulationOptions& options, const SimulationGrid& grid,
                   const std::function<void(double)>& progress = nullptr) {
-  internal::CountSimulation(!std::is_same_v<T, double>);
-  return internal::Simulation<T>(structure, params, y_init, drive, options, grid, progress).Run();
+  return ApplySensorFrontEnd(
+      structure, params, grid,
+      SimulatePlant(structure, params, y_init, drive, options, grid, progress));
 }
 
 }  // namespace axis

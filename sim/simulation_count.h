@@ -18,7 +18,7 @@ struct SimulationCount {
 SimulationCount SimulationsSoFar();
 
 namespace internal {
-// Called by Simulate once per run. Never throws.
+// Called by SimulatePlant (and so Simulate) once per run. Never throws.
 void CountSimulation(bool with_derivatives);
 }  // namespace internal
 
