@@ -1,5 +1,5 @@
-// The covariance of a fit's estimate: (JᵀJ)⁻¹ of θ by ceres::Covariance
-// (DENSE_SVD), the pseudo-inverse when JᵀJ is rank deficient, and the free
+// The covariance of a fit's estimate: (JᵀJ)⁻¹ of θ as ceres::Covariance's
+// DENSE_SVD computes it, the pseudo-inverse when JᵀJ is rank deficient, and the free
 // parameters in the Jacobian's numerical null space (not determined by the
 // data). Scaled to physical units and by s² in estimation/internal/fitter.cc.
 #ifndef ESTIMATION_COVARIANCE_H_
@@ -12,13 +12,19 @@
 
 namespace axis {
 
-// Covariance (JᵀJ)⁻¹ of the single parameter block `theta` (size n) of
-// `problem` by ceres::Covariance (DENSE_SVD); the pseudo-inverse with the
-// null space dropped if JᵀJ is rank deficient; NaN where neither works or
-// JᵀJ is not finite. *jtj_out (if not null) receives JᵀJ (n×n; empty if
-// the Jacobian could not be evaluated), for NullSpaceMembersOf.
-Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, double* theta, int n,
-                                  int threads, Eigen::MatrixXd* jtj_out);
+// The reciprocal condition number (of JᵀJ) below which the covariance is
+// a pseudo-inverse (ceres::Covariance::Options::min_reciprocal_condition_number).
+constexpr double kMinReciprocalCondition = 1e-14;
+
+// Covariance (JᵀJ)⁻¹ of the single parameter block θ (size n) of
+// `problem` at its current value, as ceres::Covariance's DENSE_SVD computes
+// it (V·S⁻²·Vᵀ from the SVD of the dense Jacobian), from one evaluation of
+// the Jacobian; the pseudo-inverse over the singular values above
+// √kMinReciprocalCondition of the largest if JᵀJ is rank deficient; NaN
+// where the Jacobian cannot be evaluated or is not finite. *jtj_out (if not
+// null) receives JᵀJ (n×n; empty if the Jacobian could not be evaluated),
+// for NullSpaceMembersOf. Never throws but std::bad_alloc.
+Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj_out);
 
 // Free parameters (the first n_free of θ) that lie in the numerical null
 // space of the weighted Jacobian whose JᵀJ over them is `jtj` (n_free ×

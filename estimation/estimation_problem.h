@@ -92,13 +92,20 @@ struct EstimationProblem {
   // (estimation/internal/fitter.cc ChooseChecks), each of which would cost a few
   // hundred simulations on a model about to change.
   bool exploratory = false;
+  // The free parameters' initial values lie next to the minimum (a refit
+  // from a nearby estimate: estimation/full_loop_refit.h): the start runs
+  // as the local restarts do, from Ceres' default trust region (nearly
+  // Gauss–Newton steps) and without the projected line search that costs a
+  // second Jacobian per iteration (estimation/internal/fitter.cc
+  // SetSolverOptions); solver.initial_trust_region_radius is not used.
+  bool start_near_minimum = false;
 };
 
-// The experiment of `list` named `name`, or nullptr. Never throws.
 // The longest output period (s) of the experiments of `problem` that fit
 // channel `c`, 0 if none fits it. Never throws.
 double FittedPeriod(const EstimationProblem& problem, Channel c);
 
+// The experiment of `list` named `name`, or nullptr. Never throws.
 const FitExperiment* FindExperiment(const std::vector<FitExperiment>& list,
                                     const std::string& name);
 

@@ -54,6 +54,7 @@ EstimationProblem FullLoopRefitProblem(const EstimationProblem& problem, const F
   full.solver.starts = 0;
   full.solver.auto_starts = 0;
   full.solver.first_horizon = 0.0;
+  full.start_near_minimum = true;  // the bias-corrected estimate
   for (FreeParameter& f : full.free) {
     for (size_t k = 0; k < check.names.size() && k < check.shift.size(); ++k) {
       if (check.names[k] != f.name || !std::isfinite(check.shift[k])) continue;

@@ -56,7 +56,8 @@ struct FullLoopRefitSettings {
 constexpr double kFullLoopRefitStepSe = 0.05;
 
 // The problem of the refit: WithFullLoop of `problem` at the estimate of
-// `quasi` (AtEstimate), one start, no random starts, no horizon
+// `quasi` (AtEstimate), one start next to the minimum
+// (EstimationProblem::start_near_minimum), no random starts, no horizon
 // continuation; its free parameters start at value − check.shift (clamped
 // to their bounds; a NaN shift leaves the value). With `intervals`
 // kCarried also no probe rounds, no local restarts, Gauss–Newton intervals

@@ -49,6 +49,10 @@ constexpr int kRatioPasses = 3;
 constexpr int kLocalPasses = 3;
 // How often the instant accelerometer's weights may re-solve the fit.
 constexpr int kReweightPasses = 2;
+// The trust region of solves that start next to a minimum (the local
+// restarts, the profile refits, a start_near_minimum problem): Ceres'
+// default, nearly Gauss–Newton steps.
+constexpr double kNearTrustRegionRadius = 1e4;
 
 }  // namespace
 
@@ -182,6 +186,10 @@ void Fitter::SetSolverOptions() {
   // unchanged to every printed digit.
   near_options_ = options_;
   near_options_.max_num_line_search_step_size_iterations = 0;
+  if (job_.start_near_minimum) {
+    options_ = near_options_;
+    options_.initial_trust_region_radius = kNearTrustRegionRadius;
+  }
 }
 
 void Fitter::DrawStarts() {
@@ -787,8 +795,7 @@ void Fitter::EstimateUncertainty() {
     {
       PhaseTimer timer("covariance", p_.counter, &result_);
       cov_theta_ = std::isfinite(best_cost_)
-                       ? CovarianceOfTheta(full_problem_, p_.theta.data(), theta_size_,
-                                           job_.solver.threads, &jtj_at_)
+                       ? CovarianceOfTheta(full_problem_, theta_size_, &jtj_at_)
                        : Eigen::MatrixXd::Constant(theta_size_, theta_size_, kNaN);
       jtj_point_ = p_.theta;
     }
@@ -822,7 +829,7 @@ bool Fitter::LocalRestarts() {
   // data (3 iterations instead of 8–9 on the paper job, the same estimate).
   ceres::Solver::Options o = near_options_;
   o.max_num_iterations = std::min(o.max_num_iterations, 50);
-  o.initial_trust_region_radius = 1e4;
+  o.initial_trust_region_radius = kNearTrustRegionRadius;
   AbsoluteDecreaseStop stop(kLowerAbsolute);
   o.callbacks.push_back(&stop);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov_theta_ * result_.residual_variance);
@@ -910,7 +917,7 @@ bool Fitter::Intervals() {
     const double threshold = 0.5 * t975_ * t975_ * result_.residual_variance;
     ceres::Solver::Options o = near_options_;
     o.max_num_iterations = std::min(o.max_num_iterations, 50);
-    o.initial_trust_region_radius = 1e4;
+    o.initial_trust_region_radius = kNearTrustRegionRadius;
     o.function_tolerance = std::max(o.function_tolerance, 0.01 * t975_ * t975_ / dof_);
     AbsoluteDecreaseStop stop(0.01 * threshold);
     o.callbacks.push_back(&stop);
