@@ -10,50 +10,16 @@
 
 namespace axis {
 
-namespace {
-
-// Ceres' dense matrix type (ceres/internal/eigen.h `Matrix`): the SVD below
-// runs on the same storage order as ceres::Covariance's.
-using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-// The Jacobian of the single parameter block θ (size n) of `problem` at the
-// current θ, dense (m × n), or false if it cannot be evaluated.
-bool DenseJacobian(ceres::Problem* problem, int n, RowMajorMatrix* j) {
-  ceres::CRSMatrix crs;
-  double cost = 0.0;
-  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &crs)) {
-    return false;
-  }
-  *j = RowMajorMatrix::Zero(crs.num_rows, n);
-  for (int row = 0; row < crs.num_rows; ++row) {
-    for (int a = crs.rows[row]; a < crs.rows[row + 1]; ++a) {
-      if (crs.cols[a] < n) (*j)(row, crs.cols[a]) = crs.values[a];
-    }
-  }
-  return true;
-}
-
-}  // namespace
-
 Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj_out) {
   Eigen::MatrixXd out =
       Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::quiet_NaN());
   // One evaluation of the Jacobian serves JᵀJ and the covariance (a
   // ceres::Covariance would evaluate it again: at the full loop's 10 µs a
   // Jacobian costs a second or more).
-  RowMajorMatrix j;
-  const bool evaluated = DenseJacobian(problem, n, &j);
-  Eigen::MatrixXd jtj;
-  if (evaluated) {
-    // Summed row by row in column order, as GaussNewtonMatrix does.
-    jtj = Eigen::MatrixXd::Zero(n, n);
-    for (Eigen::Index row = 0; row < j.rows(); ++row) {
-      for (int a = 0; a < n; ++a) {
-        for (int b = 0; b < n; ++b) jtj(a, b) += j(row, a) * j(row, b);
-      }
-    }
-  }
-  if (jtj_out != nullptr) *jtj_out = evaluated ? jtj : Eigen::MatrixXd();
+  DenseJacobian j;
+  const bool evaluated = EvaluateDenseJacobian(problem, n, &j);
+  const Eigen::MatrixXd jtj = evaluated ? GaussNewtonOf(j) : Eigen::MatrixXd();
+  if (jtj_out != nullptr) *jtj_out = jtj;
   // A Jacobian with non-finite entries (a hypersensitive full-loop record
   // whose sensitivities overflow only in some entries) crashed Eigen's SVD
   // inside ceres::Covariance (SIGSEGV in JacobiSVD::compute, a probe's Y
@@ -64,7 +30,7 @@ Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, Eigen::MatrixX
   // the covariance V·S⁻²·Vᵀ; with a singular value below
   // √kMinReciprocalCondition of the largest, the pseudo-inverse over the
   // singular values above it (Ceres: null_space_rank −1 after 0 failed).
-  Eigen::BDCSVD<RowMajorMatrix> svd(j, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  Eigen::BDCSVD<DenseJacobian> svd(j, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd singular = svd.singularValues();
   if (singular.size() == 0 || !(singular[0] > 0.0)) return out;
   const double min_ratio = std::sqrt(kMinReciprocalCondition);
@@ -73,7 +39,7 @@ Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, Eigen::MatrixX
     if (singular[i] / singular[0] < min_ratio) break;
     inverse_squared[i] = 1.0 / (singular[i] * singular[i]);
   }
-  const RowMajorMatrix c =
+  const DenseJacobian c =  // row-major, as Ceres forms it
       svd.matrixV() * inverse_squared.asDiagonal() * svd.matrixV().transpose();
   out = c;
   return out;

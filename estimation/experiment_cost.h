@@ -231,7 +231,8 @@ class ExperimentCost {
     const AxisParams<P> plant_params = map_.Apply(plant_theta.data());
     const PlantRecord<P> plant =
         SimulatePlant(structure_, plant_params, InitialState(plant_theta.data(), plant_params),
-                      *drive_, experiment_.options, grid_, nullptr, true);
+                      *drive_, experiment_.options, grid_, /*progress=*/nullptr,
+                      /*counted_with_derivatives=*/true);
     const auto lift = [&](const P& x) {
       T y(ScalarValue(x));
       if constexpr (!std::is_same_v<P, double>) {

@@ -11,23 +11,36 @@
 
 namespace axis {
 
-bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj) {
+bool EvaluateDenseJacobian(ceres::Problem* problem, int n, DenseJacobian* j) {
   ceres::CRSMatrix crs;
   double cost = 0.0;
-  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr,
-                         nullptr, &crs)) {
+  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &crs)) {
     return false;
   }
-  *jtj = Eigen::MatrixXd::Zero(n, n);
+  *j = DenseJacobian::Zero(crs.num_rows, n);
   for (int row = 0; row < crs.num_rows; ++row) {
     for (int a = crs.rows[row]; a < crs.rows[row + 1]; ++a) {
-      if (crs.cols[a] >= n) continue;
-      for (int b = crs.rows[row]; b < crs.rows[row + 1]; ++b) {
-        if (crs.cols[b] >= n) continue;
-        (*jtj)(crs.cols[a], crs.cols[b]) += crs.values[a] * crs.values[b];
-      }
+      if (crs.cols[a] < n) (*j)(row, crs.cols[a]) = crs.values[a];
     }
   }
+  return true;
+}
+
+Eigen::MatrixXd GaussNewtonOf(const DenseJacobian& j) {
+  const Eigen::Index n = j.cols();
+  Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index row = 0; row < j.rows(); ++row) {
+    for (Eigen::Index a = 0; a < n; ++a) {
+      for (Eigen::Index b = 0; b < n; ++b) jtj(a, b) += j(row, a) * j(row, b);
+    }
+  }
+  return jtj;
+}
+
+bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj) {
+  DenseJacobian j;
+  if (!EvaluateDenseJacobian(problem, n, &j)) return false;
+  *jtj = GaussNewtonOf(j);
   return true;
 }
 

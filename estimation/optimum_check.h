@@ -13,9 +13,21 @@
 
 namespace axis {
 
-// JᵀJ of the weighted residuals over the first n entries of θ at the
-// current θ (the Gauss–Newton approximation of the cost's Hessian), or false
-// if the Jacobian cannot be evaluated there.
+// A dense Jacobian in Ceres' own storage order (ceres/internal/eigen.h
+// `Matrix`, row-major), as ceres::Covariance's DENSE_SVD builds it.
+using DenseJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// The Jacobian of the weighted residuals over the first n entries of θ at
+// the current θ (m × n; θ is the problem's single parameter block), or
+// false if it cannot be evaluated there.
+bool EvaluateDenseJacobian(ceres::Problem* problem, int n, DenseJacobian* j);
+
+// JᵀJ of `j` (the Gauss–Newton approximation of the cost's Hessian),
+// summed row by row in column order. Never throws but std::bad_alloc.
+Eigen::MatrixXd GaussNewtonOf(const DenseJacobian& j);
+
+// GaussNewtonOf the Jacobian at the current θ (EvaluateDenseJacobian), or
+// false if it cannot be evaluated there.
 bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj);
 
 // The relative function and parameter tolerance of the continuation's
