@@ -79,7 +79,9 @@ ceres::CostFunction* ExperimentCost::Create(const AxisStructure& structure,
                                             const SampleSigmas* sample_sigma) {
   auto* functor = new ExperimentCost(structure, map, experiment, theta_size, state_index,
                                      counter, sample_sigma);
-  // Strides instantiated: each is a full Jet instantiation of the simulator.
+  // Strides instantiated: each is a full Jet instantiation of the simulator
+  // (the plant's narrower Jets in SimulateAt, experiment_cost.h, use the same
+  // widths: keep the two lists alike).
   if (theta_size <= 4) return MakeDynamic<4>(functor, theta_size);
   if (theta_size <= 5) return MakeDynamic<5>(functor, theta_size);
   if (theta_size <= 6) return MakeDynamic<6>(functor, theta_size);

@@ -189,7 +189,7 @@ class ExperimentCost {
   // sensor ones, sim/axis_params.h IsSensorParameter, and this
   // experiment's own initial state), the plant is integrated with Jets of
   // those entries alone (the narrowest of the simulator's instantiated
-  // widths, or in double if none), its derivatives chained to θ's, and the
+  // widths, Create's strides in experiment_cost.cc, or in double if none), its derivatives chained to θ's, and the
   // sensor front end applied in T: the integration's cost grows with the
   // Jet's width, and a discovered front end (a delay, a filter) adds
   // entries that never act on the plant. The same values and derivatives
