@@ -99,6 +99,16 @@ struct EstimationProblem {
   // second Jacobian per iteration (estimation/internal/fitter.cc
   // SetSolverOptions); solver.initial_trust_region_radius is not used.
   bool start_near_minimum = false;
+  // The solve runs without Ceres' projected line search along each
+  // trust-region step (estimation/internal/fitter.cc SetSolverOptions): one
+  // Jacobian per iteration instead of two. For refits that start at an
+  // estimate, or at one with an effect added or a delay freed
+  // (estimation/fit.h AsWarmRefit); unlike start_near_minimum the first
+  // steps stay damped by solver.initial_trust_region_radius (a delay freed
+  // at 0 may sit several samples from its minimum: with Ceres' default
+  // radius the sampling check's refit of a 5-sample delay jumped to another
+  // minimum). start_near_minimum implies it.
+  bool no_line_search = false;
 };
 
 // The longest output period (s) of the experiments of `problem` that fit

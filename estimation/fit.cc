@@ -40,6 +40,7 @@ void AsWarmRefit(EstimationProblem* job) {
   job->solver.probe_rounds = 0;
   job->solver.first_horizon = 0.0;
   job->uncertainty.method = UncertaintySettings::Method::kGaussNewton;
+  job->no_line_search = true;
 }
 
 std::vector<FitResult> FitConcurrently(

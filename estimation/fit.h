@@ -75,8 +75,10 @@ FitResult FitParameters(const EstimationProblem& job, std::ostream* progress = n
 // needs that optimum and its Gauss–Newton covariance. One start, no optimum
 // check (solver.probe_rounds 0), the whole record at once
 // (solver.first_horizon 0: the horizon continuation exists to bring a far
-// start through the gear resonance's phase minima) and Gauss–Newton
-// intervals. The discovery loop's refits use these settings but restore
+// start through the gear resonance's phase minima), Gauss–Newton
+// intervals, and no line search along the solver's steps
+// (EstimationProblem::no_line_search: one Jacobian per iteration, not
+// two). The discovery loop's refits use these settings but restore
 // first_horizon: with an effect added at its score step or removed, the
 // start is not near enough (issue 11: on EMPS the whole record at once
 // ended the Stribeck refit in a minimum 100 BIC higher).

@@ -189,6 +189,8 @@ void Fitter::SetSolverOptions() {
   if (job_.start_near_minimum) {
     options_ = near_options_;
     options_.initial_trust_region_radius = kNearTrustRegionRadius;
+  } else if (job_.no_line_search) {
+    options_.max_num_line_search_step_size_iterations = 0;
   }
 }
 
