@@ -1,6 +1,6 @@
 // A data file read by its name: a MATLAB MAT file if the name ends in
-// ".mat", else a CSV file; both give the same table of named columns
-// (io/data_table.h).
+// ".mat", a JSON log if it ends in ".json", else a CSV file; each gives the
+// same table of named columns (io/data_table.h).
 #ifndef IO_DATA_FILE_H_
 #define IO_DATA_FILE_H_
 
@@ -11,7 +11,8 @@
 namespace axis {
 
 // Reads a data file: a MAT file (ReadMatFile, io/mat_file.h) if `path`
-// ends in ".mat" (any case), else a CSV file (ReadCsv, io/csv.h).
+// ends in ".mat" (any case), a JSON log (ReadJsonLog, io/json_log.h) if it
+// ends in ".json", else a CSV file (ReadCsv, io/csv.h).
 // `time_column` names the time column or variable; only the MAT reader uses
 // it (to know how long a column must be). Throws std::invalid_argument as
 // the reader does.

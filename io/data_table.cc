@@ -19,11 +19,20 @@ std::string DataTable::NameList() const {
 }
 
 std::string DataTable::ColumnWord() const {
-  return format == Format::kMat ? "variable" : "column";
+  switch (format) {
+    case Format::kMat:
+      return "variable";
+    case Format::kJson:
+      return "key";
+    case Format::kCsv:
+      break;
+  }
+  return "column";
 }
 
 std::string DataTable::RowLocation(size_t row) const {
   if (format == Format::kMat) return path + ": sample " + std::to_string(row + 1);
+  if (format == Format::kJson) return path + ": entries[" + std::to_string(row) + "]";
   return path + ":" + std::to_string(row + 2);
 }
 

@@ -18,8 +18,10 @@ namespace axis {
 struct DataTable {
   // The file format, which words the messages: a CSV file has "column"s and
   // its row i is line i + 2 of the file; a MAT file has "variable"s and its
-  // row i is element i + 1 (1-based, as MATLAB counts) of each vector.
-  enum class Format { kCsv, kMat };
+  // row i is element i + 1 (1-based, as MATLAB counts) of each vector; a
+  // JSON log (io/json_log.h) has "key"s and its row i is entries[i]
+  // (0-based, as JSON indexes arrays).
+  enum class Format { kCsv, kMat, kJson };
 
   std::string path;                          // file it was read from
   Format format = Format::kCsv;
@@ -31,6 +33,9 @@ struct DataTable {
   // long as the time variable 't'"). Empty for a CSV file.
   std::vector<std::pair<std::string, std::string>> not_columns;
   std::string column_rule;
+  // JSON logs only: the log's own numbers beside its entries (a BAM log's
+  // `mass`, `length`, `kp`, `vin`, `dt`), in file order. Empty otherwise.
+  std::vector<std::pair<std::string, double>> constants;
 
   // Number of rows (the length of every column); 0 without columns.
   size_t num_rows() const;
@@ -52,10 +57,11 @@ struct DataTable {
   // "t_s, qm_m, ..." (or "(no columns)"), for messages.
   std::string NameList() const;
 
-  // For messages: "column" (CSV) or "variable" (MAT).
+  // For messages: "column" (CSV), "variable" (MAT) or "key" (JSON).
   std::string ColumnWord() const;
   // Where row `row` (0-based) of the data is, for messages: "<path>:<line>"
-  // (line row + 2) for a CSV file, "<path>: sample <row + 1>" for a MAT file.
+  // (line row + 2) for a CSV file, "<path>: sample <row + 1>" for a MAT file,
+  // "<path>: entries[<row>]" for a JSON log.
   std::string RowLocation(size_t row) const;
   // What a column name of this table must be, for an "expected …" message:
   // "a column of <path> (t_s, qm_m, ...)" or "a variable of <path> that is

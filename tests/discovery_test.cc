@@ -536,45 +536,6 @@ TEST(DiscoveryTest, NoFalseDiscoveryOverTenNullSeeds) {
   RecordProperty("false_discoveries", std::to_string(summary.false_discovery.k) + "/10");
 }
 
-// A refit that fails outright from the score step is retried from a tenth
-// of it. Seed 4 of configs/campaigns/power_load_offset.yaml: the base fit is
-// far off (s² = 204), the offset is first by score, and its refit from the
-// score step failed in 0.27 s (no finite BIC), so a stand-in (cogging) took
-// the first step; without the retry the seed's first effect is cogging.
-// That path was seen with the full current loop at 10 µs; the job now fits
-// the quasi-steady loop at 50 µs, whose base fit ends elsewhere (cogging is
-// then first by score and the offset follows in step 2), so the test fits
-// with the full model at 10 µs and refits the top three, as the campaign did
-// (a copy of the job without its `configuration` key, the model
-// path made absolute, `misspecified_tries: 3`), with the library cut to the
-// offset and its stand-in (58 s alone with the whole library, 37 s so); the
-// base fit's random starts are kept: without them it ends where the
-// offset's refit does not fail, and the retry is not exercised (checked:
-// SeedOutcome::retried). Since the full loop's preamp limits are events
-// (sim/switched_rk4.h) the refit that fails from the score step here is the
-// stand-in's (cogging) and the offset's succeeds: the retry is exercised on
-// it, and the seed must still end with the offset alone.
-TEST(DiscoveryTest, FailedRefitIsRetriedFromAShorterStep) {
-  CampaignConfig config = LoadCampaign(kRoot + "/configs/campaigns/power_load_offset.yaml");
-  YAML::Node job = YAML::LoadFile(config.job_path);
-  ASSERT_TRUE(job.remove("configuration") && job.remove("simulation")) << config.job_path;
-  job["simulation"]["step"] = 1.0e-5;  // the path was seen at 10 µs (sim/auto_step.h would
-                                       // choose by the free parameters' ranges)
-  job["model"] = kRoot + "/configs/axes/x_axis.yaml";
-  job["discover"]["misspecified_tries"] = 3;  // the rule of that run
-  job["discover"]["candidates"].push_back("load_offset");
-  job["discover"]["candidates"].push_back("cogging");
-  config.job_path = axis::testing_files::TestTempDir() + "load_offset_full_loop.yaml";
-  std::ofstream(config.job_path) << YAML::Dump(job);
-  const SeedOutcome o = RunCampaignSeed(config, 4, 2);
-  ASSERT_EQ(o.error, "");
-  // A refit failed from the score step and was retried.
-  EXPECT_FALSE(o.retried.empty());
-  EXPECT_EQ(o.first_added, "load_offset");
-  EXPECT_EQ(o.selected, std::vector<std::string>{"load_offset"});
-  EXPECT_EQ(o.verdict, "explained");
-}
-
 // The Stribeck refit starts from one column's own step. Seed 1 of
 // configs/campaigns/power_stribeck.yaml (F_c = 30 N, F_st = 50 N, v_st =
 // 0.05 m/s), with Coulomb friction declared and Stribeck friction the only

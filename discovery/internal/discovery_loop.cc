@@ -749,7 +749,9 @@ size_t DiscoveryLoop::ChooseStart(size_t b, std::vector<FitResult>* own,
 
 // Seen on the power_load_offset campaign (seed 4, s² = 204): the offset,
 // first by score, failed in 0.27 s from its score step and a stand-in
-// (cogging) took the step.
+// (cogging) took the step. Since the refits solve without the projected
+// line search (EstimationProblem::no_line_search) that seed's refits no
+// longer fail from the score step, and no test reaches this path.
 size_t DiscoveryLoop::RetryFromTenth(size_t b, std::vector<FitResult>* own,
                                      DiscoveryStep* record) {
   Pending& q = batch_[b];
