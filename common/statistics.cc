@@ -101,6 +101,13 @@ double FitPercent(const std::vector<double>& y,
   return 100.0 * (1.0 - error / spread);
 }
 
+double MeanAbsError(const std::vector<double>& y, const std::vector<double>& yhat) {
+  CheckPair("MeanAbsError", y, yhat);
+  double sum = 0.0;
+  for (size_t t = 0; t < y.size(); ++t) sum += std::abs(yhat[t] - y[t]);
+  return sum / static_cast<double>(y.size());
+}
+
 double MaxAbsError(const std::vector<double>& y,
                    const std::vector<double>& yhat) {
   CheckPair("MaxAbsError", y, yhat);

@@ -43,6 +43,11 @@ double DifferenceNoiseSd(const std::vector<double>& y);
 double FitPercent(const std::vector<double>& y,
                   const std::vector<double>& yhat);
 
+// Mean absolute error (1/n)·Σ_t |ŷ_t − y_t|, in the channel unit (NaN if a
+// sample is NaN): the score of BAM's rollouts (Duclusaud et al., ICRA
+// 2025; testdata/bam_xl330/README.md). Throws as Rms.
+double MeanAbsError(const std::vector<double>& y, const std::vector<double>& yhat);
+
 // Largest absolute error max_t |ŷ_t − y_t|, in the channel unit (NaN if a
 // sample is NaN). Throws as Rms.
 double MaxAbsError(const std::vector<double>& y,

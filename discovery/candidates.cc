@@ -37,6 +37,7 @@ std::vector<CandidateColumn> ColumnsOf(const std::string& effect,
   if (effect == "cogging") {
     return {{"A_cog", {{"phi_cog", 0.0}}}, {"A_cog", {{"phi_cog", kPi / 2}}}};
   }
+  if (effect == "load_friction") return {{"mu_d", {}}, {"mu_b", {}}};
   if (effect == "sensor_delay") return {{"tau_d." + channel, {}}};
   if (effect == "sensor_bias") return {{"b." + channel, {}}};
   if (effect == "sensor_lowpass") return {{"tau_lp." + channel, {}}};
@@ -46,6 +47,20 @@ std::vector<CandidateColumn> ColumnsOf(const std::string& effect,
     return {{"tau_lp2." + channel, {{"zeta_lp2." + channel, kButterworthDamping}}}};
   }
   return {};
+}
+
+// The largest range of the measured load position x over the job's fitted
+// experiments (m or rad), 0 where none measures x.
+double RecordedTravel(const EstimationProblem& job) {
+  double travel = 0.0;
+  for (const FitExperiment& e : job.experiments) {
+    for (size_t j = 0; j < e.measured_channels.size(); ++j) {
+      if (e.measured_channels[j] != Channel::kX || e.measured[j].empty()) continue;
+      const auto [lo, hi] = std::minmax_element(e.measured[j].begin(), e.measured[j].end());
+      travel = std::max(travel, *hi - *lo);
+    }
+  }
+  return travel;
 }
 
 // The structure with candidate `c` switched on (or off).
@@ -164,6 +179,17 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, EstimationProbl
     p.F_st = p.F_c + s.single_step[start];
     added.push_back(Linear("F_st", p.F_st));
     added.push_back(Positive("v_st", p.v_st, 1e-4, 1.0));
+  } else if (c.effect == "load_friction") {
+    // Coefficients ≥ 0 (a gearbox's loss opposes the motion) from the score
+    // step, searched up to 1 (a loss as large as the force transmitted).
+    for (int k = 0; k < 2; ++k) {
+      const char* name = k == 0 ? "mu_d" : "mu_b";
+      const double value = std::clamp(s.step[k], 0.0, 0.5);
+      *FindParam(&p, name) = value;
+      added.push_back(Linear(name, value));
+      added.back().lower = 0.0;
+      added.back().upper = 1.0;
+    }
   } else if (c.effect == "sensor_delay") {
     // Either sign (a skew between channels), any length: from the step (the
     // score step, or the records' alignment lag where that is longer:
@@ -202,6 +228,7 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, EstimationProbl
   }
   for (FreeParameter& f : added) {
     f.initial = std::clamp(f.initial, f.lower, f.upper);
+    f.unit = ParamUnit(f.name, job->model.structure.motion);
     job->free.push_back(f);
   }
 }
@@ -218,7 +245,7 @@ struct SearchSides {
 };
 SearchSides SearchBoundSides(const FreeParameter& f) {
   if (f.log || f.name == "phi_cog" || f.name == "Delta_B" || f.name == "Delta_M") return {};
-  return {f.name != "F_c" && f.name != "T_c", true};
+  return {f.name != "F_c" && f.name != "T_c" && f.name != "mu_d" && f.name != "mu_b", true};
 }
 
 }  // namespace
@@ -261,6 +288,7 @@ Candidate CandidateNamed(const std::string& name) {
 std::vector<std::string> EffectParameters(const Candidate& c) {
   if (c.effect == "cogging") return {"A_cog", "phi_cog"};
   if (c.effect == "stribeck") return {"F_st", "v_st"};
+  if (c.effect == "load_friction") return {"mu_d", "mu_b"};
   if (c.effect == "sensor_lowpass2") {
     return {c.columns[0].param, "zeta_lp2." + std::string(ChannelName(c.channel))};
   }
@@ -306,7 +334,16 @@ std::vector<Candidate> ListCandidates(const EstimationProblem& job,
     if (job.model.structure.effects.*(e.flag)) continue;
     // Motor-side effects need a motor: force_source has none (MODEL.md §4).
     const std::string name = e.name;
-    if (!has_motor && (name == "motor_coulomb" || name == "cogging")) continue;
+    if (!has_motor && (name == "motor_coulomb" || name == "cogging" || name == "load_friction")) {
+      continue;
+    }
+    // A spring along the travel of a rotary load that turns more than a
+    // revolution in the records has no place to be anchored (a turning
+    // shaft, MODEL.md §4): not a candidate there.
+    if (name == "spring" && job.model.structure.motion == Motion::kRotary &&
+        RecordedTravel(job) > 2.0 * kPi) {
+      continue;
+    }
     // Stribeck refines Coulomb friction ((F_st − F_c)·exp(−(v/v_st)²), MODEL.md
     // §7): a candidate only once Coulomb is in the model (the marginality
     // principle). Without it, its three shape columns also span a Coulomb

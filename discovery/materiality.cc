@@ -72,17 +72,17 @@ Contribution EffectContribution(const std::string& effect, const EstimationProbl
   return out;
 }
 
-std::string NegligibleNote(const std::string& effect, const Contribution& c) {
+std::string NegligibleNote(const std::string& effect, const Contribution& c, Motion motion) {
   const Candidate candidate = CandidateNamed(effect);
   const std::string param = EffectParameters(candidate).front();
   std::ostringstream out;
   out.precision(3);
-  out << effect << " (" << param << " = " << c.value << " " << ParamUnit(param)
+  out << effect << " (" << param << " = " << c.value << " " << ParamUnit(param, motion)
       << ") is significant but negligible: it changes no fitted channel by more than "
       << c.share << "·σ (largest on " << c.channel << "), below " << kMaterialShare << "·σ";
   if (std::isfinite(c.floor)) {
     out << ", and |" << param << "| is below its physical floor " << c.floor << " "
-        << ParamUnit(param);
+        << ParamUnit(param, motion);
   }
   out << "; refitted without it";
   return out.str();
@@ -101,7 +101,7 @@ void DropNegligible(EstimationProblem* job, FitResult* result, DiscoveryReport* 
     auto [record, refit] =
         RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);
     if (!record.stopped.empty() || !std::isfinite(refit.final_cost)) continue;
-    record.negligible = NegligibleNote(candidate.name, c);
+    record.negligible = NegligibleNote(candidate.name, c, job->model.structure.motion);
     record.kept = true;  // removed whatever BIC says
     report->steps.push_back(record);
     report->notes.push_back(record.negligible);

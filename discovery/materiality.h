@@ -61,8 +61,10 @@ Contribution EffectContribution(const std::string& effect, const EstimationProbl
 // "<effect> (<name> = <value> <unit>) is significant but negligible: it
 // changes no fitted channel by more than <share>·σ (largest on <channel>),
 // below 0.25·σ, and <value> is below its floor <floor>" — the note for a
-// negligible effect. Never throws.
-std::string NegligibleNote(const std::string& effect, const Contribution& c);
+// negligible effect, the units those of an axis moving as `motion`
+// (ParamUnit). Never throws.
+std::string NegligibleNote(const std::string& effect, const Contribution& c,
+                           Motion motion = Motion::kLinear);
 
 // The rule on its own, after the significance rule: each effect of
 // report->selected (the last first; the accelerometer's convention step

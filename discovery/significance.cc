@@ -57,6 +57,14 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
       const double var_phi = covariance("phi_cog", "phi_cog");
       if (var_phi > 0.0) var -= covariance("A_cog", "phi_cog") * covariance("A_cog", "phi_cog") / var_phi;
       chi2 = e->value * e->value / var;
+    } else if (base == "load_friction") {
+      // Both directions' coefficients against 0 jointly: xᵀ·Σ⁻¹·x, dof 2.
+      w.dof = 2;
+      const ParameterEstimate* back = estimate("mu_b");
+      const double x = e->value, y = back != nullptr ? back->value : 0.0;
+      const double a = covariance("mu_d", "mu_d"), d = covariance("mu_b", "mu_b");
+      const double b = covariance("mu_d", "mu_b");
+      chi2 = (d * x * x - 2.0 * b * x * y + a * y * y) / (a * d - b * b);
     } else {
       chi2 = e->value * e->value / covariance(p, p);
     }

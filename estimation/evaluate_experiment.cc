@@ -30,7 +30,7 @@ ExperimentFit EvaluateExperiment(const AxisStructure& structure,
     const Channel c = e.measured_channels[j];
     ChannelFit f;
     f.channel = ChannelName(c);
-    f.unit = ChannelUnit(c);
+    f.unit = ChannelUnit(c, structure.motion == Motion::kRotary);
     for (const FittedChannel& fc : e.fitted) {
       if (fc.channel == c) {
         f.fitted = true;
@@ -42,7 +42,7 @@ ExperimentFit EvaluateExperiment(const AxisStructure& structure,
     if (f.simulated.size() > f.measured.size()) f.simulated.resize(f.measured.size());
     if (!trace.finite) {
       const double nan = std::numeric_limits<double>::quiet_NaN();
-      f.rms = f.fit_percent = f.max_error = f.relative_error_percent = nan;
+      f.rms = f.fit_percent = f.max_error = f.mae = f.relative_error_percent = nan;
       f.ljung_box_q = f.ljung_box_p = nan;
       out.channels.push_back(f);
       continue;
@@ -54,6 +54,7 @@ ExperimentFit EvaluateExperiment(const AxisStructure& structure,
     f.rms = Rms(f.measured, f.simulated);
     f.fit_percent = FitPercent(f.measured, f.simulated);
     f.max_error = MaxAbsError(f.measured, f.simulated);
+    f.mae = MeanAbsError(f.measured, f.simulated);
     f.relative_error_percent = RelativeErrorPercent(f.measured, f.simulated);
     const int lags = std::min<int>(20, static_cast<int>(residual.size()) - 2);
     const LjungBox lb = LjungBoxTest(residual, lags);

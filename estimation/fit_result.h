@@ -63,6 +63,7 @@ struct ChannelFit {
   double rms = 0.0;        // sqrt(mean((ŷ − y)²)), channel unit
   double fit_percent = 0.0;  // NRMSE fit: 100·(1 − ‖y − ŷ‖/‖y − mean(y)‖)
   double max_error = 0.0;  // max |ŷ − y|
+  double mae = 0.0;        // mean |ŷ − y| (MeanAbsError), channel unit
   double relative_error_percent = 0.0;  // 100·‖ŷ − y‖/‖y‖ (EMPS measure)
   double ljung_box_q = 0.0;   // Ljung–Box statistic of the residual
   int ljung_box_lags = 20;

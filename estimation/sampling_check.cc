@@ -66,7 +66,7 @@ EstimationProblem WithConventionAndDelays(const EstimationProblem& job, const Fi
     out.model.params.tau_d[k] = far ? lag : 0.0;
     FreeParameter f;
     f.name = std::string("tau_d.") + channel;
-    f.unit = ParamUnit(f.name);
+    f.unit = ParamUnit(f.name, out.model.structure.motion);
     f.initial = far ? lag : 0.0;
     f.lower = far ? lag - 2.0 * period[k] : -period[k];
     f.upper = far ? lag + 2.0 * period[k] : period[k];

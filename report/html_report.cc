@@ -693,7 +693,9 @@ std::string DataHtml(const HtmlReportInput& input) {
         }
         for (const FittedChannel& f : e.fitted) {
           fitted += (fitted.empty() ? "" : ", ") + std::string(ChannelName(f.channel)) + " (" +
-                    Number(f.sigma, 4) + " " + ChannelUnit(f.channel) + ")";
+                    Number(f.sigma, 4) + " " +
+                    ChannelUnit(f.channel, input.job->model.structure.motion == Motion::kRotary) +
+                    ")";
         }
         const double end = e.t.empty() ? e.t_offset : e.t_offset + e.t.back();
         t.rows.push_back({Text(e.name), Text(e.role), Html("<span class=\"mono\">" +

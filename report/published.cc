@@ -26,7 +26,7 @@ PublishedComparison ComparePublished(const EstimationProblem& job, const FitResu
   for (const std::string& name : reference.parameters) {
     ParameterComparison p;
     p.name = name;
-    p.unit = ParamUnit(name);
+    p.unit = ParamUnit(name, job.model.structure.motion);
     p.published = *FindParam(&published, name);
     p.fitted = kNaN;
     p.std_error = kNaN;
@@ -52,6 +52,7 @@ PublishedComparison ComparePublished(const EstimationProblem& job, const FitResu
         row.channel = c.channel;
         row.published_percent = c.relative_error_percent;
         row.published_rms = c.rms;
+        row.published_mae = c.mae;
         row.fitted_percent = row.fitted_rms = kNaN;
         if (fitted) {
           for (const ChannelFit& f : fitted->channels) {

@@ -34,6 +34,7 @@ struct ChannelComparison {
   double quoted_percent = 0.0;      // the source's figure, NaN if none
   double fitted_rms = 0.0;          // this fit's RMS error (channel unit)
   double published_rms = 0.0;       // the published model's, simulated here
+  double published_mae = 0.0;       // its mean absolute error (ChannelFit::mae)
 };
 
 struct PublishedComparison {

@@ -496,6 +496,7 @@ Json ChannelJson(const ChannelFit& c) {
   ch["rms"] = JsonNumber<Json>(c.rms);
   ch["fit_percent"] = JsonNumber<Json>(c.fit_percent);
   ch["max_error"] = JsonNumber<Json>(c.max_error);
+  ch["mae"] = JsonNumber<Json>(c.mae);
   ch["relative_error_percent"] = JsonNumber<Json>(c.relative_error_percent);
   ch["ljung_box_q"] = JsonNumber<Json>(c.ljung_box_q);
   ch["ljung_box_lags"] = c.ljung_box_lags;

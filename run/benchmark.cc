@@ -58,9 +58,14 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// A figure of `column` from a channel's RMS error and relative error.
-double Figure(const BenchmarkColumn& column, double rms, double relative_error_percent) {
-  return column.scale * (column.measure == "rms" ? rms : relative_error_percent);
+// A figure of `column` from a channel's RMS error, relative error and mean
+// absolute error.
+double Figure(const BenchmarkColumn& column, double rms, double relative_error_percent,
+              double mae) {
+  const double value = column.measure == "rms"   ? rms
+                       : column.measure == "mae" ? mae
+                                                 : relative_error_percent;
+  return column.scale * value;
 }
 
 // The column's figure in `fit`, NaN if the experiment or channel is absent.
@@ -68,14 +73,18 @@ double ColumnValue(const BenchmarkColumn& column, const std::vector<ExperimentFi
   for (const ExperimentFit& e : fits) {
     if (e.name != column.experiment) continue;
     for (const ChannelFit& c : e.channels) {
-      if (c.channel == column.channel) return Figure(column, c.rms, c.relative_error_percent);
+      if (c.channel == column.channel) {
+        return Figure(column, c.rms, c.relative_error_percent, c.mae);
+      }
     }
   }
   return kNaN;
 }
 
 std::string ColumnLabel(const BenchmarkColumn& c) {
-  const std::string what = c.measure == "rms" ? "RMS" : "rel. error";
+  const std::string what = c.measure == "rms"   ? "RMS"
+                           : c.measure == "mae" ? "MAE"
+                                                : "rel. error";
   return c.experiment + " " + c.channel + " " + what + " (" + c.unit + ")";
 }
 
@@ -108,7 +117,7 @@ BenchmarkTable MakeBenchmarkTable(const BenchmarkSettings& settings,
       double value = kNaN;
       for (const ChannelComparison& r : p.channels) {
         if (r.experiment != c.experiment || r.channel != c.channel) continue;
-        value = Figure(c, r.published_rms, r.published_percent);
+        value = Figure(c, r.published_rms, r.published_percent, r.published_mae);
       }
       row.values.push_back(value);
     }

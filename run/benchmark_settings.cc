@@ -19,7 +19,7 @@ namespace {
 BenchmarkColumn ParseColumn(const YamlMap& map, const YAML::Node& columns, size_t k,
                             const std::string& path,
                             const std::vector<FitExperiment>& experiments,
-                            const std::vector<FitExperiment>& validate) {
+                            const std::vector<FitExperiment>& validate, bool rotary) {
   const std::string prefix = map.KeyPath("columns[" + std::to_string(k) + "]");
   YamlMap entry(columns[k], path, prefix + ".");
   BenchmarkColumn c;
@@ -49,7 +49,7 @@ BenchmarkColumn ParseColumn(const YamlMap& map, const YAML::Node& columns, size_
                          Join(names, ", ") + ")",
                      "'" + c.channel + "'");
   }
-  c.measure = entry.Choice("measure", {"rms", "relative_error_percent"}, "rms");
+  c.measure = entry.Choice("measure", {"rms", "mae", "relative_error_percent"}, "rms");
   c.scale = entry.Number("scale", 1.0, YamlMap::Range::kFinitePositive);
   if (c.scale != 1.0 && !entry.Has("unit")) {
     ThrowConfigError(path, entry.Optional("scale"), entry.KeyPath("unit"),
@@ -57,7 +57,9 @@ BenchmarkColumn ParseColumn(const YamlMap& map, const YAML::Node& columns, size_
                      "scale is not 1",
                      "none");
   }
-  c.unit = entry.String("unit", c.measure == "rms" ? ChannelUnit(*channel) : "%");
+  c.unit = entry.String("unit", c.measure == "relative_error_percent"
+                                    ? "%"
+                                    : ChannelUnit(*channel, rotary));
   entry.Finish();
   return c;
 }
@@ -65,7 +67,8 @@ BenchmarkColumn ParseColumn(const YamlMap& map, const YAML::Node& columns, size_
 // `benchmark.columns` (required, a non-empty list).
 void ParseColumns(YamlMap& map, const std::string& path,
                   const std::vector<FitExperiment>& experiments,
-                  const std::vector<FitExperiment>& validate, BenchmarkSettings* out) {
+                  const std::vector<FitExperiment>& validate, bool rotary,
+                  BenchmarkSettings* out) {
   const YAML::Node columns = map.Required("columns");
   if (!columns.IsSequence() || columns.size() == 0) {
     ThrowConfigError(path, columns, map.KeyPath("columns"),
@@ -73,7 +76,7 @@ void ParseColumns(YamlMap& map, const std::string& path,
                      Describe(columns));
   }
   for (size_t k = 0; k < columns.size(); ++k) {
-    out->columns.push_back(ParseColumn(map, columns, k, path, experiments, validate));
+    out->columns.push_back(ParseColumn(map, columns, k, path, experiments, validate, rotary));
   }
 }
 
@@ -171,11 +174,12 @@ void ParseQuoted(YamlMap& map, const std::string& path, BenchmarkSettings* out) 
 
 void ParseBenchmark(const YAML::Node& node, const std::string& path,
                     const std::vector<FitExperiment>& experiments,
-                    const std::vector<FitExperiment>& validate, BenchmarkSettings* out) {
+                    const std::vector<FitExperiment>& validate, BenchmarkSettings* out,
+                    bool rotary) {
   YamlMap map(node, path, "benchmark.");
   out->present = true;
   out->title = map.String("title");
-  ParseColumns(map, path, experiments, validate, out);
+  ParseColumns(map, path, experiments, validate, rotary, out);
   ParseCriteria(map, path, experiments, out);
   ParseQuoted(map, path, out);
   map.Finish();

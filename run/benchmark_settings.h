@@ -24,7 +24,9 @@ struct FitExperiment;  // estimation/estimation_problem.h
 struct BenchmarkColumn {
   std::string experiment;
   std::string channel;
-  std::string measure = "rms";  // "rms" (channel unit × scale) or "relative_error_percent"
+  // "rms", "mae" (mean absolute error; both channel unit × scale) or
+  // "relative_error_percent"
+  std::string measure = "rms";
   double scale = 1.0;           // finite > 0
   std::string unit;             // label of the scaled unit, e.g. "mm"; "%" for relative errors
 };
@@ -67,10 +69,13 @@ struct BenchmarkSettings {
 // leaves out an experiment with `initial_state: estimate` (its state is
 // fitted, so it cannot be only simulated), a repeated name, a criterion
 // named benchmark.md or benchmark.json (the table's files), a `scale` other
-// than 1 without its `unit`, a quoted `experiment` no column names.
+// than 1 without its `unit`, a quoted `experiment` no column names. A
+// column's unit defaults to its channel's on a linear axis, or on a rotary
+// one if `rotary` (ChannelUnit, sim/channels.h).
 void ParseBenchmark(const YAML::Node& node, const std::string& path,
                     const std::vector<FitExperiment>& experiments,
-                    const std::vector<FitExperiment>& validate, BenchmarkSettings* out);
+                    const std::vector<FitExperiment>& validate, BenchmarkSettings* out,
+                    bool rotary = false);
 
 
 

@@ -123,6 +123,8 @@ class JobPipeline {
   // explain a sampling misfit by plant effects.
   void CheckTheAccelerometerSampling() {
     if (result_.abandoned_horizon != 0.0) return;
+    // No accelerometer fitted: nothing to check or say.
+    if (!(FittedPeriod(run_.job.problem, Channel::kA) > 0.0)) return;
     Stage("checking the accelerometer's sampling convention");
     try {
       run_.sampling_check = CheckAccelerometerSampling(run_.job.problem, result_);

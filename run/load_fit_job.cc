@@ -516,10 +516,19 @@ void ExperimentParser::ParseDrive() {
   } else {
     ParseClosedLoop();
   }
-  if (has_input && map_.Has("controller")) {
-    ThrowConfigError(map_.file(), map_.Optional("controller"), map_.KeyPath("controller"),
-                     "a controller only with 'reference' (closed loop)",
-                     "a controller in an open-loop experiment ('input')");
+  for (const char* key : {"controller", "supply"}) {
+    if (has_input && map_.Has(key)) {
+      ThrowConfigError(map_.file(), map_.Optional(key), map_.KeyPath(key),
+                       std::string("a ") + key + " only with 'reference' (closed loop)",
+                       std::string("a ") + key + " in an open-loop experiment ('input')");
+    }
+  }
+  // MODEL.md §4 drive enable: on where the signal is ≥ 0.5.
+  if (const YAML::Node node = map_.Optional("enable")) {
+    CheckDriveEnable(model_.structure, map_, node, "enable");
+    YamlMap enable(node, map_.file(), map_.KeyPath("enable."));
+    e_.drive.enable = DriveSignal(enable);
+    e_.drive.has_enable = true;
   }
 }
 
@@ -544,6 +553,10 @@ void ExperimentParser::ParseClosedLoop() {
     YamlMap inj(node, map_.file(), map_.KeyPath("injection."));
     e_.drive.injection = DriveSignal(inj);
     e_.drive.has_injection = true;
+  }
+  if (map_.Has("supply")) {
+    e_.drive.supply = ParseSupply(map_, [this](YamlMap& m) { return DriveSignal(m); });
+    e_.drive.has_supply = true;
   }
 }
 
@@ -665,7 +678,8 @@ FitJob FitJobParser::Parse() {
     ReadPublishedReference(node, path_, job_.problem, &job_.published);
   }
   if (const YAML::Node node = root_.Optional("benchmark")) {
-    ParseBenchmark(node, path_, job_.problem.experiments, job_.problem.validate, &job_.benchmark);
+    ParseBenchmark(node, path_, job_.problem.experiments, job_.problem.validate, &job_.benchmark,
+                   job_.problem.model.structure.motion == Motion::kRotary);
   }
   root_.Finish();
   return std::move(job_);
@@ -749,7 +763,7 @@ FreeParameter FitJobParser::ParseFreeParameter(YamlMap& free, const YAML::Node& 
   };
   FreeParameter f;
   f.name = name;
-  f.unit = ParamUnit(name);
+  f.unit = ParamUnit(name, job_.problem.model.structure.motion);
   f.initial = spec.Has("initial") ? in_range("initial", spec.Number("initial")) : *field;
   f.lower = in_range("lower", spec.Number("lower"));
   f.upper = in_range("upper", spec.Number("upper"));

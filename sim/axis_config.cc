@@ -22,7 +22,9 @@ namespace {
 using Range = YamlMap::Range;
 
 const std::vector<std::string> kAmplifiers = {
-    "analog_velocity_loop", "current_source", "force_source"};
+    "analog_velocity_loop", "current_source", "force_source", "voltage_drive"};
+const std::vector<std::string> kMotions = {"linear", "rotary"};
+const std::vector<std::string> kLoads = {"none", "gravity", "pendulum"};
 const std::vector<std::string> kCouplings = {"gear", "rigid"};
 const std::vector<std::string> kAccelerometer = {"period_mean", "instant"};
 const std::vector<std::string> kCurrentLoops = {"full", "quasi_steady"};
@@ -30,6 +32,7 @@ const std::vector<std::string> kCurrentLoops = {"full", "quasi_steady"};
 Amplifier ParseAmplifier(const std::string& s) {
   if (s == "current_source") return Amplifier::kCurrentSource;
   if (s == "force_source") return Amplifier::kForceSource;
+  if (s == "voltage_drive") return Amplifier::kVoltageDrive;
   return Amplifier::kAnalogVelocityLoop;
 }
 
@@ -53,6 +56,8 @@ std::vector<std::string> RequiredParams(const AxisStructure& s) {
   const bool force = s.amplifier == Amplifier::kForceSource;
   if (force) {
     out.push_back("g_F");
+  } else if (s.amplifier == Amplifier::kVoltageDrive) {
+    for (const char* n : {"r_g", "J_m", "B_m", "K_tau", "K_e", "R"}) out.push_back(n);
   } else {
     for (const char* n : {"r_g", "J_m", "B_m", "K_tau", "K_t", "T_z", "T_p",
                           "T_r", "K1", "K2", "K_i", "V_L"}) {
@@ -64,6 +69,11 @@ std::vector<std::string> RequiredParams(const AxisStructure& s) {
   }
   if (s.coupling == Coupling::kGear) {
     for (const char* n : {"H", "k_g", "b_g"}) out.push_back(n);
+  }
+  if (s.load == LoadTerm::kGravity) out.push_back("m_g");
+  if (s.load == LoadTerm::kPendulum) {
+    out.push_back("m_p");
+    out.push_back("l_p");
   }
   return out;
 }
@@ -182,9 +192,9 @@ Channel ChannelOrThrow(const std::string& name, const YamlMap& map,
 Range ParamRange(const std::string& name) {
   static const std::set<std::string> positive = {
       "L", "J_m", "r_g", "M", "T_p", "T_r", "K_i", "V_M", "K_a",
-      "w", "v_eps", "omega_eps", "v_st"};
+      "w", "v_eps", "omega_eps", "v_st", "delta_st"};
   static const std::set<std::string> non_negative = {
-      "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M"};
+      "R", "B_m", "H", "T_z", "B_a", "b_g", "k_g", "F_s", "Delta_M", "m_g", "m_p", "l_p", "mu_d", "mu_b"};
   if (name == "w_pt" || name == "lambda_rp" || name == "w_vb") return Range::kFinitePositive;
   if (name == "v_vb") return Range::kNonNegative;
   if (name == "V_L") return Range::kPositiveOrInfinite;  // .inf: no preamp limit
@@ -242,6 +252,10 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
       ThrowConfigError(effects.file(), body.Optional("x_pt1"), body.KeyPath("x_pt1"),
                        "a patch end above x_pt0", got.str());
     }
+    if (name == "stribeck") {
+      config->params.delta_st =
+          body.Number("delta_st", config->params.delta_st, ParamRange("delta_st"));
+    }
     if (name == "cogging") {
       config->structure.N_cog =
           static_cast<int>(body.Integer("N_cog", config->structure.N_cog, 1, 10000));
@@ -271,6 +285,26 @@ void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
                                         "> 0 and at most 1, got " +
                                 NumberText(config.structure.instant_window));
   }
+  const AxisStructure& s = config.structure;
+  if (s.amplifier == Amplifier::kVoltageDrive && !(config.params.R > 0.0)) {
+    throw std::invalid_argument(where + ": parameter 'R': expected a winding resistance > 0 "
+                                        "with amplifier voltage_drive (i = (U - K_e*omega)/R), "
+                                        "got " + NumberText(config.params.R));
+  }
+  if (s.effects.load_friction && s.amplifier == Amplifier::kForceSource) {
+    throw std::invalid_argument(where + ": key 'effects.load_friction': expected a drive with a "
+                                        "motor (its current makes the force the gearbox "
+                                        "transmits), got amplifier force_source");
+  }
+  if (s.load == LoadTerm::kPendulum && s.motion != Motion::kRotary) {
+    throw std::invalid_argument(where + ": key 'load': expected motion: rotary with a pendulum "
+                                        "(its angle is the load's position), got motion: linear");
+  }
+  if (s.load == LoadTerm::kGravity && s.motion != Motion::kLinear) {
+    throw std::invalid_argument(where + ": key 'load': expected motion: linear with gravity (a "
+                                        "vertical axis lifting m_g; a rotary joint under gravity "
+                                        "is load: pendulum), got motion: rotary");
+  }
   if (config.structure.current_loop == CurrentLoop::kQuasiSteady &&
       config.structure.amplifier != Amplifier::kAnalogVelocityLoop) {
     throw std::invalid_argument(
@@ -299,6 +333,12 @@ AxisConfig ParseAxisConfig(const YAML::Node& document, const std::string& path) 
       ParseAccelerometer(root.Choice("accelerometer", kAccelerometer, "period_mean"));
   config.structure.instant_window =
       root.Number("instant_window", config.structure.instant_window, YamlMap::Range::kPositive);
+  config.structure.motion =
+      root.Choice("motion", kMotions, "linear") == "rotary" ? Motion::kRotary : Motion::kLinear;
+  const std::string load = root.Choice("load", kLoads, "none");
+  config.structure.load = load == "gravity"    ? LoadTerm::kGravity
+                          : load == "pendulum" ? LoadTerm::kPendulum
+                                               : LoadTerm::kNone;
   YamlMap params(root.Required("parameters"), path, "parameters.");
   ParseParameters(params, &config);
   if (const YAML::Node effects = root.Optional("effects")) {

@@ -40,8 +40,9 @@ struct AxisConfig {
 };
 
 // Loads a model config. Throws std::invalid_argument as described above,
-// including for non-positive M, J_m, L, T_p, T_r, r_g, K_i and for
-// amplifier: force_source without coupling: rigid.
+// including for non-positive M, J_m, L, T_p, T_r, r_g, K_i, a voltage drive
+// with R ≤ 0, a pendulum on a linear axis or gravity on a rotary one, and
+// for amplifier: force_source without coupling: rigid.
 AxisConfig LoadAxisConfig(const std::string& path);
 
 // As LoadAxisConfig, from a parsed YAML document; `path` names it in

@@ -137,8 +137,9 @@ constexpr double kQuasiSteadyCurrentRate = 2.0e4;
 // every product and quotient costs as much as the state arithmetic itself.
 template <typename T>
 struct AxisCoefficients {
-  Coefficient<T> inv_mass;       // 1/(M + ΔM) (ΔM only with payload)
-  Coefficient<T> B_a_per_mass;   // B_a/(M + ΔM)
+  Coefficient<T> inv_mass;       // 1/(M + ΔM + m_p·l_p²) (ΔM only with payload,
+                                 // m_p·l_p² only with the pendulum load)
+  Coefficient<T> B_a_per_mass;   // B_a/(M + ΔM + m_p·l_p²)
   Coefficient<T> K_tau_per_J;    // K_τ/J_m
   Coefficient<T> B_m_per_J;      // B_m/J_m
   Coefficient<T> r_g_per_J;      // r_g/J_m
@@ -146,6 +147,7 @@ struct AxisCoefficients {
   Coefficient<T> K_a_per_K_i;    // K_a/K_i
   Coefficient<T> inv_L;          // 1/L
   Coefficient<T> R_per_L;        // R/L
+  Coefficient<T> inv_R;          // 1/R (voltage_drive)
   Coefficient<T> K_e_per_L;      // K_e/L
   // CurrentLoop::kQuasiSteady only (zero otherwise): the quasi-steady
   // current i_qs = K_a_loop·V_c − K_e_loop·ω and its relaxation rate κ.
@@ -165,6 +167,11 @@ struct AxisCoefficients {
   Coefficient<T> r_g;            // gear radius r_g (eq. 4–5)
   Coefficient<T> k_g;            // gear stiffness k_g (eq. 5)
   Coefficient<T> b_g;            // gear friction b_g (eq. 5)
+  // The load terms of §4: the lifted weight m_g·g (N) and the pendulum's
+  // m_p·g·l_p (N·m); zero where the model has none.
+  Coefficient<T> weight;
+  Coefficient<T> pendulum;
+  Coefficient<T> delta_st;       // the Stribeck exponent δ (§7)
   // MODEL.md §7 force_map (if enabled): the spline's second derivatives at
   // its knots (ForceMapSecondDerivatives, sim/force_map.h), N/unit².
   std::array<T, kMaxForceMapKnots> f_map_m{};
@@ -176,7 +183,8 @@ AxisCoefficients<T> MakeAxisCoefficients(const AxisStructure& structure,
                                          const AxisParams<T>& p) {
   using C = Coefficient<T>;
   AxisCoefficients<T> c;
-  const T mass = structure.effects.payload ? T(p.M + p.Delta_M) : p.M;
+  T mass = structure.effects.payload ? T(p.M + p.Delta_M) : p.M;
+  if (structure.load == LoadTerm::kPendulum) mass += p.m_p * p.l_p * p.l_p;
   const T inv_mass = T(1.0) / mass;
   const T inv_J_m = T(1.0) / p.J_m;
   const T inv_L = T(1.0) / p.L;
@@ -191,6 +199,7 @@ AxisCoefficients<T> MakeAxisCoefficients(const AxisStructure& structure,
   c.inv_L = C(inv_L);
   c.R_per_L = C(p.R * inv_L);
   c.K_e_per_L = C(p.K_e * inv_L);
+  c.inv_R = C(T(1.0) / p.R);
   if (structure.current_loop == CurrentLoop::kQuasiSteady) {
     const T inv_loop = T(1.0) / (p.K_a / p.K_i + p.R);
     c.K_a_loop = C(p.K_a * inv_loop);
@@ -209,6 +218,11 @@ AxisCoefficients<T> MakeAxisCoefficients(const AxisStructure& structure,
   c.r_g = C(p.r_g);
   c.k_g = C(p.k_g);
   c.b_g = C(p.b_g);
+  if (structure.load == LoadTerm::kGravity) c.weight = C(p.m_g * kStandardGravity);
+  if (structure.load == LoadTerm::kPendulum) {
+    c.pendulum = C(p.m_p * kStandardGravity * p.l_p);
+  }
+  c.delta_st = C(p.delta_st);
   if (structure.force_map.enabled) {
     ForceMapSecondDerivatives(structure.force_map.knots, p.f_map, &c.f_map_m);
   }
@@ -221,10 +235,26 @@ inline bool AnyLoadEffect(const AxisStructure& s) {
   const EffectSwitches& e = s.effects;
   return e.coulomb || e.stribeck || e.viscous_asymmetry || e.load_offset ||
          e.spring || e.friction_patch || e.quadratic_drag || e.position_ripple ||
-         e.velocity_bump || s.force_map.enabled;
+         e.velocity_bump || s.force_map.enabled || s.load != LoadTerm::kNone;
 }
 
-// The load-side force opposing the motion (N): static friction eq. 6 and
+// The Stribeck term's shape exp(−|v/v_st|^δ) (MODEL.md §7): the Gaussian
+// exp(−(v/v_st)²) where δ is a constant 2 (the default), else through pow,
+// 1 at v = 0 (where pow's derivative in δ, log 0, is not defined).
+template <typename T>
+T StribeckShape(const AxisParams<T>& p, const AxisCoefficients<T>& c, const T& v) {
+  using std::abs;
+  using std::exp;
+  using std::pow;
+  const T r = v / p.v_st;
+  if (c.delta_st.constant && c.delta_st.plain == 2.0) return exp(-r * r);
+  const T a = abs(r);
+  if (ScalarValue(a) == 0.0) return T(1.0);
+  return exp(-pow(a, p.delta_st));
+}
+
+// The load-side force opposing the motion (N, or N·m on a rotary axis):
+// static friction eq. 6, the load term of §4 (a weight, a pendulum) and
 // the §7 force effects, with the generator-only forces; *any false (and
 // zero) where the structure has none.
 template <typename T>
@@ -244,15 +274,16 @@ T LoadForce(const AxisStructure& structure, const AxisParams<T>& p,
   if (e.coulomb || e.stribeck || e.viscous_asymmetry) {
     const T sgn = tanh(v / p.v_eps);
     if (e.coulomb) f_load += p.F_c * sgn;
-    if (e.stribeck) {
-      const T r = v / p.v_st;
-      f_load += (p.F_st - p.F_c) * exp(-r * r) * sgn;
-    }
+    if (e.stribeck) f_load += (p.F_st - p.F_c) * StribeckShape(p, c, v) * sgn;
     if (e.viscous_asymmetry) {
       f_load += p.Delta_B * v * (T(1.0) - sgn) * 0.5;
     }
   }
   if (e.load_offset) f_load += p.F_0;
+  // §4 load terms: the weight of a vertical axis's load (x upwards) and the
+  // pendulum's gravity torque, restoring towards x = −θ_p.
+  if (structure.load == LoadTerm::kGravity) f_load += c.weight.value;
+  if (structure.load == LoadTerm::kPendulum) f_load += c.pendulum * T(sin(x + p.theta_p));
   if (e.spring) f_load += p.k_x * (x - p.x_0);
   // Generator-only forces (outside MODEL.md §7; sim/axis_params.h). The
   // patch's window rises from 0 to 1 over ±2·w_pt around x_pt0 and falls
@@ -284,6 +315,23 @@ T LoadForce(const AxisStructure& structure, const AxisParams<T>& p,
   return f_load;
 }
 
+// MODEL.md §7 load_friction: a gearbox's friction that grows with the force
+// (or torque) F it transmits to the load, F = K_τ·i/r_g (the drive's force
+// at the load: the motor's inertia and friction neglected), opposing the
+// motion: s·(μ_d·(|F| + F·s) + μ_b·(|F| − F·s))/2 with s = sgn_ε(v): μ_d·|F|
+// where the motor drives the load (F·v > 0), μ_b·|F| where the load drives
+// the motor; continuous where F changes sign (both parts vanish with F).
+template <typename T>
+T LoadDependentFriction(const AxisParams<T>& p, const AxisCoefficients<T>& c, const T& v,
+                        const T& i) {
+  using std::abs;
+  using std::tanh;
+  const T s = tanh(v / p.v_eps);
+  const T f = c.inv_r_g * T(p.K_tau * i);
+  const T a = abs(f);
+  return s * (p.mu_d * (a + f * s) + p.mu_b * (a - f * s)) * 0.5;
+}
+
 // The motor-side torque effects (N·m): motor Coulomb friction and cogging.
 template <typename T>
 T MotorTorque(const AxisStructure& structure, const AxisParams<T>& p, const T& theta,
@@ -305,17 +353,33 @@ struct AmplifierSignals {
   T i, vc, vm;
 };
 
-// The amplifier (eq. 2, y4–y5; eq. 3, y6 under the full current loop):
-// writes dy[4..6] (dy[6] = 0 under the quasi-steady loop, QuasiSteadyCurrent
-// sets it after ω') and *preamp where it is kFromState.
+// The amplifier (eq. 2, y4–y5; eq. 3, y6 under the full current loop; the
+// voltage drive of §4): writes dy[4..6] (dy[6] = 0 under the quasi-steady
+// loop, QuasiSteadyCurrent sets it after ω') and *preamp where it is
+// kFromState. With the drive off (`drive_on` false, §4 drive enable) a
+// voltage drive or a current source passes no current; the analog loop
+// ignores it (the loaders refuse an enable channel there).
 template <typename T>
 AmplifierSignals<T> AmplifierDerivative(const AxisStructure& structure,
                                         const AxisParams<T>& p, const AxisCoefficients<T>& c,
                                         const AxisState<T>& y, const T& u, const T& omega,
-                                        PreampRegion* preamp, AxisState<T>* dy) {
+                                        bool drive_on, PreampRegion* preamp, AxisState<T>* dy) {
   AmplifierSignals<T> out{T(0.0), T(0.0), T(0.0)};
   if (structure.amplifier == Amplifier::kForceSource) {
     (*dy)[4] = (*dy)[5] = (*dy)[6] = T(0.0);
+    return out;
+  }
+  if (structure.amplifier == Amplifier::kVoltageDrive) {
+    // U on the terminals: i = (U − K_e·ω)/R. Off, the bridge is open: no
+    // current, and the terminals show the back-EMF.
+    (*dy)[4] = (*dy)[5] = (*dy)[6] = T(0.0);
+    out.vc = u;
+    if (drive_on) {
+      out.vm = u;
+      out.i = c.inv_R * T(u - p.K_e * omega);
+    } else {
+      out.vm = p.K_e * omega;
+    }
     return out;
   }
   const T pre_vc = y[4] + c.T_z * y[5];  // V_c before the clamp of eq. 2
@@ -335,7 +399,7 @@ AmplifierSignals<T> AmplifierDerivative(const AxisStructure& structure,
       (*dy)[6] = T(0.0);  // kQuasiSteady: y6' after ω'
     }
   } else {
-    out.i = p.K_i * out.vc;
+    out.i = drive_on ? T(p.K_i * out.vc) : T(0.0);
     out.vm = p.R * out.i + p.K_e * omega;
     (*dy)[6] = T(0.0);
   }
@@ -429,13 +493,17 @@ T QuasiSteadyCurrent(const AxisParams<T>& p, const AxisCoefficients<T>& c, const
 //   p: parameters in SI units (MODEL.md §2, §7). Masses, inertias, L, T_p,
 //      T_r must be positive (the config loader checks; not checked here).
 //   c: MakeAxisCoefficients(structure, p).
-//   y: state y0..y6 (MODEL.md §1). u: set-velocity voltage U (V), or the
-//      force-source input (V, force g_F·U).
+//   y: state y0..y6 (MODEL.md §1). u: set-velocity voltage U (V), the
+//      force-source input (V, force g_F·U) or the voltage drive's terminal
+//      voltage (V).
 //   dy: derivative of y (must not alias y). aux: optional algebraic outputs.
 //   contact: the branch of eq. 5 (gear coupling only); by default the one
 //      the state is in.
 //   preamp: the side of the limit of eq. 2 (analog velocity loop); by
 //      default the one the state is in.
+//   drive_on: the drive enable of MODEL.md §4 (false: a voltage drive or a
+//      current source passes no current, a force source applies no force;
+//      the analog velocity loop ignores it).
 // The parts, in the order they are evaluated: internal::LoadForce,
 // internal::MotorTorque, internal::AmplifierDerivative, internal::Mechanics and, under
 // the quasi-steady current loop, internal::QuasiSteadyCurrent.
@@ -447,7 +515,7 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
                                  const AxisState<T>& y,
                     const T& u, AxisState<T>* dy, AxisAux<T>* aux = nullptr,
                     GearContact contact = GearContact::kFromState,
-                    PreampRegion preamp = PreampRegion::kFromState) {
+                    PreampRegion preamp = PreampRegion::kFromState, bool drive_on = true) {
   const bool rigid = structure.coupling == Coupling::kRigid;
   const T& x = y[0];
   const T& v = y[1];
@@ -455,14 +523,18 @@ AXIS_FLATTEN void AxisDerivative(const AxisStructure& structure,
   const T theta = rigid ? T(c.inv_r_g * x) : y[2];
   const T omega = rigid ? T(c.inv_r_g * v) : y[3];
   bool has_load_force = false;
-  const T f_load = internal::LoadForce(structure, p, c, x, v, &has_load_force);
+  T f_load = internal::LoadForce(structure, p, c, x, v, &has_load_force);
   const bool has_motor_torque = structure.effects.motor_coulomb || structure.effects.cogging;
   const T t_motor = internal::MotorTorque(structure, p, theta, omega);
   internal::AmplifierSignals<T> amp =
-      internal::AmplifierDerivative(structure, p, c, y, u, omega, &preamp, dy);
+      internal::AmplifierDerivative(structure, p, c, y, u, omega, drive_on, &preamp, dy);
+  if (structure.effects.load_friction && structure.amplifier != Amplifier::kForceSource) {
+    f_load += internal::LoadDependentFriction(p, c, v, amp.i);
+    has_load_force = true;
+  }
   const internal::MechanicsSignals<T> m =
-      internal::Mechanics(structure, p, c, x, v, theta, omega, u, amp.i, f_load, has_load_force,
-                          t_motor, has_motor_torque, contact, dy);
+      internal::Mechanics(structure, p, c, x, v, theta, omega, drive_on ? u : T(0.0), amp.i,
+                          f_load, has_load_force, t_motor, has_motor_torque, contact, dy);
   (*dy)[0] = v;
   (*dy)[1] = m.a;
   if (structure.amplifier == Amplifier::kAnalogVelocityLoop &&

@@ -22,7 +22,32 @@ enum class Amplifier {
   kAnalogVelocityLoop,  // preamp, current loop and both limits (§3 as written)
   kCurrentSource,       // y6 = K_i·V_c exactly; V_c clamped only if V_L finite
   kForceSource,         // F = g_F·U on the load; no motor or preamp states
+  kVoltageDrive,        // U (V) on the motor's terminals (a PWM bridge from its
+                        // supply, no current loop): i = (U − K_e·ω)/R, the
+                        // armature inductance neglected; no preamp states
 };
+
+// Whether the load moves in a line or turns, MODEL.md §4: the units of the
+// load's position, velocity, force, mass and friction (m, m/s, N, kg, N·s/m
+// or rad, rad/s, N·m, kg·m², N·m·s/rad). The equations are the same.
+enum class Motion {
+  kLinear,
+  kRotary,
+};
+
+// A load term a model config declares (`load:`, MODEL.md §4), acting on the
+// load beside the §7 effects. Not a discovery candidate: the user knows
+// whether the axis lifts its load.
+enum class LoadTerm {
+  kNone,
+  kGravity,   // a vertical linear axis: F += m_g·g (m_g the lifted mass, kg)
+  kPendulum,  // a rotary joint carrying a mass m_p at l_p from its axis:
+              // T += m_p·g·l_p·sin(x + θ_p) (x = 0 hanging down), and the
+              // load inertia gains m_p·l_p²
+};
+
+// Standard gravity g (m/s², CGPM 1901), the g of LoadTerm.
+inline constexpr double kStandardGravity = 9.80665;
 
 // Mechanical coupling between motor and load, MODEL.md §4.
 enum class Coupling {
@@ -43,6 +68,7 @@ struct EffectSwitches {
   bool payload = false;
   bool motor_coulomb = false;
   bool cogging = false;
+  bool load_friction = false;  // gear friction growing with the transmitted force
   // Forces outside MODEL.md §7, for generating data only (issue 10: data
   // whose missing force the discovery loop's library cannot express must end
   // with the verdict `incomplete`). The model config accepts them
@@ -109,6 +135,8 @@ struct AxisStructure {
   Amplifier amplifier = Amplifier::kAnalogVelocityLoop;
   CurrentLoop current_loop = CurrentLoop::kFull;  // analog_velocity_loop only
   Coupling coupling = Coupling::kGear;
+  Motion motion = Motion::kLinear;
+  LoadTerm load = LoadTerm::kNone;
   EffectSwitches effects;
   SensorSwitches sensors;
   AccelerometerSampling accelerometer = AccelerometerSampling::kPeriodMean;
@@ -163,6 +191,7 @@ struct AxisParams {
   T F_c{0.0};
   T F_st{0.0};
   T v_st{0.01};
+  T delta_st{2.0};    // Stribeck shape exponent δ: exp(−|v/v_st|^δ), > 0
   T Delta_B{0.0};
   T F_0{0.0};
   T k_x{0.0};
@@ -171,6 +200,16 @@ struct AxisParams {
   T T_c{0.0};
   T A_cog{0.0};
   T phi_cog{0.0};
+  // load_friction: Coulomb friction per unit of the drive's force (or
+  // torque) on the load, when the motor drives the load (mu_d) and when the
+  // load drives the motor (mu_b); both ≥ 0, dimensionless.
+  T mu_d{0.0};
+  T mu_b{0.0};
+  // Load terms (AxisStructure::load, MODEL.md §4).
+  T m_g{0.0};      // gravity: the lifted mass (kg)
+  T m_p{0.0};      // pendulum: its mass (kg)
+  T l_p{0.0};      // pendulum: the distance of its mass from the axis (m)
+  T theta_p{0.0};  // pendulum: the angle of the load at which it hangs down is −θ_p (rad)
   // Generator-only forces (EffectSwitches::friction_patch, quadratic_drag,
   // position_ripple, velocity_bump).
   T F_pt{0.0};    // friction inside the patch (N)
@@ -248,6 +287,7 @@ void VisitParams(Visitor&& visit, Params&... params) {
   visit("F_c", "N", params.F_c...);
   visit("F_st", "N", params.F_st...);
   visit("v_st", "m/s", params.v_st...);
+  visit("delta_st", "1", params.delta_st...);
   visit("Delta_B", "N*s/m", params.Delta_B...);
   visit("F_0", "N", params.F_0...);
   visit("k_x", "N/m", params.k_x...);
@@ -256,6 +296,12 @@ void VisitParams(Visitor&& visit, Params&... params) {
   visit("T_c", "N*m", params.T_c...);
   visit("A_cog", "N*m", params.A_cog...);
   visit("phi_cog", "rad", params.phi_cog...);
+  visit("mu_d", "1", params.mu_d...);
+  visit("mu_b", "1", params.mu_b...);
+  visit("m_g", "kg", params.m_g...);
+  visit("m_p", "kg", params.m_p...);
+  visit("l_p", "m", params.l_p...);
+  visit("theta_p", "rad", params.theta_p...);
   visit("F_pt", "N", params.F_pt...);
   visit("x_pt0", "m", params.x_pt0...);
   visit("x_pt1", "m", params.x_pt1...);
@@ -299,8 +345,17 @@ struct ParamInfo {
 };
 std::vector<ParamInfo> ListParams();
 
-// Unit of parameter `name` ("" if there is none of that name).
+// Unit of parameter `name` ("" if there is none of that name), as
+// VisitParams lists it: a linear axis's.
 std::string ParamUnit(const std::string& name);
+
+// Unit of parameter `name` on an axis whose load moves as `motion`: on a
+// rotary axis the load's quantities are angles, torques and inertias (M
+// "kg*m^2", B_a "N*m*s/rad", F_c "N*m", v_st "rad/s", x_0 "rad", r_g "1":
+// load radians per motor radian, ...); the motor's, the drive's, the
+// pendulum's (m_p, l_p) and the sensors' do not change. "" for an unknown
+// name. Never throws.
+std::string ParamUnit(const std::string& name, Motion motion);
 
 // Pointer to the field called `name`, or nullptr if no parameter has it.
 double* FindParam(AxisParams<double>* params, const std::string& name);

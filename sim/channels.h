@@ -29,8 +29,16 @@ inline constexpr int kNumChannels = 15;
 
 // "t", "u", "x", ... as in MODEL.md §6.
 const char* ChannelName(Channel c);
-// SI unit of the channel, e.g. "m/s^2" for a.
+// SI unit of the channel, e.g. "m/s^2" for a, on a linear axis.
 const char* ChannelUnit(Channel c);
+// The unit of the channel on a rotary axis (`rotary` true, MODEL.md §4): the
+// load's channels x, v, a, x_ref, v_ref in rad, rad/s, rad/s², fg and force
+// in N·m; the others as ChannelUnit. Never throws.
+std::string ChannelUnit(Channel c, bool rotary);
+// A linear load's unit as the rotary load's: "m" → "rad", "N" → "N*m",
+// "kg" → "kg*m^2", factor by factor ("N*s/m" → "N*m*s/rad", "m/s^2" →
+// "rad/s^2"); other factors unchanged. Never throws.
+std::string RotaryLoadUnit(const std::string& linear_unit);
 // The channel called `name`, or nullopt.
 std::optional<Channel> ParseChannel(const std::string& name);
 // "t, u, x, ..." for error messages.

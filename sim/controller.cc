@@ -81,4 +81,25 @@ ReferenceSample SampleReference(const Reference& ref,
   return out;
 }
 
+ControllerConfig FirmwareLaw(const ServoFirmware& f, double T_s, int delay) {
+  constexpr double kTwoPi = 6.283185307179586476925;
+  const double counts_per_rad = f.counts_per_rev / kTwoPi;
+  const double duty_per_count = 1.0 / f.pwm_full_scale;
+  ControllerConfig c;
+  c.T_s = T_s;
+  c.T_track = T_s;
+  c.G_ff = 0.0;
+  c.G_p = f.kp / f.kp_divisor * counts_per_rad * duty_per_count;
+  c.G_i = f.ki / f.ki_divisor * counts_per_rad * duty_per_count / T_s;
+  c.G_v = f.kd / f.kd_divisor * counts_per_rad * duty_per_count * T_s;
+  c.alpha = 1.0;
+  c.U_max = f.pwm_limit / f.pwm_full_scale;
+  c.delay_samples = delay;
+  c.counts_per_rev = 0.0;
+  c.load_quantum = f.quantized ? kTwoPi / f.counts_per_rev : 0.0;
+  c.firmware = f;
+  c.firmware.enabled = true;
+  return c;
+}
+
 }  // namespace axis

@@ -14,6 +14,28 @@
 
 namespace axis {
 
+// A smart servo's position loop as its firmware runs it (MODEL.md §5,
+// `type: servo_firmware`; e.g. a Dynamixel's "Position P/I/D Gain"
+// registers): every T_s the error in encoder counts, e = (x_ref − x)·
+// counts_per_rev/2π, gives the PWM value kp/kp_divisor·e + ki/ki_divisor·Σe
+// − kd/kd_divisor·Δx_counts, clamped to ±pwm_limit; the duty cycle is that
+// over pwm_full_scale, and the bridge applies duty·V_in to the motor
+// (Drive::supply). The encoder is on the load (output shaft). The
+// derivative acts on the measured position (on the error, as some firmware
+// has it, it would also kick at reference steps). Gains ≥ 0 in firmware
+// units; divisors and the PWM scale > 0, pwm_limit in (0, pwm_full_scale].
+struct ServoFirmware {
+  bool enabled = false;
+  double kp = 0.0, ki = 0.0, kd = 0.0;
+  double kp_divisor = 128.0, ki_divisor = 65536.0, kd_divisor = 16.0;
+  double pwm_full_scale = 885.0;
+  double pwm_limit = 885.0;
+  double counts_per_rev = 4096.0;
+  // false: the loop sees the position unquantised (a fit's cost is then
+  // smooth in the parameters; the count is below the noise).
+  bool quantized = true;
+};
+
 // Controller settings, MODEL.md §5. Defaults are the AID 600 values
 // (assumed there). Times in s, gains in the units given.
 struct ControllerConfig {
@@ -32,7 +54,20 @@ struct ControllerConfig {
   // load_quantum = 0 means an ideal load-side measurement.
   double counts_per_rev = 8000.0;
   double load_quantum = 0.0;
+  // The firmware loop these gains were made from (FirmwareLaw), if any:
+  // the gains above are then in duty per rad of load travel.
+  ServoFirmware firmware;
 };
+
+// The law of MODEL.md §5 that runs `f` with control period T_s (s, > 0):
+// G_p = kp/kp_divisor·c/pwm_full_scale, G_i = ki/ki_divisor·c/
+// pwm_full_scale/T_s, G_v = kd/kd_divisor·c/pwm_full_scale·T_s with c =
+// counts_per_rev/2π counts per rad, U_max = pwm_limit/pwm_full_scale (a
+// duty cycle), no feed-forward, α = 1, track period T_s, a load-side
+// encoder of quantum 2π/counts_per_rev (none unless quantized); `delay`
+// control periods of output delay. Never throws (the loader checks the
+// ranges).
+ControllerConfig FirmwareLaw(const ServoFirmware& f, double T_s, int delay);
 
 // The quantum of the position the controller sees, in m of load travel:
 // load_quantum if > 0, else r_g·2π/counts_per_rev for the motor encoder

@@ -155,7 +155,61 @@ Reference ParseReference(YamlMap& map, const std::string& base_dir,
   return r;
 }
 
+void CheckDriveEnable(const AxisStructure& structure, const YamlMap& map,
+                      const YAML::Node& node, const std::string& key) {
+  if (structure.amplifier == Amplifier::kAnalogVelocityLoop) {
+    ThrowConfigError(map.file(), node, map.KeyPath(key),
+                     "a drive that an enable signal can switch off (voltage_drive, "
+                     "current_source, force_source)",
+                     "analog_velocity_loop (its current loop is not modelled off)");
+  }
+}
+
+namespace {
+
+// The keys of `type: servo_firmware` (sim/controller.h ServoFirmware),
+// starting from `d`'s firmware and period.
+ControllerConfig ParseServoFirmware(YamlMap& map, const ControllerConfig& d) {
+  for (const char* law_key : {"T_track", "G_ff", "G_p", "G_i", "G_v", "alpha", "U_max",
+                              "load_quantum"}) {
+    if (map.Has(law_key)) {
+      ThrowConfigError(map.file(), map.Optional(law_key), map.KeyPath(law_key),
+                       "the firmware's keys (kp, ki, kd, kp_divisor, ki_divisor, kd_divisor, "
+                       "pwm_full_scale, pwm_limit, counts_per_rev, quantized, T_s, "
+                       "delay_samples) with type: servo_firmware",
+                       "a key of the sampled position controller");
+    }
+  }
+  ServoFirmware f = d.firmware;
+  f.kp = map.Number("kp", f.kp, Range::kNonNegative);
+  f.ki = map.Number("ki", f.ki, Range::kNonNegative);
+  f.kd = map.Number("kd", f.kd, Range::kNonNegative);
+  f.kp_divisor = map.Number("kp_divisor", f.kp_divisor, Range::kFinitePositive);
+  f.ki_divisor = map.Number("ki_divisor", f.ki_divisor, Range::kFinitePositive);
+  f.kd_divisor = map.Number("kd_divisor", f.kd_divisor, Range::kFinitePositive);
+  f.pwm_full_scale = map.Number("pwm_full_scale", f.pwm_full_scale, Range::kFinitePositive);
+  f.pwm_limit = map.Number("pwm_limit", f.pwm_full_scale, Range::kFinitePositive);
+  if (f.pwm_limit > f.pwm_full_scale) {
+    ThrowConfigError(map.file(), map.Optional("pwm_limit"), map.KeyPath("pwm_limit"),
+                     "at most pwm_full_scale (" + NumberText(f.pwm_full_scale) + ")",
+                     NumberText(f.pwm_limit));
+  }
+  f.counts_per_rev = map.Number("counts_per_rev", f.counts_per_rev, Range::kFinitePositive);
+  f.quantized = map.Choice("quantized", {"true", "false"}, f.quantized ? "true" : "false") ==
+                "true";
+  const double T_s = map.Number("T_s", d.T_s, Range::kFinitePositive);
+  const int delay = static_cast<int>(map.Integer("delay_samples", d.delay_samples, 0, 1000));
+  map.Finish();
+  return FirmwareLaw(f, T_s, delay);
+}
+
+}  // namespace
+
 ControllerConfig ParseController(YamlMap& map, const ControllerConfig& d) {
+  const std::string type = map.Choice(
+      "type", {"sampled_position", "servo_firmware"},
+      d.firmware.enabled ? "servo_firmware" : "sampled_position");
+  if (type == "servo_firmware") return ParseServoFirmware(map, d);
   ControllerConfig c;
   c.T_s = map.Number("T_s", d.T_s, Range::kFinitePositive);
   c.T_track = map.Number("T_track", d.T_track, Range::kFinitePositive);

@@ -52,7 +52,38 @@ InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir);
 Reference ParseReference(YamlMap& map, const std::string& base_dir,
                          double origin);
 
-// The controller settings of MODEL.md §5, starting from `defaults`.
+// The drive's supply voltage `supply:` of a closed-loop experiment whose
+// controller outputs a duty cycle (Drive::supply, MODEL.md §5): a number
+// (V, > 0) as a constant signal, or a mapping read by `signal` (a column of
+// the record, or a signal type). Throws std::invalid_argument naming the
+// key for a number ≤ 0 or not finite, and whatever `signal` throws.
+template <typename SignalOf>
+InputSignal ParseSupply(YamlMap& root, const SignalOf& signal) {
+  const YAML::Node node = root.Optional("supply");
+  if (node.IsScalar()) {
+    InputSignal constant;
+    constant.offset = root.Number("supply", YamlMap::Range::kPositive);
+    return constant;
+  }
+  YamlMap map(node, root.file(), root.KeyPath("supply."));
+  return signal(map);
+}
+
+// Throws the config error "<file>:<line>: key '<key>': expected a drive that
+// an enable signal can switch off (voltage_drive, current_source,
+// force_source), got analog_velocity_loop (its current loop is not
+// modelled off)" for a model with the analog velocity loop (MODEL.md §4
+// drive enable). `node` locates the line.
+void CheckDriveEnable(const AxisStructure& structure, const YamlMap& map,
+                      const YAML::Node& node, const std::string& key);
+
+// The controller settings of MODEL.md §5, starting from `defaults`:
+// `type: sampled_position` (the law's own keys T_s, T_track, G_ff, G_p,
+// G_i, G_v, alpha, U_max, delay_samples, counts_per_rev, load_quantum) or
+// `type: servo_firmware` (kp, ki, kd, kp_divisor, ki_divisor, kd_divisor,
+// pwm_full_scale, pwm_limit, counts_per_rev, quantized, T_s,
+// delay_samples; FirmwareLaw). The type defaults to that of `defaults`, so
+// an experiment overrides a firmware model's gain with `{kp: 800}`.
 ControllerConfig ParseController(YamlMap& map, const ControllerConfig& defaults);
 
 }  // namespace axis

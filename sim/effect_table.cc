@@ -18,6 +18,7 @@ const std::vector<EffectInfo>& DynamicEffectTable() {
       {"payload", {"Delta_M"}, &EffectSwitches::payload},
       {"motor_coulomb", {"T_c"}, &EffectSwitches::motor_coulomb},
       {"cogging", {"A_cog", "phi_cog"}, &EffectSwitches::cogging},
+      {"load_friction", {"mu_d", "mu_b"}, &EffectSwitches::load_friction},
   };
   return effects;
 }

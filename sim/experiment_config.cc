@@ -83,6 +83,17 @@ void CheckTraceMemory(const ExperimentConfig& e, double rate, const std::string&
   CheckMemory(bytes, path, "the simulation", advice.str());
 }
 
+// `enable:` (MODEL.md §4 drive enable): a signal, on where ≥ 0.5.
+void ParseEnable(YamlMap& root, const std::string& path, const std::string& dir,
+                 ExperimentConfig* e) {
+  const YAML::Node node = root.Optional("enable");
+  if (!node) return;
+  CheckDriveEnable(e->model.structure, root, node, "enable");
+  YamlMap map(node, path, "enable.");
+  e->drive.enable = ParseInputSignal(map, dir, e->options.duration);
+  e->drive.has_enable = true;
+}
+
 // The experiment's drive: `input:` (open loop) or `reference:` with the
 // controller and an optional `injection:` (closed loop).
 void ParseExperimentDrive(YamlMap& root, const std::string& path, const std::string& dir,
@@ -103,8 +114,15 @@ void ParseExperimentDrive(YamlMap& root, const std::string& path, const std::str
                          "an open-loop experiment with 'input'");
       }
     }
+    if (root.Has("supply")) {
+      ThrowConfigError(path, root.node()["supply"], "supply",
+                       "supply only with a 'reference' (closed loop: it scales the "
+                       "controller's duty cycle)",
+                       "an open-loop experiment with 'input'");
+    }
     YamlMap map(root.Required("input"), path, "input.");
     e->drive.input = ParseInputSignal(map, dir, e->options.duration);
+    ParseEnable(root, path, dir, e);
     return;
   }
   e->drive.closed_loop = true;
@@ -126,6 +144,13 @@ void ParseExperimentDrive(YamlMap& root, const std::string& path, const std::str
     e->drive.injection = ParseInputSignal(inj, dir, e->options.duration);
     e->drive.has_injection = true;
   }
+  if (root.Has("supply")) {
+    e->drive.supply = ParseSupply(root, [&](YamlMap& m) {
+      return ParseInputSignal(m, dir, e->options.duration);
+    });
+    e->drive.has_supply = true;
+  }
+  ParseEnable(root, path, dir, e);
 }
 
 }  // namespace

@@ -52,6 +52,17 @@ struct Drive {
   Reference reference;
   bool has_injection = false;
   InputSignal injection;
+  // Closed loop, optional: the controller's output is a duty cycle that a
+  // PWM bridge turns into volts from this supply voltage (V), read at the
+  // control instants (a smart servo's firmware loop, MODEL.md §5); U is
+  // their product.
+  bool has_supply = false;
+  InputSignal supply;
+  // Optional (MODEL.md §4 drive enable): the drive is on where this signal
+  // is at least 0.5, off elsewhere; read at the start of each RK4 step and
+  // held over it (a switch between grid points applies from the next step).
+  bool has_enable = false;
+  InputSignal enable;
   // Optional, open loop only: `input` at the stage times of the grid
   // (MakeStageInputs). Simulate uses it where its step equals the grid's
   // and it covers the grid, and evaluates `input` otherwise (and at the
@@ -313,11 +324,12 @@ struct SwitchedAxis {
     const PreampRegion side = SideIn(mode);
     if constexpr (std::is_same<S, T>::value) {
       AxisDerivative(structure, params, coeffs, y, input_at(t), dy,
-                     static_cast<AxisAux<T>*>(nullptr), contact, side);
+                     static_cast<AxisAux<T>*>(nullptr), contact, side, input_at.drive_on());
     } else {
       AxisDerivative(structure, values, value_coeffs, y,
                      ScalarValue(input_at(t)), dy,
-                     static_cast<AxisAux<double>*>(nullptr), contact, side);
+                     static_cast<AxisAux<double>*>(nullptr), contact, side,
+                     input_at.drive_on());
     }
   }
   void EventDerivative(double t, const EventTimeState<kNumStates>& y,
@@ -326,7 +338,8 @@ struct SwitchedAxis {
     const PreampRegion side = SideIn(mode);
     AxisDerivative(structure, event_params, event_coeffs, y,
                    EventTimeJet(ScalarValue(input_at(t))), dy,
-                   static_cast<AxisAux<EventTimeJet>*>(nullptr), contact, side);
+                   static_cast<AxisAux<EventTimeJet>*>(nullptr), contact, side,
+                   input_at.drive_on());
   }
   double GuardRate(const AxisState<double>& dy, int from, int to) const {
     const double rate = FamilyOf(from, to) == 0 ? values.r_g * dy[2] - dy[0]
@@ -408,7 +421,10 @@ class StageInput {
     step_n_ = n;
     step_t_ = t;
     if (held_) u_step_ = drive_.input.Evaluate(t, &cursor_);
+    if (drive_.has_enable) on_ = drive_.enable.Evaluate(t, &enable_cursor_) >= 0.5;
   }
+  // Whether the drive is on over the step being taken (Drive::enable).
+  bool drive_on() const { return on_; }
   // The controller's output (closed loop), held until the next update.
   void SetHeld(const T& u) { u_held_ = u; }
   const T& held() const { return u_held_; }
@@ -439,6 +455,8 @@ class StageInput {
   double step_t_ = 0.0;  // its start, step_n·h
   double u_step_ = 0.0;  // the held input over it
   T u_held_ = T(0.0);
+  bool on_ = true;
+  size_t enable_cursor_ = 0;
   mutable size_t cursor_ = 0;
   mutable double memo_t_[2] = {-1.0, -1.0};
   mutable double memo_u_[2] = {0.0, 0.0};
@@ -530,7 +548,9 @@ class Simulation {
   // nearby starts ended k_g and T_p more than a standard error apart).
   void Integrate() {
     const auto rhs = [&](double t, const AxisState<T>& state, AxisState<T>* dy) {
-      AxisDerivative(structure_, params_, coeffs_, state, input_(t), dy);
+      AxisDerivative(structure_, params_, coeffs_, state, input_(t), dy,
+                     static_cast<AxisAux<T>*>(nullptr), GearContact::kFromState,
+                     PreampRegion::kFromState, input_.drive_on());
     };
     const long progress_every = std::max(1L, grid_.num_steps / 100);
     AxisState<double> y_values;
@@ -559,6 +579,7 @@ class Simulation {
     const long k = n / grid_.steps_per_control;
     ref_ = SampleReference(drive_.reference, drive_.controller, k);
     T u = ControllerUpdate(drive_.controller, params_, y_, ref_, &controller_);
+    if (drive_.has_supply) u *= drive_.supply.Evaluate(t);
     if (drive_.has_injection) u += T(drive_.injection.Evaluate(t));
     input_.SetHeld(u);
   }
@@ -579,7 +600,8 @@ class Simulation {
     AxisState<T> dy;
     AxisAux<T> aux;
     const T u = input_(t);
-    AxisDerivative(structure_, params_, coeffs_, y_, u, &dy, &aux);
+    AxisDerivative(structure_, params_, coeffs_, y_, u, &dy, &aux, GearContact::kFromState,
+                   PreampRegion::kFromState, input_.drive_on());
     for (int c = 0; c < kNumChannels; ++c) {
       if (!record_.wanted[c] || !(record || record_.on_grid[c])) continue;
       // The accelerometer records v here (its source: AccelerationOnGrid).

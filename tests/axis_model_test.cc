@@ -286,7 +286,8 @@ std::vector<EffectCase> Effects(const AxisParams<double>& p) {
        [p, sgn](double, double v, double, double) { return p.F_c * sgn(v); }},
       {"stribeck", [](EffectSwitches* e) { e->stribeck = true; }, false,
        [p, sgn](double, double v, double, double) {
-         return (p.F_st - p.F_c) * std::exp(-(v / p.v_st) * (v / p.v_st)) *
+         // exp(−|v/v_st|^δ); δ is OddParams' (not 2), so pow's branch.
+         return (p.F_st - p.F_c) * std::exp(-std::pow(std::abs(v / p.v_st), p.delta_st)) *
                 sgn(v);
        }},
       {"viscous_asymmetry",

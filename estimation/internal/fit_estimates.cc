@@ -10,7 +10,7 @@
 
 namespace axis {
 
-void AppendFixedEstimates(AxisParams<double> fitted, FitResult* result) {
+void AppendFixedEstimates(AxisParams<double> fitted, Motion motion, FitResult* result) {
   for (const ParamInfo& info : ListParams()) {
     if (std::find(result->free_names.begin(), result->free_names.end(),
                   info.name) != result->free_names.end()) {
@@ -19,7 +19,7 @@ void AppendFixedEstimates(AxisParams<double> fitted, FitResult* result) {
     if (info.name.find('.') != std::string::npos) continue;
     ParameterEstimate e;
     e.name = info.name;
-    e.unit = info.unit;
+    e.unit = ParamUnit(info.name, motion);
     e.value = *FindParam(&fitted, info.name);
     e.initial = e.value;
     e.free = false;
@@ -46,7 +46,7 @@ void AppendEstimates(const EstimationProblem& job, const ParameterMap& map,
     result->free_names.push_back(e.name);
     result->parameters.push_back(e);
   }
-  AppendFixedEstimates(map.Apply(theta.data()), result);
+  AppendFixedEstimates(map.Apply(theta.data()), job.model.structure.motion, result);
 }
 
 void ReportStageFailure(const EstimationProblem& job, const ParameterMap& map,

@@ -17,8 +17,9 @@ namespace axis {
 
 // Appends the fixed parameters (those not in result->free_names) at their
 // values in `fitted`, standard errors and intervals NaN; only those the model
-// configuration uses (no per-channel sensor parameters).
-void AppendFixedEstimates(AxisParams<double> fitted, FitResult* result);
+// configuration uses (no per-channel sensor parameters); units those of an
+// axis moving as `motion` (ParamUnit, sim/axis_params.h).
+void AppendFixedEstimates(AxisParams<double> fitted, Motion motion, FitResult* result);
 
 // The parameters of a fit stopped before the whole record (FitResult::
 // abandoned_horizon): every one at its value at θ (internal coordinates),

@@ -1000,7 +1000,7 @@ FitResult Fitter::Finish() {
   SmoothScaleIntervals(ratio);
   const AxisParams<double> fitted = p_.map->Apply(p_.theta.data());
   AppendFreeEstimates(cov, determined, ratio);
-  AppendFixedEstimates(fitted, &result_);
+  AppendFixedEstimates(fitted, job_.model.structure.motion, &result_);
   // Every fitted entry of θ counts: the free parameters and the estimated
   // initial states.
   const int n = theta_size_;

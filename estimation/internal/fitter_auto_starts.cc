@@ -126,9 +126,9 @@ void Fitter::AutoStarts() {
     note << "; " << first << " random starts all ended at the same s^2 (within chi^2 "
          << kSameMinimumChi2 << "·s^2): the misfit is the model's, not a "
          << "wrong minimum, so the other " << random.size() - first
-         << " (solver.auto_starts) did not run; check the sensor front end (the "
-            "accelerometer's sampling, instant or period_mean; filters; delays) or run "
-            "fit-params --discover";
+         << " (solver.auto_starts) did not run; check the sensor front end ("
+         << (FittedPeriod(job_, Channel::kA) > 0.0 ? "the accelerometer's sampling, instant or period_mean; " : "")
+         << "filters; delays) or run fit-params --discover";
     result_.auto_starts_note = note.str();
     return;
   }
