@@ -200,6 +200,8 @@ FitExperiment ProposedExperiment(const EstimationProblem& job, const InputSignal
     e.drive.controller = ref.drive.controller;
     e.drive.reference.kind = Reference::Kind::kTable;
     e.drive.reference.table = input;
+    e.drive.has_supply = ref.drive.has_supply;  // a firmware loop's duty into volts
+    e.drive.supply = ref.drive.supply;
   } else {
     e.drive.input = input;
   }

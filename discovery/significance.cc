@@ -64,7 +64,13 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
       const double x = e->value, y = back != nullptr ? back->value : 0.0;
       const double a = covariance("mu_d", "mu_d"), d = covariance("mu_b", "mu_b");
       const double b = covariance("mu_d", "mu_b");
-      chi2 = (d * x * x - 2.0 * b * x * y + a * y * y) / (a * d - b * b);
+      const double det = a * d - b * b;
+      if (det > 0.0) {
+        chi2 = (d * x * x - 2.0 * b * x * y + a * y * y) / det;
+      } else {  // one coefficient fixed or on its bound (no variance): the other alone
+        w.dof = 1;
+        chi2 = a > 0.0 ? x * x / a : d > 0.0 ? y * y / d : nan;
+      }
     } else {
       chi2 = e->value * e->value / covariance(p, p);
     }

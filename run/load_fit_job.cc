@@ -558,6 +558,7 @@ void ExperimentParser::ParseClosedLoop() {
     e_.drive.supply = ParseSupply(map_, [this](YamlMap& m) { return DriveSignal(m); });
     e_.drive.has_supply = true;
   }
+  CheckFirmwareDrive(model_.structure, e_.drive.controller, e_.drive.has_supply, map_);
 }
 
 void ExperimentParser::Finish() {

@@ -80,6 +80,25 @@ void EmitEffects(const AxisConfig& config, AxisParams<double>& params, YAML::Emi
 
 // The `controller:` block of AxisConfigToYaml.
 void EmitController(const ControllerConfig& c, YAML::Emitter& out) {
+  if (c.firmware.enabled) {  // its own keys: an experiment's {kp: ...} re-derives the law
+    const ServoFirmware& f = c.firmware;
+    out << YAML::Key << "controller" << YAML::Value << YAML::BeginMap
+        << YAML::Key << "type" << YAML::Value << "servo_firmware"
+        << YAML::Key << "kp" << YAML::Value << f.kp
+        << YAML::Key << "ki" << YAML::Value << f.ki
+        << YAML::Key << "kd" << YAML::Value << f.kd
+        << YAML::Key << "kp_divisor" << YAML::Value << f.kp_divisor
+        << YAML::Key << "ki_divisor" << YAML::Value << f.ki_divisor
+        << YAML::Key << "kd_divisor" << YAML::Value << f.kd_divisor
+        << YAML::Key << "pwm_full_scale" << YAML::Value << f.pwm_full_scale
+        << YAML::Key << "pwm_limit" << YAML::Value << f.pwm_limit
+        << YAML::Key << "counts_per_rev" << YAML::Value << f.counts_per_rev
+        << YAML::Key << "quantized" << YAML::Value << (f.quantized ? "true" : "false")
+        << YAML::Key << "T_s" << YAML::Value << c.T_s
+        << YAML::Key << "delay_samples" << YAML::Value << c.delay_samples
+        << YAML::EndMap;
+    return;
+  }
   out << YAML::Key << "controller" << YAML::Value << YAML::BeginMap
       << YAML::Key << "T_s" << YAML::Value << c.T_s
       << YAML::Key << "T_track" << YAML::Value << c.T_track
@@ -103,7 +122,9 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
   out << YAML::BeginMap;
   out << YAML::Key << "name" << YAML::Value << config.name;
   out << YAML::Key << "source" << YAML::Value << config.source;
-  const char* amplifiers[] = {"analog_velocity_loop", "current_source", "force_source"};
+  const char* amplifiers[] = {"analog_velocity_loop", "current_source", "force_source",
+                              "voltage_drive"};
+  static_assert(static_cast<int>(Amplifier::kVoltageDrive) == 3, "one name per Amplifier");
   out << YAML::Key << "amplifier" << YAML::Value
       << amplifiers[static_cast<int>(config.structure.amplifier)];
   out << YAML::Key << "coupling" << YAML::Value
@@ -115,6 +136,10 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
               ? "instant"
               : "period_mean");
   out << YAML::Key << "instant_window" << YAML::Value << config.structure.instant_window;
+  out << YAML::Key << "motion" << YAML::Value
+      << (config.structure.motion == Motion::kRotary ? "rotary" : "linear");
+  const char* loads[] = {"none", "gravity", "pendulum"};
+  out << YAML::Key << "load" << YAML::Value << loads[static_cast<int>(config.structure.load)];
   // Parameters of MODEL.md §2 and §4, and the sgn_ε widths v_eps and
   // omega_eps of §7 (effect parameters go with their effect).
   std::set<std::string> effect_params;

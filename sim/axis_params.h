@@ -351,8 +351,8 @@ std::string ParamUnit(const std::string& name);
 
 // Unit of parameter `name` on an axis whose load moves as `motion`: on a
 // rotary axis the load's quantities are angles, torques and inertias (M
-// "kg*m^2", B_a "N*m*s/rad", F_c "N*m", v_st "rad/s", x_0 "rad", r_g "1":
-// load radians per motor radian, ...); the motor's, the drive's, the
+// "kg*m^2", B_a "N*m*s/rad", F_c "N*m", v_st "rad/s", x_0 "rad", r_g
+// "rad/rad": load radians per motor radian, ...); the motor's, the drive's, the
 // pendulum's (m_p, l_p) and the sensors' do not change. "" for an unknown
 // name. Never throws.
 std::string ParamUnit(const std::string& name, Motion motion);

@@ -165,6 +165,38 @@ void CheckDriveEnable(const AxisStructure& structure, const YamlMap& map,
   }
 }
 
+void CheckFirmwareDrive(const AxisStructure& structure, const ControllerConfig& controller,
+                        bool has_supply, const YamlMap& map) {
+  const YAML::Node node = map.node();
+  if (!controller.firmware.enabled) {
+    if (has_supply) {
+      ThrowConfigError(map.file(), node["supply"], map.KeyPath("supply"),
+                       "a supply only with controller type: servo_firmware (it turns that "
+                       "loop's duty cycle into volts)",
+                       "a sampled_position controller");
+    }
+    return;
+  }
+  if (structure.amplifier != Amplifier::kVoltageDrive) {
+    ThrowConfigError(map.file(), node, map.KeyPath("controller"),
+                     "amplifier: voltage_drive with type: servo_firmware (its output is a PWM "
+                     "duty cycle of the supply)",
+                     "another amplifier");
+  }
+  if (structure.motion != Motion::kRotary) {
+    ThrowConfigError(map.file(), node, map.KeyPath("controller"),
+                     "motion: rotary with type: servo_firmware (its encoder counts are per "
+                     "revolution of the output shaft)",
+                     "motion: linear");
+  }
+  if (!has_supply) {
+    ThrowConfigError(map.file(), node, map.KeyPath("supply"),
+                     "the drive's supply voltage (a number in V, or a column) with controller "
+                     "type: servo_firmware",
+                     "none");
+  }
+}
+
 namespace {
 
 // The keys of `type: servo_firmware` (sim/controller.h ServoFirmware),
@@ -188,7 +220,9 @@ ControllerConfig ParseServoFirmware(YamlMap& map, const ControllerConfig& d) {
   f.ki_divisor = map.Number("ki_divisor", f.ki_divisor, Range::kFinitePositive);
   f.kd_divisor = map.Number("kd_divisor", f.kd_divisor, Range::kFinitePositive);
   f.pwm_full_scale = map.Number("pwm_full_scale", f.pwm_full_scale, Range::kFinitePositive);
-  f.pwm_limit = map.Number("pwm_limit", f.pwm_full_scale, Range::kFinitePositive);
+  // An override keeps the model's limit; a new loop's is its full scale.
+  f.pwm_limit = map.Number("pwm_limit", d.firmware.enabled ? f.pwm_limit : f.pwm_full_scale,
+                           Range::kFinitePositive);
   if (f.pwm_limit > f.pwm_full_scale) {
     ThrowConfigError(map.file(), map.Optional("pwm_limit"), map.KeyPath("pwm_limit"),
                      "at most pwm_full_scale (" + NumberText(f.pwm_full_scale) + ")",

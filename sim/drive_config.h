@@ -77,6 +77,16 @@ InputSignal ParseSupply(YamlMap& root, const SignalOf& signal) {
 void CheckDriveEnable(const AxisStructure& structure, const YamlMap& map,
                       const YAML::Node& node, const std::string& key);
 
+// Throws the config error naming `map`'s file, line and key unless a
+// closed-loop experiment's controller, drive and supply fit together
+// (MODEL.md §4–§5): a `servo_firmware` loop needs `amplifier:
+// voltage_drive` (its output is a PWM duty cycle), `motion: rotary` (its
+// counts are per revolution of the output shaft) and a `supply:`
+// (`has_supply`); a `supply:` needs a `servo_firmware` loop (it turns the
+// duty cycle into volts).
+void CheckFirmwareDrive(const AxisStructure& structure, const ControllerConfig& controller,
+                        bool has_supply, const YamlMap& map);
+
 // The controller settings of MODEL.md §5, starting from `defaults`:
 // `type: sampled_position` (the law's own keys T_s, T_track, G_ff, G_p,
 // G_i, G_v, alpha, U_max, delay_samples, counts_per_rev, load_quantum) or

@@ -150,6 +150,7 @@ void ParseExperimentDrive(YamlMap& root, const std::string& path, const std::str
     });
     e->drive.has_supply = true;
   }
+  CheckFirmwareDrive(e->model.structure, e->drive.controller, e->drive.has_supply, root);
   ParseEnable(root, path, dir, e);
 }
 

@@ -7,6 +7,7 @@
 // units of a rotary axis, and the loaders' refusals.
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <utility>
@@ -19,10 +20,12 @@
 #include "estimation/estimation_problem.h"
 #include "io/yaml_util.h"
 #include "sim/axis_config.h"
+#include "sim/axis_config_yaml.h"
 #include "sim/axis_model.h"
 #include "sim/channels.h"
 #include "sim/controller.h"
 #include "sim/drive_config.h"
+#include "sim/experiment_config.h"
 #include "sim/simulate.h"
 
 namespace axis {
@@ -383,6 +386,68 @@ TEST(RotaryConfigTest, TheFirmwareLoopsKeysAreItsOwn) {
                             "controller: {type: servo_firmware, kp: 100, G_p: 3}\n";
   EXPECT_NE(ErrorOf([&] { ParseAxisConfig(YAML::Load(mixed), "t.yaml"); })
                 .find("controller.G_p': expected the firmware's keys"),
+            std::string::npos);
+}
+
+// model_discovered.yaml and the Python bindings write a model back: the
+// rotary motion, the pendulum, the voltage drive and the firmware loop
+// (its own keys, so that an experiment's {kp: ...} still re-derives it)
+// survive the round trip.
+TEST(RotaryConfigTest, AModelWrittenBackLoadsAsTheSameAxis) {
+  const std::string text =
+      std::string(kPendulumConfig) +
+      "controller: {type: servo_firmware, kp: 100, kp_divisor: 256, pwm_limit: 500, "
+      "quantized: false, T_s: 0.002}\n";
+  const AxisConfig a = ParseAxisConfig(YAML::Load(text), "t.yaml");
+  const AxisConfig b = ParseAxisConfig(YAML::Load(AxisConfigToYaml(a)), "back.yaml");
+  EXPECT_EQ(b.structure.motion, Motion::kRotary);
+  EXPECT_EQ(b.structure.load, LoadTerm::kPendulum);
+  EXPECT_EQ(b.structure.amplifier, Amplifier::kVoltageDrive);
+  EXPECT_EQ(b.params.m_p, a.params.m_p);
+  EXPECT_EQ(b.params.l_p, a.params.l_p);
+  ASSERT_TRUE(b.controller.firmware.enabled);
+  EXPECT_EQ(b.controller.G_p, a.controller.G_p);
+  EXPECT_EQ(b.controller.U_max, 500.0 / 885.0);
+  EXPECT_EQ(b.controller.T_s, 0.002);
+  // An override keeps the model's PWM limit.
+  YamlMap override_map(YAML::Load("{kp: 800}"), "e.yaml", "controller.");
+  EXPECT_EQ(ParseController(override_map, b.controller).U_max, 500.0 / 885.0);
+}
+
+// A firmware loop's duty cycle needs a supply to become volts, a voltage
+// drive to apply them and a rotary shaft for its counts; a supply needs
+// such a loop. Each refused naming the key, before anything runs.
+TEST(RotaryConfigTest, TheFirmwareLoopNeedsItsSupplyAndDrive) {
+  const std::string model = ::testing::TempDir() + "firmware_model.yaml";
+  {
+    std::ofstream out(model);
+    out << kPendulumConfig
+        << "controller: {type: servo_firmware, kp: 100, kp_divisor: 256, quantized: false}\n";
+  }
+  EXPECT_NE(ErrorOf([&] {
+              ParseExperiment(YAML::Load("model: " + model +
+                                         "\nduration: 0.1\nstep: 1.0e-3\nchannels: [x]\n"
+                                         "reference: {type: trapezoid, distance: 0.5, "
+                                         "velocity: 1, acceleration: 5}\n"),
+                              "e.yaml", ::testing::TempDir());
+            }).find("key 'supply': expected the drive's supply voltage"),
+            std::string::npos);
+  const std::string ok = ErrorOf([&] {
+    ParseExperiment(YAML::Load("model: " + model +
+                               "\nduration: 0.1\nstep: 1.0e-3\nchannels: [x]\n"
+                               "reference: {type: trapezoid, distance: 0.5, velocity: 1, "
+                               "acceleration: 5}\nsupply: 7.4\n"),
+                    "e.yaml", ::testing::TempDir());
+  });
+  EXPECT_EQ(ok, "");
+  EXPECT_NE(ErrorOf([&] {
+              ParseExperiment(YAML::Load("model: " + model +
+                                         "\nduration: 0.1\nstep: 1.0e-3\nchannels: [x]\n"
+                                         "reference: {type: trapezoid, distance: 0.5, "
+                                         "velocity: 1, acceleration: 5}\nsupply: 7.4\n"
+                                         "controller: {type: sampled_position}\n"),
+                              "e.yaml", ::testing::TempDir());
+            }).find("key 'supply': expected a supply only with controller type: servo_firmware"),
             std::string::npos);
 }
 

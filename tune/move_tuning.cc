@@ -151,6 +151,12 @@ class MoveTuner {
       fixed_ = {"T_p", "K1"};
     }
     base_ = model_.has_controller ? model_.controller : ControllerConfig{};
+    if (base_.firmware.enabled) {
+      out_.note = "no move tuning: the controller is a servo's firmware loop (type: "
+                  "servo_firmware, MODEL.md section 5), whose gains are its registers, not the "
+                  "sampled position controller's that tune.move sets";
+      return false;
+    }
     step_ = job_.experiments.front().options.step;
     // The longest run the search can make: the penalty per unit of
     // violation, and the time charged to a move that does not settle.
