@@ -121,9 +121,10 @@ std::vector<ChannelDiagnostics> DiagnoseResiduals(const EstimationProblem& job) 
         values.resize(std::min(values.size(), r.size()));
         return values;
       };
-      d.bins.push_back(Bin("v", "m/s", head(trace[Channel::kV]), r));
-      d.bins.push_back(Bin("x", "m", head(trace[Channel::kX]), r));
-      d.bins.push_back(Bin("a", "m/s^2", head(trace[Channel::kA]), r));
+      const bool rotary = job.model.structure.motion == Motion::kRotary;
+      d.bins.push_back(Bin("v", ChannelUnit(Channel::kV, rotary), head(trace[Channel::kV]), r));
+      d.bins.push_back(Bin("x", ChannelUnit(Channel::kX, rotary), head(trace[Channel::kX]), r));
+      d.bins.push_back(Bin("a", ChannelUnit(Channel::kA, rotary), head(trace[Channel::kA]), r));
       d.bins.push_back(Bin("theta mod rev", "rad", head(angle), r));
       out.push_back(d);
     }

@@ -90,7 +90,8 @@ std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
   if (effect == "payload") {
     const double dm = value("Delta_M");
     if (dm < 0.0) {
-      why << "payload Delta_M = " << dm << " kg is below zero: the declared mass M is too "
+      why << "payload Delta_M = " << dm << " " << ParamUnit("Delta_M", job.model.structure.motion)
+          << " is below zero: the declared mass M is too "
           << "large (free M instead)";
     }
   } else if (effect == "coulomb" || effect == "motor_coulomb" || effect == "stribeck") {
@@ -98,7 +99,7 @@ std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
     // pushes the axis along, which no friction does — a stand-in for
     // something else (a misfit of the sensor front end, a drive offset).
     const char* name = effect == "coulomb" ? "F_c" : effect == "stribeck" ? "F_st" : "T_c";
-    const char* unit = effect == "motor_coulomb" ? " N*m" : " N";
+    const std::string unit = " " + ParamUnit(name, job.model.structure.motion);
     const double level = value(name);
     if (level < 0.0) {
       why << effect << " " << name << " = " << level << unit

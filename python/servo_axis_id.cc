@@ -450,6 +450,7 @@ void DefineChannelFit(py::module_& m) {
       .def_readonly("rms", &ChannelFit::rms, "RMS of simulated - measured (channel unit)")
       .def_readonly("fit_percent", &ChannelFit::fit_percent, "NRMSE fit, %")
       .def_readonly("max_error", &ChannelFit::max_error)
+      .def_readonly("mae", &ChannelFit::mae)
       .def_readonly("relative_error_percent", &ChannelFit::relative_error_percent,
                     "100*|sim - meas|/|meas| (the EMPS measure)")
       .def_readonly("ljung_box_q", &ChannelFit::ljung_box_q)
