@@ -36,6 +36,16 @@ Amplifier ParseAmplifier(const std::string& s) {
   return Amplifier::kAnalogVelocityLoop;
 }
 
+Motion ParseMotion(const std::string& s) {
+  return s == "rotary" ? Motion::kRotary : Motion::kLinear;
+}
+
+LoadTerm ParseLoad(const std::string& s) {
+  if (s == "gravity") return LoadTerm::kGravity;
+  if (s == "pendulum") return LoadTerm::kPendulum;
+  return LoadTerm::kNone;
+}
+
 Coupling ParseCoupling(const std::string& s) {
   return s == "rigid" ? Coupling::kRigid : Coupling::kGear;
 }
@@ -333,12 +343,8 @@ AxisConfig ParseAxisConfig(const YAML::Node& document, const std::string& path) 
       ParseAccelerometer(root.Choice("accelerometer", kAccelerometer, "period_mean"));
   config.structure.instant_window =
       root.Number("instant_window", config.structure.instant_window, YamlMap::Range::kPositive);
-  config.structure.motion =
-      root.Choice("motion", kMotions, "linear") == "rotary" ? Motion::kRotary : Motion::kLinear;
-  const std::string load = root.Choice("load", kLoads, "none");
-  config.structure.load = load == "gravity"    ? LoadTerm::kGravity
-                          : load == "pendulum" ? LoadTerm::kPendulum
-                                               : LoadTerm::kNone;
+  config.structure.motion = ParseMotion(root.Choice("motion", kMotions, "linear"));
+  config.structure.load = ParseLoad(root.Choice("load", kLoads, "none"));
   YamlMap params(root.Required("parameters"), path, "parameters.");
   ParseParameters(params, &config);
   if (const YAML::Node effects = root.Optional("effects")) {
@@ -410,6 +416,8 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
     if (map.Has("coupling")) {
       model->structure.coupling = ParseCoupling(map.Choice("coupling", kCouplings));
     }
+    if (map.Has("motion")) model->structure.motion = ParseMotion(map.Choice("motion", kMotions));
+    if (map.Has("load")) model->structure.load = ParseLoad(map.Choice("load", kLoads));
     if (map.Has("current_loop")) {
       model->structure.current_loop = ParseCurrentLoop(map.Choice("current_loop", kCurrentLoops));
     }

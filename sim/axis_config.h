@@ -86,7 +86,8 @@ void SetParam(AxisConfig* config, const std::string& name, double value,
 void ApplySetArgument(AxisConfig* config, const std::string& assignment);
 
 // The model overrides an experiment or job may declare next to `model:`:
-// `configuration:` (amplifier, coupling), `effects:` (as in a model config)
+// `configuration:` (amplifier, coupling, current_loop, accelerometer,
+// instant_window, motion, load), `effects:` (as in a model config)
 // and `set:` (parameter values by MODEL.md name). Re-validates the model.
 // Throws std::invalid_argument naming the file, line and key.
 void ParseModelOverrides(YamlMap& root, AxisConfig* model);

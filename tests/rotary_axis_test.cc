@@ -414,6 +414,18 @@ TEST(RotaryConfigTest, AModelWrittenBackLoadsAsTheSameAxis) {
   EXPECT_EQ(ParseController(override_map, b.controller).U_max, 500.0 / 885.0);
 }
 
+// An experiment or job may turn a linear model's load into a rotary
+// joint's pendulum with `configuration:` (ParseModelOverrides).
+TEST(RotaryConfigTest, ConfigurationOverridesMotionAndLoad) {
+  AxisConfig c = ParseAxisConfig(YAML::Load(kPendulumConfig), "t.yaml");
+  c.structure.motion = Motion::kLinear;
+  c.structure.load = LoadTerm::kNone;
+  YamlMap root(YAML::Load("{configuration: {motion: rotary, load: pendulum}}"), "j.yaml", "");
+  ParseModelOverrides(root, &c);
+  EXPECT_EQ(c.structure.motion, Motion::kRotary);
+  EXPECT_EQ(c.structure.load, LoadTerm::kPendulum);
+}
+
 // A firmware loop's duty cycle needs a supply to become volts, a voltage
 // drive to apply them and a rotary shaft for its counts; a supply needs
 // such a loop. Each refused naming the key, before anything runs.
