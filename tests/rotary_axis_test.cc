@@ -343,6 +343,11 @@ std::string ErrorOf(const std::function<void()>& f) {
   return "";
 }
 
+// The message ParseAxisConfig throws for `text`, "" if it loads.
+std::string ConfigError(const std::string& text) {
+  return ErrorOf([&] { ParseAxisConfig(YAML::Load(text), "t.yaml"); });
+}
+
 const char* kPendulumConfig =
     "name: t\nmotion: rotary\namplifier: voltage_drive\ncoupling: rigid\nload: pendulum\n"
     "parameters: {r_g: 1, J_m: 0.002, B_m: 0, K_tau: 0.4, K_e: 0.4, R: 4, M: 1.0e-6, B_a: 0.003, "
@@ -355,17 +360,17 @@ TEST(RotaryConfigTest, APendulumNeedsARotaryAxisAndItsMassAndLength) {
   EXPECT_EQ(ok.structure.amplifier, Amplifier::kVoltageDrive);
   std::string linear = kPendulumConfig;
   linear.replace(linear.find("rotary"), 6, "linear");
-  EXPECT_NE(ErrorOf([&] { ParseAxisConfig(YAML::Load(linear), "t.yaml"); })
+  EXPECT_NE(ConfigError(linear)
                 .find("key 'load': expected motion: rotary with a pendulum"),
             std::string::npos);
   std::string no_length = kPendulumConfig;
   no_length.replace(no_length.find(", l_p: 0.1"), 10, "");
-  EXPECT_NE(ErrorOf([&] { ParseAxisConfig(YAML::Load(no_length), "t.yaml"); })
+  EXPECT_NE(ConfigError(no_length)
                 .find("parameters.l_p': expected a value"),
             std::string::npos);
   std::string no_resistance = kPendulumConfig;
   no_resistance.replace(no_resistance.find("R: 4"), 4, "R: 0");
-  EXPECT_NE(ErrorOf([&] { ParseAxisConfig(YAML::Load(no_resistance), "t.yaml"); })
+  EXPECT_NE(ConfigError(no_resistance)
                 .find("parameter 'R': expected a winding resistance > 0"),
             std::string::npos);
 }
@@ -384,7 +389,7 @@ TEST(RotaryConfigTest, TheFirmwareLoopsKeysAreItsOwn) {
   EXPECT_DOUBLE_EQ(e.G_p, 8.0 * c.controller.G_p);
   const std::string mixed = std::string(kPendulumConfig) +
                             "controller: {type: servo_firmware, kp: 100, G_p: 3}\n";
-  EXPECT_NE(ErrorOf([&] { ParseAxisConfig(YAML::Load(mixed), "t.yaml"); })
+  EXPECT_NE(ConfigError(mixed)
                 .find("controller.G_p': expected the firmware's keys"),
             std::string::npos);
 }
@@ -436,30 +441,21 @@ TEST(RotaryConfigTest, TheFirmwareLoopNeedsItsSupplyAndDrive) {
     out << kPendulumConfig
         << "controller: {type: servo_firmware, kp: 100, kp_divisor: 256, quantized: false}\n";
   }
-  EXPECT_NE(ErrorOf([&] {
-              ParseExperiment(YAML::Load("model: " + model +
-                                         "\nduration: 0.1\nstep: 1.0e-3\nchannels: [x]\n"
-                                         "reference: {type: trapezoid, distance: 0.5, "
-                                         "velocity: 1, acceleration: 5}\n"),
-                              "e.yaml", ::testing::TempDir());
-            }).find("key 'supply': expected the drive's supply voltage"),
+  // A trapezoid move on that model with `extra` keys: the loader's message.
+  const auto experiment_error = [&](const std::string& extra) {
+    return ErrorOf([&] {
+      ParseExperiment(YAML::Load("model: " + model +
+                                 "\nduration: 0.1\nstep: 1.0e-3\nchannels: [x]\n"
+                                 "reference: {type: trapezoid, distance: 0.5, velocity: 1, "
+                                 "acceleration: 5}\n" + extra),
+                      "e.yaml", ::testing::TempDir());
+    });
+  };
+  EXPECT_NE(experiment_error("").find("key 'supply': expected the drive's supply voltage"),
             std::string::npos);
-  const std::string ok = ErrorOf([&] {
-    ParseExperiment(YAML::Load("model: " + model +
-                               "\nduration: 0.1\nstep: 1.0e-3\nchannels: [x]\n"
-                               "reference: {type: trapezoid, distance: 0.5, velocity: 1, "
-                               "acceleration: 5}\nsupply: 7.4\n"),
-                    "e.yaml", ::testing::TempDir());
-  });
-  EXPECT_EQ(ok, "");
-  EXPECT_NE(ErrorOf([&] {
-              ParseExperiment(YAML::Load("model: " + model +
-                                         "\nduration: 0.1\nstep: 1.0e-3\nchannels: [x]\n"
-                                         "reference: {type: trapezoid, distance: 0.5, "
-                                         "velocity: 1, acceleration: 5}\nsupply: 7.4\n"
-                                         "controller: {type: sampled_position}\n"),
-                              "e.yaml", ::testing::TempDir());
-            }).find("key 'supply': expected a supply only with controller type: servo_firmware"),
+  EXPECT_EQ(experiment_error("supply: 7.4\n"), "");
+  EXPECT_NE(experiment_error("supply: 7.4\ncontroller: {type: sampled_position}\n")
+                .find("key 'supply': expected a supply only with controller type: servo_firmware"),
             std::string::npos);
 }
 
