@@ -1,8 +1,10 @@
-# libcsv (Debian libcsv-dev) and libmatio (libmatio-dev) ship no CMake
-# package: this file finds them and defines the imported targets csv::csv and
-# matio::matio (each once). Included by the top CMakeLists.txt and by the
-# installed servo_axis_idConfig.cmake: the static sim library links both
-# privately, so its consumers need them at link time too.
+# libcsv (Debian libcsv-dev), libmatio (libmatio-dev) and FFTW3
+# (libfftw3-dev) ship no CMake package: this file finds them and defines the
+# imported targets csv::csv, matio::matio and fftw3::fftw3 (each once).
+# Included by the top CMakeLists.txt and by the installed
+# servo_axis_idConfig.cmake: the static sim library links the first two and
+# the common library the third privately, so their consumers need them at
+# link time too.
 # Sets SERVO_AXIS_ID_MISSING_LIBRARIES to what was not found (empty if all).
 set(SERVO_AXIS_ID_MISSING_LIBRARIES "")
 if(NOT TARGET csv::csv)
@@ -27,5 +29,18 @@ if(NOT TARGET matio::matio)
   else()
     list(APPEND SERVO_AXIS_ID_MISSING_LIBRARIES
          "libmatio found by pkg-config as 'matio' (Debian libmatio-dev, pkg-config)")
+  endif()
+endif()
+if(NOT TARGET fftw3::fftw3)
+  find_package(PkgConfig QUIET)
+  if(PKG_CONFIG_FOUND)
+    pkg_check_modules(FFTW3 QUIET IMPORTED_TARGET fftw3)
+  endif()
+  if(TARGET PkgConfig::FFTW3)
+    add_library(fftw3::fftw3 INTERFACE IMPORTED)
+    set_target_properties(fftw3::fftw3 PROPERTIES INTERFACE_LINK_LIBRARIES PkgConfig::FFTW3)
+  else()
+    list(APPEND SERVO_AXIS_ID_MISSING_LIBRARIES
+         "FFTW3 found by pkg-config as 'fftw3' (Debian libfftw3-dev, pkg-config)")
   endif()
 endif()
