@@ -198,6 +198,21 @@ class Plotter {
                          }));
   }
 
+  // A <figure> with the Bode plot of channel `c` of `r`.
+  std::string Bode(const ExperimentFrequencyResponse& r, const ChannelFrequencyResponse& c) {
+    return Later(r.experiment + ": " + r.input + " to " + c.channel +
+                     ": magnitude (dB), phase (deg) and coherence of the H1 estimate of the "
+                     "data (points) and of the model at the estimate simulated on the same "
+                     "input (line)" +
+                     (c.linear.empty() ? std::string() : ", and the linear model (dashed)") +
+                     ", over the input's band.",
+                 [&r, &c](const std::string& csv) { WriteFrequencyResponseCsv(csv, r, c); },
+                 Gnuplot(r.experiment + " " + c.channel + " frequency response",
+                         [&r, &c](const std::string& csv, const std::string& output) {
+                           return BodePlotScript(r, c, csv, output, true);
+                         }));
+  }
+
   // A <figure> with the learned force of `map` and its band.
   std::string ForceMap(const ForceMapReport& map) {
     return Later("The learned load force (N) with its pointwise 95 % band (Bayesian, of the "
@@ -816,6 +831,23 @@ std::string ProposalHtml(const ExperimentProposal& p) {
          RenderHtmlTable(table);
 }
 
+// The frequency response's table and notes, and a Bode plot per
+// experiment and channel.
+std::string FrequencyResponseHtml(const std::vector<ExperimentFrequencyResponse>& responses,
+                                  Plotter* plotter) {
+  std::string body = "<pre>" + HtmlEscape(FormatFrequencyResponse(responses)) + "</pre>\n" +
+                     Tag("p",
+                         "H1 = G_uy/G_uu with Welch averaging (Hann, 50 % overlap) from the "
+                         "experiment's input to each fitted channel, on the bins of the input's "
+                         "band; the model's H1 is of its simulation at the estimate on the same "
+                         "input (docs/frequency-response.md).",
+                         "class=\"note\"");
+  for (const ExperimentFrequencyResponse& r : responses) {
+    for (const ChannelFrequencyResponse& c : r.channels) body += plotter->Bode(r, c);
+  }
+  return body;
+}
+
 }  // namespace
 
 std::string HtmlEscape(const std::string& text) {
@@ -930,6 +962,9 @@ int HtmlReportPlotCount(const HtmlReportInput& input) {
   if (input.diagnostics != nullptr) n += input.diagnostics->size();
   if (input.discovery != nullptr) n += input.discovery->final_diagnostics.size();
   if (input.force_map != nullptr && !input.force_map->curve.z.empty()) ++n;
+  if (input.frequency_response != nullptr) {
+    for (const ExperimentFrequencyResponse& r : *input.frequency_response) n += r.channels.size();
+  }
   return static_cast<int>(n);
 }
 
@@ -998,6 +1033,10 @@ std::string RenderHtmlReport(const HtmlReportInput& input, const std::string& sc
         DiagnosticsTable(*input.diagnostics);
     for (const ChannelDiagnostics& d : *input.diagnostics) diagnostics += plotter.Diagnostics(d);
     sections.push_back({"diagnostics", "Residual diagnostics", diagnostics});
+  }
+  if (input.frequency_response != nullptr && !input.frequency_response->empty()) {
+    sections.push_back({"frequency-response", "Frequency response",
+                        FrequencyResponseHtml(*input.frequency_response, &plotter)});
   }
   if (input.discovery != nullptr) {
     sections.push_back({"discovery", "Model discovery", DiscoveryHtml(*input.discovery, &plotter)});

@@ -13,7 +13,8 @@
 // parameters as a coloured table (a heat map from −1 blue to +1 red); the
 // goodness of fit per experiment and channel; per experiment the measured
 // and simulated traces and the residuals (SVG); the residual diagnostics
-// (tables and SVG of the binned mean residuals); the discovery loop (first
+// (tables and SVG of the binned mean residuals); the frequency response
+// (Bode magnitude, phase and coherence SVG); the discovery loop (first
 // ranking, every step with its before/after table, significance, the final
 // model's diagnostics, the verdict with what remains); the validation
 // experiments; the published comparison; the solver's account.
@@ -28,6 +29,7 @@
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
 #include "discovery/force_map.h"
+#include "discovery/frequency_response.h"
 #include "estimation/fit_result.h"
 #include "estimation/estimation_problem.h"
 #include "report/published.h"
@@ -51,6 +53,11 @@ struct HtmlReportInput {
   // The force-map step after the loop (discovery/force_map.h), if the job asked
   // for it: its text and, if a map was refitted, its plot.
   const ForceMapReport* force_map = nullptr;
+  // The frequency response of each fitted experiment
+  // (discovery/frequency_response.h): a table, the notes of the records
+  // without one, and a Bode plot (magnitude, phase, coherence) per
+  // experiment and channel.
+  const std::vector<ExperimentFrequencyResponse>* frequency_response = nullptr;
   const PublishedComparison* published = nullptr;  // the job has `published:`
   // The next experiment (design/experiment_design.h), if the job has
   // `design:`: FormatProposal's text and, if one was proposed, the ten
@@ -74,7 +81,7 @@ struct HtmlReportInput {
 // The number of inline SVG plots RenderHtmlReport draws when gnuplot works:
 // one per experiment of the result, one per channel of `diagnostics`, one
 // per channel of the discovery's final diagnostics, one for a force map
-// with a curve.
+// with a curve, one per channel of the frequency response.
 int HtmlReportPlotCount(const HtmlReportInput& input);
 
 // The page as text. Plots are drawn by gnuplot, several at once

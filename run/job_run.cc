@@ -14,6 +14,7 @@
 #include "discovery/diagnostics.h"
 #include "discovery/discovery_session.h"
 #include "discovery/force_map.h"
+#include "discovery/frequency_response.h"
 #include "estimation/at_estimate.h"
 #include "estimation/current_loop_check.h"
 #include "estimation/fit.h"
@@ -65,6 +66,7 @@ class JobPipeline {
     if (!run_.discovered) DiagnoseTheFit();
     if (run_.job.problem.uncertainty.bootstrap > 0) phases_.Begin("residual bootstrap");
     ResidualBootstrap(run_.job.problem, &result_, &out_);
+    AnalyseTheFrequencyResponse();
     if (run_.job.design.enabled) DesignTheNextExperiment();
     phases_.Begin("tables");
     PrintTables();
@@ -307,6 +309,19 @@ class JobPipeline {
     }
   }
 
+  // The frequency response of each fitted experiment at the final
+  // estimate (discovery/frequency_response.h).
+  void AnalyseTheFrequencyResponse() {
+    Stage("frequency response");
+    try {
+      run_.frequency_response =
+          AnalyseFrequencyResponse(AtEstimate(run_.job.problem, result_), result_);
+    } catch (const std::exception& e) {
+      run_.frequency_response.clear();  // the fitted model does not simulate a record
+      run_.frequency_response_note = std::string("no frequency response: ") + e.what();
+    }
+  }
+
   void DesignTheNextExperiment() {
     Stage("designing the next experiment");
     try {
@@ -365,6 +380,8 @@ class JobPipeline {
       out_ << "misspecification: " << result.misspecification_note << "\n";
     }
     if (run_.job.problem.uncertainty.bootstrap > 0) out_ << FormatBootstrap(result);
+    if (!run_.frequency_response_note.empty()) out_ << run_.frequency_response_note << "\n";
+    out_ << FormatFrequencyResponse(run_.frequency_response);
   }
 
   // What params.md and report.json add to the fit's own tables.
@@ -399,6 +416,11 @@ class JobPipeline {
           {"note", c.note}};
       if (!c.note.empty()) extra.markdown += "\n## Accelerometer sampling\n\n" + c.note + "\n";
     }
+    if (!run_.frequency_response.empty()) {
+      extra.markdown += "\n## Frequency response\n\n```\n" +
+                        FormatFrequencyResponse(run_.frequency_response) + "```\n";
+    }
+    extra.json["frequency_response"] = FrequencyResponseToJson(run_.frequency_response);
     if (run_.job.published.present) AddPublishedSection();
     if (run_.discovered) AddDiscoverySections();
     if (run_.job.design.enabled) {

@@ -16,6 +16,7 @@
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
 #include "discovery/force_map.h"
+#include "discovery/frequency_response.h"
 #include "estimation/current_loop_check.h"
 #include "estimation/sampling_check.h"
 #include "estimation/fit_result.h"
@@ -69,6 +70,13 @@ struct JobRun {
   // What params.md and report.json add to the fit's own tables: how input
   // columns were read, the published comparison, the discovery loop.
   ReportSections sections;
+  // The frequency response of each fitted experiment at the final
+  // estimate (discovery/frequency_response.h; report.json
+  // "frequency_response", report.html's Bode plots); empty with
+  // frequency_response_note set where the model at the estimate did not
+  // simulate.
+  std::vector<ExperimentFrequencyResponse> frequency_response;
+  std::string frequency_response_note;
   // How input columns were read, one line each ("<experiment>: <note>"),
   // for report.html.
   std::vector<std::string> input_lines;

@@ -28,6 +28,7 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
   html.result = &run.result;
   html.job = &run.job.problem;
   html.diagnostics = &run.diagnostics;
+  html.frequency_response = &run.frequency_response;
   html.discovery = run.discovered ? &run.discovery : nullptr;
   html.force_map = run.discovered && run.job.discover.force_map ? &run.force_map : nullptr;
   html.proposal = run.job.design.enabled ? &run.proposal : nullptr;
