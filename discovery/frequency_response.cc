@@ -19,10 +19,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kZ95 = 1.959963984540054;
 constexpr double kPi = 3.14159265358979323846;
 
-bool IsStateChannel(Channel c) {
-  return c != Channel::kT && c != Channel::kU && c != Channel::kXRef && c != Channel::kVRef;
-}
-
 // The linear model's modes at the steady state under u: the resonances
 // first, then each channel's anti-resonances, as LinearMode lists.
 struct ModeSet {

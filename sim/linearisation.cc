@@ -6,6 +6,7 @@
 #include <string>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <Eigen/LU>
 
 #include "sim/simulate.h"
@@ -14,13 +15,10 @@ namespace axis {
 namespace {
 
 constexpr double kTwoPi = 6.28318530717958647692;
-// Zeros beyond this multiple of the fastest pole are taken as infinite.
-constexpr double kFarZero = 1e3;
+// C·A^k·B below this fraction of |C·A^k|·|B| counts as zero (the relative
+// degree's test; the structural zeros are exact).
+constexpr double kMarkov = 1e-12;
 using Jet = ceres::Jet<double, kNumStates + 1>;  // 7 states and the input
-
-bool IsStateChannel(Channel c) {
-  return c != Channel::kT && c != Channel::kU && c != Channel::kXRef && c != Channel::kVRef;
-}
 
 void Sort(std::vector<LinearMode>* modes) {
   std::sort(modes->begin(), modes->end(),
@@ -34,7 +32,7 @@ bool AsMode(std::complex<double> s, LinearMode* mode) {
   mode->root = s;
   mode->frequency = w / kTwoPi;
   mode->damping = -s.real() / w;
-  return mode->damping < kLightDamping;
+  return std::abs(mode->damping) < kLightDamping;
 }
 
 void SensorFrontEnd(const AxisStructure& structure, const AxisParams<double>& p, Channel c,
@@ -128,28 +126,41 @@ std::vector<LinearMode> Resonances(const LinearisedAxis& system) {
 
 std::vector<LinearMode> AntiResonances(const LinearisedAxis& system, size_t row) {
   if (row >= system.channels.size()) throw std::out_of_range("AntiResonances: no such channel");
-  const Eigen::Index r = static_cast<Eigen::Index>(row);
+  using Matrix = Eigen::Matrix<double, kNumStates, kNumStates>;
+  const Eigen::Matrix<double, 1, kNumStates> c = system.C.row(static_cast<Eigen::Index>(row));
+  const double d = system.D(static_cast<Eigen::Index>(row));
   std::vector<LinearMode> out;
-  if (system.C.row(r).isZero(0.0) && system.D(r) == 0.0) return out;
-  constexpr int n = kNumStates + 1;
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, n), e = Eigen::MatrixXd::Zero(n, n);
-  m.topLeftCorner(kNumStates, kNumStates) = system.A;
-  m.topRightCorner(kNumStates, 1) = system.B;
-  m.bottomLeftCorner(1, kNumStates) = system.C.row(r);
-  m(kNumStates, kNumStates) = system.D(r);
-  e.topLeftCorner(kNumStates, kNumStates).setIdentity();
-  Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> solver(m, e, false);
-  if (solver.info() != Eigen::Success) return out;
-  Eigen::EigenSolver<Eigen::Matrix<double, kNumStates, kNumStates>> poles(system.A, false);
-  double fastest = 0.0;
-  for (int j = 0; j < kNumStates; ++j) fastest = std::max(fastest, std::abs(poles.eigenvalues()[j]));
-  for (int k = 0; k < n; ++k) {
-    const std::complex<double> alpha = solver.alphas()[k];
-    const double beta = solver.betas()[k];
-    if (beta == 0.0) continue;
-    const std::complex<double> s = alpha / beta;
-    // Infinite zeros come out of QZ as huge finite ones.
-    if (!(std::abs(s) <= kFarZero * fastest)) continue;
+  // The zero dynamics: the feedback u = −(C·A^(r−1)·B)⁻¹·C·A^r·x that
+  // holds y ≡ 0, on the subspace where C·A^k·x = 0 for k < r (invariant
+  // under it; its r other eigenvalues are 0, and numerically a cluster
+  // about 0 that would pass for slow zeros).
+  Eigen::MatrixXd zero_dynamics;
+  if (d != 0.0) {
+    zero_dynamics = system.A - system.B * c / d;
+  } else {
+    Eigen::MatrixXd rows(0, kNumStates);
+    Eigen::Matrix<double, 1, kNumStates> w = c;  // C·A^k
+    int k = 0;
+    for (; k < kNumStates; ++k) {
+      const double g = w.dot(system.B);
+      if (g != 0.0 && std::abs(g) > kMarkov * w.norm() * system.B.norm()) break;
+      rows.conservativeResize(k + 1, kNumStates);
+      rows.row(k) = w / w.norm();
+      w = w * system.A;
+    }
+    if (k == kNumStates) return out;  // the channel's response is identically 0
+    const Matrix closed = system.A - system.B * (w * system.A) / w.dot(system.B);
+    rows.conservativeResize(k + 1, kNumStates);  // C·A^k for k < r = k + 1
+    rows.row(k) = w / w.norm();
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(rows, Eigen::ComputeFullV);
+    const Eigen::MatrixXd null = svd.matrixV().rightCols(kNumStates - rows.rows());
+    zero_dynamics = null.transpose() * closed * null;
+  }
+  Eigen::EigenSolver<Eigen::MatrixXd> zeros(zero_dynamics, false);
+  Eigen::EigenSolver<Matrix> poles(system.A, false);
+  if (zeros.info() != Eigen::Success || poles.info() != Eigen::Success) return out;
+  for (Eigen::Index k = 0; k < zeros.eigenvalues().size(); ++k) {
+    const std::complex<double> s = zeros.eigenvalues()[k];
     LinearMode mode;
     if (!AsMode(s, &mode)) continue;
     bool cancelled = false;

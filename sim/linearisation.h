@@ -35,6 +35,12 @@ struct LinearisedAxis {
   std::vector<double> tau_d, tau_lp, tau_lp2, zeta_lp2;
 };
 
+// Whether channel c is a function of the state and input (not t, u,
+// x_ref, v_ref): the channels Linearise takes. Never throws.
+inline bool IsStateChannel(Channel c) {
+  return c != Channel::kT && c != Channel::kU && c != Channel::kXRef && c != Channel::kVRef;
+}
+
 // The gear branch (MODEL.md eq. 5) a linearisation at state y holds: the
 // state's (GearContactOf), except with no backlash (H = 0), where both
 // contact branches are the same equation and the state's gap 0 would pick
@@ -66,24 +72,25 @@ struct LinearMode {
   std::complex<double> root;  // s (1/s), Im s > 0
 };
 
-// Roots with Im s > 0 and ζ below this are resonances (poles) or
+// Roots with Im s > 0 and |ζ| below this are resonances (poles) or
 // anti-resonances (zeros): a second-order pair peaks (or dips) only for
-// ζ < 1/√2.
+// |ζ| < 1/√2.
 inline constexpr double kLightDamping = 0.70710678118654752;
 
-// The resonances: eigenvalues of A with Im s > 0 and ζ < kLightDamping,
+// The resonances: eigenvalues of A with Im s > 0 and |ζ| < kLightDamping,
 // by frequency. Never throws.
 std::vector<LinearMode> Resonances(const LinearisedAxis& system);
 
-// The anti-resonances of channel row `row`: the finite generalised
-// eigenvalues s of the Rosenbrock pencil ([A B; C_k D_k], [I 0; 0 0])
-// (Emami-Naeini & Van Dooren, Automatica 18, 1982) with Im s > 0 and
-// ζ < kLightDamping, less those within 10⁻⁶·|s| of a pole of A (a mode
-// the channel does not see, or the input does not reach, cancels and is
-// no anti-resonance) and those beyond 10³ times the largest |pole| (QZ
-// returns the pencil's infinite eigenvalues as huge finite ones); by
-// frequency. Empty where the channel's response is
-// identically zero. Throws std::out_of_range for a row past the channels.
+// The anti-resonances of channel row `row`: its transmission zeros with
+// Im s > 0 and |ζ| < kLightDamping, by frequency. The zeros are the
+// eigenvalues of A − B·(C_k·A^(r−1)·B)⁻¹·C_k·A^r, the dynamics left when
+// the input holds the channel at zero (r the relative degree, the first
+// r with C_k·A^(r−1)·B ≠ 0; A − B·C_k/D_k where D_k ≠ 0), less its r
+// eigenvalues at 0 (Isidori, "Nonlinear Control Systems", 3rd ed., §4.3),
+// and less those within 10⁻⁶·|s| of a pole of A (a mode the channel does
+// not see, or the input does not reach, cancels and is no
+// anti-resonance). Empty where the channel's response is identically
+// zero. Throws std::out_of_range for a row past the channels.
 std::vector<LinearMode> AntiResonances(const LinearisedAxis& system, size_t row);
 
 }  // namespace axis

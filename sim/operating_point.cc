@@ -73,8 +73,11 @@ AxisStructure AveragedStructure(const AxisStructure& structure) {
   return s;
 }
 
-OperatingPoint FindOperatingPoint(const AxisStructure& structure, const AxisParams<double>& p,
-                                  const AxisState<double>& start, double u) {
+namespace {
+
+// Gauss–Newton from one start (FindOperatingPoint).
+OperatingPoint SolveFrom(const AxisStructure& structure, const AxisParams<double>& p,
+                         const AxisState<double>& start, double u) {
   const SteadyEquations q = EquationsFor(structure);
   const AxisParams<Jet> pj = internal::ParamsAs<Jet>(p);
   OperatingPoint point;
@@ -110,6 +113,23 @@ OperatingPoint FindOperatingPoint(const AxisStructure& structure, const AxisPara
     if (!decreased) break;
   }
   if (!point.converged) point.converged = r.norm() <= 1e-9 * r0 || r.norm() == 0.0;
+  return point;
+}
+
+}  // namespace
+
+OperatingPoint FindOperatingPoint(const AxisStructure& structure, const AxisParams<double>& p,
+                                  const AxisState<double>& start, double u) {
+  OperatingPoint point = SolveFrom(structure, p, start, u);
+  if (point.converged || structure.coupling == Coupling::kRigid || !(p.H > 0.0)) return point;
+  // Inside the backlash the gear's deflection enters no equation: steady
+  // motion is found from a start in contact, on either side.
+  for (double side : {1.0, -1.0}) {
+    AxisState<double> y = start;
+    y[2] = (y[0] + side * 2.0 * p.H) / p.r_g;
+    const OperatingPoint other = SolveFrom(structure, p, y, u);
+    if (other.converged) return other;
+  }
   return point;
 }
 

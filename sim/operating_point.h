@@ -9,7 +9,9 @@
 // position-dependent restoring force (a spring, a pendulum), the
 // equilibrium at rest (v = ω = 0, the position free). It is found by
 // Gauss–Newton on those equations from `start` (AxisDerivative with ceres::Jet
-// for the Jacobian, a minimum-norm step, halved until the residual falls).
+// for the Jacobian, a minimum-norm step, halved until the residual falls);
+// with backlash, where that fails, from the gear in contact on either side
+// (r_g·θ − x = ±2H): inside the backlash the deflection enters no equation.
 // Forces periodic in the load's or the motor's position (cogging, the
 // position ripple, the friction patch) average out over steady motion and
 // are left out (AveragedStructure).

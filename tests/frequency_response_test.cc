@@ -308,6 +308,40 @@ TEST(LinearisationTest, NoLinearModelInsideTheCoulombBandOrTheBacklash) {
             std::string::npos);
 }
 
+// The X axis as configured (analog velocity loop, gear with backlash) under
+// 10 mV: steady motion at the loop's steady-state gain (to 10⁻⁵: the full
+// current loop's finite K_a gives i = (K_a·V_c − K_e·ω)/(K_a/K_i + R),
+// 5·10⁻⁶ below K_i·V_c), the gear in contact, a linear model. The loop
+// holds the motor: the load resonates on the gear near √(k_g/M)/2π, and
+// the motor velocity's anti-resonance is that frequency (the load on the
+// gear with the motor held), damped by b_g and B_a.
+TEST(LinearisationTest, AnalogLoopSteadyMotionThroughTheBacklash) {
+  const AxisConfig m = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
+  const double u = 0.01;
+  const OperatingPoint point =
+      FindOperatingPoint(m.structure, m.params, AxisState<double>::Zero(), u);
+  ASSERT_TRUE(point.converged);
+  const double v = SteadyStateGain(m.params) * m.params.r_g * u;
+  EXPECT_NEAR(point.state[1], v, 1e-5 * v);
+  EXPECT_NEAR(point.state[3] * m.params.r_g, point.state[1], 1e-12 * v);
+  EXPECT_GT(m.params.r_g * point.state[2] - point.state[0], m.params.H);
+  EXPECT_EQ(LinearModelBlocker(m.structure, m.params, point), "");
+  const LinearisedAxis sys =
+      Linearise(m.structure, m.params, point.state, u, {Channel::kV, Channel::kOmega});
+  const AxisParams<double>& p = m.params;
+  const double f_held = std::sqrt(p.k_g / p.M) / (2 * kPi);
+  const std::vector<LinearMode> res = Resonances(sys);
+  ASSERT_FALSE(res.empty());
+  EXPECT_NEAR(res[0].frequency, f_held, 0.05 * f_held);
+  EXPECT_LT(res[0].damping, 0.1);
+  EXPECT_TRUE(AntiResonances(sys, 0).empty());  // the load's velocity: none
+  const std::vector<LinearMode> anti = AntiResonances(sys, 1);
+  ASSERT_EQ(anti.size(), 1u);
+  // M·s² + (b_g + B_a)·s + k_g = 0: |s| = √(k_g/M), ζ = (b_g + B_a)/(2·√(k_g·M)).
+  EXPECT_NEAR(anti[0].frequency, f_held, 1e-9 * f_held);
+  EXPECT_NEAR(anti[0].damping, (p.b_g + p.B_a) / (2 * std::sqrt(p.k_g * p.M)), 1e-9);
+}
+
 // The delta method: SE of the resonance in k_g alone is f/(2·k_g)·SE(k_g);
 // four times the covariance, twice the interval.
 TEST(FrequencyResponseTest, DeltaMethodIntervalMatchesItsClosedFormAndScales) {

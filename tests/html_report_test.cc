@@ -133,6 +133,48 @@ TEST_F(HtmlReportTest, WithoutGnuplotThePlotsAreNotes) {
   EXPECT_NE(warnings[0].find("gnuplot not found"), std::string::npos) << warnings[0];
 }
 
+// The frequency response section: its table, the note of a record
+// without a band (escaped), one Bode plot per experiment and channel.
+TEST_F(HtmlReportTest, FrequencyResponseHasABodePlotPerChannel) {
+  const FitResult result = HostileResult(100);
+  std::vector<ExperimentFrequencyResponse> fr(2);
+  fr[0].experiment = "chirp <1>";
+  fr[0].input = "U";
+  fr[0].input_unit = "V";
+  fr[0].band.band = true;
+  fr[0].band.f_low = 1.0;
+  fr[0].band.f_high = 100.0;
+  fr[0].averages = 9;
+  fr[0].linear.blocker = "a closed loop (the sampled controller is not linearised)";
+  ChannelFrequencyResponse c;
+  c.channel = "v";
+  c.unit = "m/s";
+  for (int k = 1; k <= 50; ++k) {
+    c.frequency.push_back(2.0 * k);
+    c.data.push_back({1.0 / k, -0.1 * k});
+    c.model.push_back({1.1 / k, -0.1 * k});
+    c.data_coherence.push_back(0.9);
+    c.model_coherence.push_back(1.0);
+  }
+  fr[0].channels = {c, c};
+  fr[0].channels[1].channel = "a";
+  fr[1].experiment = "square & wave";
+  fr[1].input = "U";
+  fr[1].note = "U: no band: the longest run of bins within 20 dB of the input's peak is 3 bins";
+  HtmlReportInput input;
+  input.result = &result;
+  input.frequency_response = &fr;
+  EXPECT_EQ(HtmlReportPlotCount(input), 4);  // two experiments, two channels
+  std::vector<std::string> warnings;
+  const std::string page = RenderHtmlReport(input, dir_, &warnings);
+  EXPECT_NE(page.find("<section id=\"frequency-response\">"), std::string::npos);
+  EXPECT_NE(page.find("square &amp; wave: U: no band"), std::string::npos);
+  EXPECT_NE(page.find("chirp &lt;1&gt;: U to a"), std::string::npos);
+  if (!HaveGnuplot()) GTEST_SKIP() << "gnuplot is not installed: no plots to check";
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_EQ(static_cast<int>(Count(page, "<svg")), HtmlReportPlotCount(input));
+}
+
 TEST(HtmlReportInputTest, ResultIsRequired) {
   HtmlReportInput input;
   try {
