@@ -18,6 +18,9 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kZ95 = 1.959963984540054;
 constexpr double kPi = 3.14159265358979323846;
+// Below this median coherence of the noise-free model the record drives it
+// beyond its linear range (a limit, friction near zero velocity, backlash).
+constexpr double kSmallSignalCoherence = 0.9;
 
 // The linear model's modes at the steady state under u: the resonances
 // first, then each channel's anti-resonances, as LinearMode lists.
@@ -69,12 +72,12 @@ double Median(std::vector<double> x) {
   return x[x.size() / 2];
 }
 
+// "29.453 ± 0.00043 Hz (zeta 0.031)": the frequency, the half-width of its
+// 95 % interval, the damping.
 std::string ModeText(const ModeEstimate& m) {
-  std::string s = FormatNumber(m.frequency, 4) + " Hz";
-  if (std::isfinite(m.std_error)) {
-    s += " [" + FormatNumber(m.ci95_low, 4) + ", " + FormatNumber(m.ci95_high, 4) + "]";
-  }
-  return s + " (zeta " + FormatNumber(m.damping, 2) + ")";
+  std::string s = FormatNumber(m.frequency, 5);
+  if (std::isfinite(m.std_error)) s += " ± " + FormatNumber(m.ci95_high - m.frequency, 2);
+  return s + " Hz (zeta " + FormatNumber(m.damping, 2) + ")";
 }
 
 nlohmann::json ModesJson(const std::vector<ModeEstimate>& modes) {
@@ -312,7 +315,7 @@ std::string FormatFrequencyResponse(const std::vector<ExperimentFrequencyRespons
   if (responses.empty()) return "";
   TextTable table;
   table.headers = {"experiment", "input", "channel", "band (Hz)", "averages",
-                   "coherence data", "coherence model", "anti-resonances (95 %)"};
+                   "coherence data", "coherence model", "anti-resonances (± 95 %)"};
   table.right = {false, false, false, false, true, true, true, false};
   std::string notes;
   for (const ExperimentFrequencyResponse& r : responses) {
@@ -337,6 +340,15 @@ std::string FormatFrequencyResponse(const std::vector<ExperimentFrequencyRespons
               : res.empty()             ? "no resonance"
                                         : "resonances " + Join(res, "; ")) +
              "\n";
+    double least = 1.0;
+    for (const ChannelFrequencyResponse& c : r.channels) {
+      least = std::min(least, Median(c.model_coherence));
+    }
+    if (least < kSmallSignalCoherence) {
+      notes += "  " + r.experiment + ": the model's own coherence (median " +
+               FormatNumber(least, 2) +
+               ") says the record is not small-signal: compare the data with the model's H1\n";
+    }
   }
   std::string out =
       "frequency response (H1 of the input to each fitted channel; Welch, Hann, 50 % overlap; "
@@ -419,7 +431,7 @@ std::string BodePlotScript(const ExperimentFrequencyResponse& r,
   const std::string file = "'" + csv_path + "'";
   const std::string lin = c.linear.empty() ? "" : ", " + file;
   s << "set output '" << output << "'; set datafile separator ','; set datafile missing ''; "
-    << "set grid; set logscale x; set key below; set multiplot layout 3,1 title '" << r.experiment
+    << "set grid; set logscale x; set autoscale xfix; set key below; set multiplot layout 3,1 title '" << r.experiment
     << ": " << r.input << " to " << c.channel << "';"
     << "set ylabel '|H| (dB re 1 " << c.unit << "/" << r.input_unit << ")'; unset xlabel;"
     << "plot " << file << " using 1:2 skip 1 with points pt 7 ps 0.4 title 'data H1', " << file

@@ -114,9 +114,12 @@ std::vector<double> ExperimentInput(const FitExperiment& e, bool rotary, std::st
                                     std::string* unit);
 
 // A table: per experiment and channel the band, averages, median coherence
-// of data and model, and the linear model's resonances and
-// anti-resonances with intervals; the experiments without a response with
-// the reason. "" for none.
+// of data and model, and the linear model's anti-resonances with the
+// half-widths of their intervals; per experiment the linear model's
+// resonances or why it has none, and, where the model's own median
+// coherence is below 0.9 on some channel, that the record is not
+// small-signal; the experiments without a response with the reason. ""
+// for none.
 std::string FormatFrequencyResponse(const std::vector<ExperimentFrequencyResponse>& responses);
 
 // report.json's "frequency_response": an array, one object per experiment
