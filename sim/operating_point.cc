@@ -88,11 +88,11 @@ OperatingPoint SolveFrom(const AxisStructure& structure, const AxisParams<double
   Eigen::MatrixXd jacobian;
   Residual(structure, pj, p, q, point.state, u, &r, &jacobian);
   const double r0 = r.norm();
+  // Past the tolerance the steps go on while they lower the residual (to
+  // round-off: Newton converges quadratically there).
   for (int it = 0; it < kMaxIterations && std::isfinite(r.norm()); ++it) {
-    if (r.norm() <= 1e-9 * r0 || r.norm() == 0.0) {
-      point.converged = true;
-      break;
-    }
+    if (r.norm() <= 1e-9 * r0 || r.norm() == 0.0) point.converged = true;
+    if (r.norm() == 0.0) break;
     point.iterations = it + 1;
     const Eigen::VectorXd step = jacobian.completeOrthogonalDecomposition().solve(-r);
     double length = 1.0;

@@ -342,6 +342,64 @@ TEST(LinearisationTest, AnalogLoopSteadyMotionThroughTheBacklash) {
   EXPECT_NEAR(anti[0].damping, (p.b_g + p.B_a) / (2 * std::sqrt(p.k_g * p.M)), 1e-9);
 }
 
+// A force source on a rigid load with viscous friction: v/U = g_F/(M·s +
+// B_a) and a/U = g_F·s/(M·s + B_a), the acceleration with a direct
+// feed-through (D = g_F/M); neither has a resonance or an anti-resonance.
+TEST(LinearisationTest, ForceSourceResponseHasItsFeedThrough) {
+  AxisConfig m = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
+  m.structure.amplifier = Amplifier::kForceSource;
+  m.structure.coupling = Coupling::kRigid;
+  m.params.g_F = 50.0;
+  const AxisParams<double>& p = m.params;
+  const LinearisedAxis sys =
+      Linearise(m.structure, p, AxisState<double>::Zero(), 0.0, {Channel::kV, Channel::kA});
+  EXPECT_NEAR(sys.D(1), p.g_F / p.M, 1e-12 * p.g_F / p.M);
+  for (double f : {0.01, 0.2, 5.0, 100.0}) {
+    const Complex s(0.0, 2 * kPi * f);
+    const Complex v = p.g_F / (p.M * s + p.B_a);
+    EXPECT_NEAR(std::abs(LinearResponse(sys, 0, f) - v), 0.0, 1e-12 * std::abs(v)) << f;
+    EXPECT_NEAR(std::abs(LinearResponse(sys, 1, f) - s * v), 0.0, 1e-12 * std::abs(s * v)) << f;
+  }
+  EXPECT_TRUE(Resonances(sys).empty());
+  EXPECT_TRUE(AntiResonances(sys, 0).empty());
+  EXPECT_TRUE(AntiResonances(sys, 1).empty());
+}
+
+// A direct-drive pendulum on a voltage drive (rotary axis, no friction but
+// the back-EMF's K_τ·K_e/R): under u the equilibrium at rest where the
+// motor's torque K_τ·u/R holds the pendulum, sin x* = K_τ·u/(R·r_g·m_p·g·l_p);
+// the resonance at √(r_g²·m_p·g·l_p·cos x*/J)/2π, J = J_m + r_g²·(M +
+// m_p·l_p²), damped by the back-EMF.
+TEST(LinearisationTest, PendulumOnAVoltageDriveRestsAndSwings) {
+  AxisConfig m = LoadAxisConfig(kRoot + "/configs/axes/x_axis.yaml");
+  m.structure.amplifier = Amplifier::kVoltageDrive;
+  m.structure.coupling = Coupling::kRigid;
+  m.structure.motion = Motion::kRotary;
+  m.structure.load = LoadTerm::kPendulum;
+  AxisParams<double>& p = m.params;
+  p.r_g = 1.0;
+  p.M = 0.01;
+  p.m_p = 1.0;
+  p.l_p = 0.5;
+  p.B_m = p.B_a = 0.0;
+  const double u = 0.5;
+  const OperatingPoint point =
+      FindOperatingPoint(m.structure, p, AxisState<double>::Zero(), u);
+  ASSERT_TRUE(point.converged);
+  const double mgl = p.m_p * kStandardGravity * p.l_p;
+  const double x = std::asin(p.K_tau * u / (p.R * p.r_g * mgl));
+  EXPECT_NEAR(point.state[0], x, 1e-12);
+  EXPECT_EQ(point.state[1], 0.0);
+  EXPECT_EQ(LinearModelBlocker(m.structure, p, point), "");
+  const std::vector<LinearMode> res =
+      Resonances(Linearise(m.structure, p, point.state, u, {Channel::kX}));
+  ASSERT_EQ(res.size(), 1u);
+  const double inertia = p.J_m + p.r_g * p.r_g * (p.M + p.m_p * p.l_p * p.l_p);
+  const double w = std::sqrt(p.r_g * p.r_g * mgl * std::cos(x) / inertia);
+  EXPECT_NEAR(res[0].frequency, w / (2 * kPi), 1e-9 * w);
+  EXPECT_NEAR(res[0].damping, p.K_tau * p.K_e / p.R / (2 * w * inertia), 1e-9);
+}
+
 // The delta method: SE of the resonance in k_g alone is f/(2·k_g)·SE(k_g);
 // four times the covariance, twice the interval.
 TEST(FrequencyResponseTest, DeltaMethodIntervalMatchesItsClosedFormAndScales) {
