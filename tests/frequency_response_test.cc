@@ -12,6 +12,7 @@
 #include <cmath>
 #include <complex>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,12 +22,16 @@
 
 #include "common/spectral.h"
 #include "discovery/frequency_response.h"
+#include "io/csv.h"
+#include "run/job_run.h"
+#include "run/load_fit_job.h"
 #include "sim/axis_config.h"
 #include "sim/input_signal.h"
 #include "sim/linear_model.h"
 #include "sim/linearisation.h"
 #include "sim/operating_point.h"
 #include "sim/simulate.h"
+#include "tests/test_files.h"
 
 namespace axis {
 namespace {
@@ -493,6 +498,64 @@ TEST(FrequencyResponseTest, ARecordOfTheModelGivesItsResponse) {
   const nlohmann::json json = FrequencyResponseToJson(r);
   EXPECT_EQ(json[0]["channels"][0]["channel"], "v");
   EXPECT_EQ(json[1]["band"], false);
+}
+
+// The pipeline (RunJob): the EMPS axis driven open loop by a PRBS, its
+// velocity recorded with noise, M and B_a fitted: the frequency response of
+// the record in JobRun and report.json, the data's H1 on the model's and on
+// the linear model's (a first-order lag g_F/(M·s + B_a), no resonance)
+// where the coherence is high.
+TEST(FrequencyResponseTest, TheJobPipelineReportsIt) {
+  const AxisConfig m = LoadAxisConfig(kRoot + "/configs/axes/emps.yaml");
+  FitExperiment e;
+  e.drive.input = MakePrbs(1.0, 0.5, 0.002, 12, 5, 8.0);
+  e.options.duration = 8.0;
+  e.options.step = 1e-3;
+  e.options.output_period = 1e-3;
+  e.options.channels = {Channel::kU, Channel::kV};
+  const Trace<double> trace = Simulate(m.structure, m.params, e.initial_state, e.drive,
+                                       e.options, MakeGrid(e.options, e.drive));
+  std::vector<double> v = trace[Channel::kV];
+  const std::vector<double> noise = WhiteNoise(v.size(), 9, 1e-4);
+  for (size_t k = 0; k < v.size(); ++k) v[k] += noise[k];
+  const std::string dir = testing_files::TestTempDir();
+  WriteCsvAtomic(dir + "prbs.csv", {"t", "u", "v"}, {trace.t, trace[Channel::kU], v}, 17);
+  const std::string job = testing_files::WriteTemp(
+      "job.yaml", "model: " + kRoot + "/configs/axes/emps.yaml\n"
+                  "free:\n  M: {initial: 80, lower: 10, upper: 500}\n"
+                  "  B_a: {initial: 150, lower: 10, upper: 2000}\n"
+                  "uncertainty: {method: gauss_newton}\n"
+                  "experiments:\n  - name: prbs\n    data: prbs.csv\n"
+                  "    channels: {u: u, v: v}\n"
+                  "    input: {column: u, interpolation: hold}\n"
+                  "    fit: {v: 0.0001}\n");
+  std::ostringstream log;
+  const JobRun run = RunJob(LoadFitJob(job), false, log);
+  EXPECT_NE(log.str().find("frequency response (H1"), std::string::npos) << log.str();
+  ASSERT_EQ(run.frequency_response.size(), 1u);
+  const ExperimentFrequencyResponse& r = run.frequency_response[0];
+  EXPECT_EQ(r.note, "");
+  EXPECT_EQ(r.linear.blocker, "");
+  EXPECT_TRUE(r.linear.resonances.empty());
+  EXPECT_NEAR(r.mean_input, 0.5, 0.05);
+  ASSERT_EQ(r.channels.size(), 1u);
+  const ChannelFrequencyResponse& c = r.channels[0];
+  int compared = 0;
+  for (size_t k = 0; k < c.frequency.size(); ++k) {
+    if (c.data_coherence[k] < 0.99) continue;
+    EXPECT_NEAR(std::abs(c.data[k] / c.model[k]), 1.0, 0.05) << c.frequency[k];
+    EXPECT_NEAR(std::abs(c.data[k] / c.linear[k]), 1.0, 0.05) << c.frequency[k];
+    ++compared;
+  }
+  EXPECT_GE(compared, 20);
+  const nlohmann::json& json = run.sections.json.at("frequency_response");
+  ASSERT_EQ(json.size(), 1u);
+  EXPECT_EQ(json[0]["linear_model"]["available"], true);
+  EXPECT_EQ(json[0]["channels"][0]["frequency_hz"].size(), c.frequency.size());
+  EXPECT_NE(run.sections.markdown.find("## Frequency response"), std::string::npos);
+  bool phase = false;
+  for (const RunPhase& p : run.phases) phase |= p.name == "frequency response";
+  EXPECT_TRUE(phase);
 }
 
 }  // namespace
