@@ -21,6 +21,9 @@ constexpr double kPi = 3.14159265358979323846;
 // Below this median coherence of the noise-free model the record drives it
 // beyond its linear range (a limit, friction near zero velocity, backlash).
 constexpr double kSmallSignalCoherence = 0.9;
+// The longest segment (samples): a longer record gives more averages, not
+// finer bins (2048 bins keep report.json and the plots small).
+constexpr int kMaxSegment = 4096;
 
 // The linear model's modes at the steady state under u: the resonances
 // first, then each channel's anti-resonances, as LinearMode lists.
@@ -290,14 +293,17 @@ std::vector<ExperimentFrequencyResponse> AnalyseFrequencyResponse(const Estimati
     r.experiment = e.name;
     const std::vector<double> u = ExperimentInput(e, rotary, &r.input, &r.input_unit);
     r.sample_period = e.t.size() > 1 ? e.t[1] - e.t[0] : e.options.output_period;
-    r.segment_length = WelchSegmentLength(u.size(), WelchOptions{}.min_averages);
+    r.segment_length =
+        std::min(WelchSegmentLength(u.size(), WelchOptions{}.min_averages), kMaxSegment);
     if (r.segment_length == 0 || !(r.sample_period > 0.0)) {
       r.note = r.input + ": a record of " + std::to_string(u.size()) +
                " samples, too short for 8 averages of 16";
       out.push_back(std::move(r));
       continue;
     }
-    const WelchSpectra s = ComputeWelchSpectra(u, u, r.sample_period);
+    WelchOptions options;
+    options.segment_length = r.segment_length;
+    const WelchSpectra s = ComputeWelchSpectra(u, u, r.sample_period, options);
     r.averages = s.averages;
     r.band = FindExcitedBand(s);
     r.mean_input = std::accumulate(u.begin(), u.end(), 0.0) / static_cast<double>(u.size());

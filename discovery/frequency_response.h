@@ -102,7 +102,8 @@ struct ExperimentFrequencyResponse {
 // The frequency response of each fitted experiment of `job`, whose model
 // must hold the estimate (AtEstimate, estimation/at_estimate.h), with the
 // covariance of `result` (ParameterCovariance). Welch options: the
-// automatic segment length (≥ 8 averages); band: BandCriterion's defaults.
+// automatic segment length (≥ 8 averages), at most 4096 samples (a longer
+// record gives more averages); band: BandCriterion's defaults.
 // Throws std::runtime_error if the model at the estimate does not simulate
 // a record.
 std::vector<ExperimentFrequencyResponse> AnalyseFrequencyResponse(const EstimationProblem& job,
