@@ -10,3 +10,28 @@ function(axis_layer name)
   target_link_libraries(${name} ${ARGN})
   set_target_properties(${name} PROPERTIES OUTPUT_NAME servo_axis_id_${name})
 endfunction()
+
+# axis_fuzz_coverage(TARGET...): compiles the sources of each TARGET that
+# read text (all of the io library; elsewhere every .cc that uses YAML::)
+# with libFuzzer's coverage hooks (-fsanitize=fuzzer-no-link, clang), so the
+# fuzz targets of fuzz/ see the branches of the loaders they drive while the
+# numerical code of the same libraries stays uninstrumented. Used only with
+# -DAXIS_FUZZ=ON (scripts/configure-sanitize).
+function(axis_fuzz_coverage)
+  foreach(target ${ARGN})
+    get_target_property(sources ${target} SOURCES)
+    get_target_property(source_dir ${target} SOURCE_DIR)
+    set(instrumented "")
+    foreach(source ${sources})
+      get_filename_component(path ${source} ABSOLUTE BASE_DIR ${source_dir})
+      file(READ ${path} text)
+      if(target STREQUAL "io" OR text MATCHES "YAML::")
+        list(APPEND instrumented ${path})
+      endif()
+    endforeach()
+    if(instrumented)
+      set_source_files_properties(${instrumented} TARGET_DIRECTORY ${target}
+                                  PROPERTIES COMPILE_OPTIONS -fsanitize=fuzzer-no-link)
+    endif()
+  endforeach()
+endfunction()
