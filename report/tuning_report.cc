@@ -279,18 +279,45 @@ std::string Gains(const MoveSetting& s, const std::vector<TunedGain>& gains) {
   return out;
 }
 
+// "none", or "ZV 12.3 Hz, zeta 0.05".
+std::string Shaper(const InputShaper& s) {
+  if (s.type == ShaperType::kNone) return "none";
+  return ShaperName(s.type) + " " + FormatNumber(s.frequency, 4) + " Hz, zeta " +
+         FormatNumber(s.damping, 3);
+}
+
+// The largest residual vibration over the checks (after the estimate), and
+// where.
+const CheckFigure* WorstVibration(const MoveSetting& s) {
+  const CheckFigure* worst = nullptr;
+  for (size_t k = 1; k < s.residual_vibration.size(); ++k) {
+    const CheckFigure& c = s.residual_vibration[k];
+    if (worst == nullptr || !(c.value <= worst->value)) worst = &c;
+  }
+  return worst;
+}
+
 std::string MoveSettingsTable(const MoveTuning& t) {
   TextTable table;
+  const bool shaped = !t.shapers.empty();
   table.headers = {"setting", "profile", "speed", "gains", "move (s)", "settled at (s)",
                    "following (m)", "overshoot (m)", "peak i (A)", "ringing (m)", "meets spec"};
   table.right = {false, false, true, false, true, true, true, true, true, true, false};
+  if (shaped) {
+    table.headers.insert(table.headers.begin() + 3, {"shaper", "smoothing (m)"});
+    table.right.insert(table.right.begin() + 3, {false, true});
+  }
   const auto row = [&](const std::string& name, const MoveSetting& s) {
     const MoveMetrics& m = s.metrics;
-    table.rows.push_back({name, s.profile, FormatNumber(s.speed, 3), Gains(s, t.gains),
+    std::vector<std::string> cells = {name, s.profile, FormatNumber(s.speed, 3), Gains(s, t.gains),
                           FormatNumber(s.reference.MoveDuration(), 4),
                           m.settled ? Cell(m.move_time) : "not settled",
                           Cell(m.following_error), Cell(m.overshoot), Cell(m.peak_current),
-                          Cell(m.ringing), s.violations.empty() ? "yes" : "no"});
+                          Cell(m.ringing), s.violations.empty() ? "yes" : "no"};
+    if (shaped) {
+      cells.insert(cells.begin() + 3, {Shaper(s.reference.shaper), Cell(s.smoothing)});
+    }
+    table.rows.push_back(std::move(cells));
   };
   row("current", t.current);
   for (const MoveSetting& s : t.tuned) row("tuned", s);
@@ -303,7 +330,23 @@ std::string MoveFiguresTable(const MoveTuning& t) {
       [&t](const std::string& f) { return MoveBound(t.spec, f); });
 }
 
+Json ShaperJson(const InputShaper& s) {
+  Json amplitudes = Json::array(), times = Json::array();
+  for (double a : s.amplitudes) amplitudes.push_back(JsonNumber<Json>(a));
+  for (double x : s.times) times.push_back(JsonNumber<Json>(x));
+  return {{"type", ShaperName(s.type)},
+          {"frequency", JsonNumber<Json>(s.frequency)},
+          {"damping", JsonNumber<Json>(s.damping)},
+          {"amplitudes", amplitudes},
+          {"times", times},
+          {"duration", JsonNumber<Json>(s.Duration())}};
+}
+
 Json MoveSettingJson(const MoveSetting& s) {
+  Json vibration = Json::array();
+  for (const CheckFigure& c : s.residual_vibration) {
+    vibration.push_back({{"check", c.check}, {"ringing", JsonNumber<Json>(c.value)}});
+  }
   const ControllerConfig& c = s.controller;
   const MoveMetrics& m = s.metrics;
   return {{"profile", s.profile},
@@ -321,6 +364,9 @@ Json MoveSettingJson(const MoveSetting& s) {
             {"acceleration", JsonNumber<Json>(s.reference.acceleration)},
             {"jerk", JsonNumber<Json>(s.reference.jerk)},
             {"duration", JsonNumber<Json>(s.reference.MoveDuration())}}},
+          {"shaper", ShaperJson(s.reference.shaper)},
+          {"smoothing", JsonNumber<Json>(s.smoothing)},
+          {"residual_vibration", vibration},
           {"metrics",
            {{"move_time", JsonNumber<Json>(m.move_time)},
             {"settled", m.settled},
@@ -337,7 +383,35 @@ Json MoveSettingJson(const MoveSetting& s) {
           {"robust", s.robust},
           {"robust_violations", s.robust_violations},
           {"samples", s.samples},
-          {"samples_met", s.samples_met}};
+          {"samples_met", s.samples_met},
+          {"checks_met", s.checks_met}};
+}
+
+// Klipper's rule beside the proposal: its fits, its choice, and how that
+// choice fares on the identified axis with the profile's tuned gains.
+std::string KlipperText(const MoveTuning& t) {
+  std::ostringstream out;
+  out << "  Klipper's rule (tune.move.klipper; its resonance test simulated on the identified "
+         "model, "
+      << FormatNumber(t.resonance.seconds, 4) << " s, "
+      << FormatNumber(t.resonance.frequency.front(), 4) << "-"
+      << FormatNumber(t.resonance.frequency.back(), 4) << " Hz):\n";
+  TextTable table;
+  table.headers = {"shaper", "frequency (Hz)", "vibration (%)", "smoothing (m)", "score"};
+  table.right = {false, true, true, true, true};
+  for (const KlipperShaperFit& f : t.klipper_choice.fitted) {
+    table.rows.push_back({ShaperName(f.type), FormatNumber(f.frequency, 4),
+                          FormatNumber(100.0 * f.vibration, 3), Cell(f.smoothing),
+                          Cell(f.score)});
+  }
+  out << RenderText(table);
+  const MoveSetting& k = t.klipper;
+  out << "  Klipper's rule recommends " << Shaper(k.reference.shaper) << "; on the "
+      << k.profile << "'s tuned gains it " << (k.violations.empty() ? "meets" : "breaks")
+      << " the spec at the estimate and meets it at " << k.checks_met << " of "
+      << k.residual_vibration.size() - 1 << " checks (the proposal: " << t.proposed.checks_met
+      << ")\n";
+  return out.str();
 }
 
 }  // namespace
@@ -357,13 +431,25 @@ std::string FormatMoveTuning(const MoveTuning& t) {
     out << "  on the analog loop as proposed above (K1 " << FormatNumber(t.proposed.K1, 5)
         << ", T_p " << FormatNumber(t.proposed.T_p, 4) << " s)\n";
   }
+  for (const std::string& note : t.shaper_notes) out << "  shapers on " << note << "\n";
   out << MoveSettingsTable(t);
   out << "  proposed: " << t.proposed.profile << " at speed " << FormatNumber(t.proposed.speed, 3)
-      << ", " << Gains(t.proposed, t.gains) << "\n";
+      << ", " << Gains(t.proposed, t.gains);
+  if (!t.shapers.empty()) {
+    out << ", shaper " << Shaper(t.proposed.reference.shaper) << " (smoothing "
+        << FormatNumber(t.proposed.smoothing, 3) << " m)";
+  }
+  out << "\n";
+  if (const CheckFigure* worst = WorstVibration(t.proposed)) {
+    out << "  proposed: residual vibration " << FormatNumber(t.proposed.metrics.ringing, 3)
+        << " m at the estimate, at most " << FormatNumber(worst->value, 3) << " m over the "
+        << t.proposed.residual_vibration.size() - 1 << " checks (" << worst->check << ")\n";
+  }
   if (!t.proposed.scenarios.empty()) {
     out << "  searched to meet the spec also at: " << Join(t.proposed.scenarios, ", ")
         << " (where the estimate's best broke it)\n";
   }
+  if (t.klipper_ran) out << KlipperText(t);
   out << MoveFiguresTable(t);
   for (const auto* setting : {&t.current, &t.proposed}) {
     out << RobustLine(setting == &t.current ? "current" : "proposed", setting->robust,
@@ -375,6 +461,36 @@ std::string FormatMoveTuning(const MoveTuning& t) {
   return out.str();
 }
 
+namespace {
+
+Json KlipperJson(const MoveTuning& t) {
+  if (!t.klipper_ran) return {{"ran", false}};
+  Json fitted = Json::array();
+  for (const KlipperShaperFit& f : t.klipper_choice.fitted) {
+    fitted.push_back({{"shaper", ShaperName(f.type)},
+                      {"frequency", JsonNumber<Json>(f.frequency)},
+                      {"vibration", JsonNumber<Json>(f.vibration)},
+                      {"smoothing", JsonNumber<Json>(f.smoothing)},
+                      {"score", JsonNumber<Json>(f.score)}});
+  }
+  Json frequency = Json::array(), psd = Json::array();
+  for (size_t k = 0; k < t.resonance.frequency.size(); ++k) {
+    frequency.push_back(JsonNumber<Json>(t.resonance.frequency[k]));
+    psd.push_back(JsonNumber<Json>(t.resonance.psd[k]));
+  }
+  return {{"ran", true},
+          {"resonance_test",
+           {{"seconds", JsonNumber<Json>(t.resonance.seconds)},
+            {"averages", t.resonance.averages},
+            {"frequency", frequency},
+            {"psd", psd}}},
+          {"fitted", fitted},
+          {"recommended", ShaperName(t.klipper_choice.fitted[t.klipper_choice.recommended].type)},
+          {"setting", MoveSettingJson(t.klipper)}};
+}
+
+}  // namespace
+
 Json MoveTuningToJson(const MoveTuning& t) {
   Json gains = Json::array();
   for (const TunedGain& g : t.gains) {
@@ -384,6 +500,8 @@ Json MoveTuningToJson(const MoveTuning& t) {
   }
   Json tuned = Json::array();
   for (const MoveSetting& s : t.tuned) tuned.push_back(MoveSettingJson(s));
+  Json shapers = Json::array();
+  for (ShaperType type : t.shapers) shapers.push_back(ShaperName(type));
   const MoveSpec& s = t.spec;
   return {{"ran", t.ran},
           {"note", t.note},
@@ -402,12 +520,15 @@ Json MoveTuningToJson(const MoveTuning& t) {
             {"current", JsonNumber<Json>(s.max_current)},
             {"ringing", JsonNumber<Json>(s.max_ringing)}}},
           {"gains", gains},
+          {"shapers", shapers},
+          {"shaper_notes", t.shaper_notes},
           {"slow_down", t.slow_down},
           {"margin", JsonNumber<Json>(t.margin)},
           {"on_proposed_analog_loop", t.on_proposed_analog_loop},
           {"current", MoveSettingJson(t.current)},
           {"proposed", MoveSettingJson(t.proposed)},
           {"tuned", tuned},
+          {"klipper", KlipperJson(t)},
           {"simulations", t.simulations},
           {"seconds", JsonNumber<Json>(t.seconds)}};
 }
@@ -445,6 +566,11 @@ void WriteMoveTuning(const std::string& dir, const AxisConfig& model, const Move
     << ", acceleration: " << FormatNumber(r.acceleration, 8);
   if (r.kind == Reference::Kind::kMinJerk && std::isfinite(r.jerk)) {
     y << ", jerk: " << FormatNumber(r.jerk, 8);
+  }
+  if (r.shaper.type != ShaperType::kNone) {
+    y << ",\n            shaper: {type: " << ShaperName(r.shaper.type)
+      << ", frequency: " << FormatNumber(r.shaper.frequency, 10)
+      << ", damping: " << FormatNumber(r.shaper.damping, 10) << "}";
   }
   y << "}\n";
   WriteFileAtomic(dir + "/tune_move_verify.yaml", y.str());

@@ -46,17 +46,23 @@ void WriteTuning(const std::string& dir, const AxisConfig& model, const AnalogLo
 
 // The text of the move tuning (tune.move:; tune/move_tuning.h): the move
 // and its limits, a table of the current setting and of each profile's
-// tuned one (profile, speed, gains, figures at the estimate), the figures
+// tuned one (profile, speed, with shapers the input shaper and its
+// smoothing, gains, figures at the estimate), the shaper frequency range
+// of each profile, the proposed setting's residual vibration at the
+// estimate and the largest over the checks, the figures
 // of the current and the proposed setting with their spread over the
 // intervals and the limiting parameter, and whether the spec holds over
 // the uncertainty. "" if it did not run and has no note. Never throws.
 std::string FormatMoveTuning(const MoveTuning& t);
 
 // report.json's "move_tuning": {"ran", "note", "spec": {...}, "gains":
-// [{"name", "low", "high"}], "slow_down", "margin", "on_proposed_analog_loop",
-// "current", "proposed" and "tuned": [{"profile", "speed", "K1", "T_p",
-// "controller": {"G_p", "G_i", "G_v", "G_ff", "alpha"}, "move":
-// {"velocity", "acceleration", "jerk", "duration"}, "metrics": {...},
+// [{"name", "low", "high"}], "shapers" (names), "shaper_notes", "slow_down",
+// "margin", "on_proposed_analog_loop", "current", "proposed" and "tuned":
+// [{"profile", "speed", "K1", "T_p", "controller": {"G_p", "G_i", "G_v",
+// "G_ff", "alpha"}, "move": {"velocity", "acceleration", "jerk",
+// "duration"}, "shaper": {"type", "frequency" (Hz), "damping",
+// "amplitudes", "times" (s), "duration" (s)}, "smoothing" (m),
+// "residual_vibration": [{"check", "ringing" (m)}], "metrics": {...},
 // "violations", "objective", "scenarios", "evaluations", "spread", "robust",
 // "robust_violations"}], "simulations", "seconds"}; NaN and infinite
 // figures are null. Never throws.

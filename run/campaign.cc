@@ -118,6 +118,11 @@ void JudgeMoveOnTheTrueAxis(const CampaignConfig& c, const MoveTuning& t, SeedOu
   o->move_spec_met_true = v.empty() ? 1 : 0;
   o->move_robust = t.proposed.robust ? 1 : 0;
   o->move_spec_violation_true = v.empty() ? "" : v.front();
+  if (!t.klipper_ran) return;
+  const std::vector<std::string> k =
+      MoveViolationsOn(truth.model, truth.options.step, t.klipper, t.spec);
+  o->klipper_spec_met_true = k.empty() ? 1 : 0;
+  o->klipper_spec_violation_true = k.empty() ? "" : k.front();
 }
 
 }  // namespace
@@ -207,7 +212,9 @@ nlohmann::json SeedOutcomeToJson(const SeedOutcome& o) {
           {"spec_violation_true", o.spec_violation_true},
           {"move_spec_met_true", o.move_spec_met_true},
           {"move_spec_violation_true", o.move_spec_violation_true},
-          {"move_robust", o.move_robust}};
+          {"move_robust", o.move_robust},
+          {"klipper_spec_met_true", o.klipper_spec_met_true},
+          {"klipper_spec_violation_true", o.klipper_spec_violation_true}};
 }
 
 SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& where) {
@@ -236,6 +243,8 @@ SeedOutcome SeedOutcomeFromJson(const nlohmann::json& j, const std::string& wher
   o.move_spec_met_true = JsonIntField(j, "move_spec_met_true", where);
   o.move_spec_violation_true = JsonStringField(j, "move_spec_violation_true", where);
   o.move_robust = JsonIntField(j, "move_robust", where);
+  o.klipper_spec_met_true = JsonIntField(j, "klipper_spec_met_true", where);
+  o.klipper_spec_violation_true = JsonStringField(j, "klipper_spec_violation_true", where);
   return o;
 }
 
@@ -307,6 +316,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
   CampaignSummary s;
   int false_discoveries = 0, front_end = 0, right_first = 0, exact = 0, as_expected = 0, ok = 0;
   int tuned = 0, spec_met = 0, moves = 0, move_met = 0, claimed = 0, claim_held = 0;
+  int klippers = 0, klipper_met = 0;
   std::vector<int> covered(config.truth_values.size(), 0);
   bool truth_names_front_end = false;
   for (const std::string& e : config.truth_effects) {
@@ -338,6 +348,8 @@ CampaignSummary Summarize(const CampaignConfig& config,
     move_met += o.move_spec_met_true == 1;
     claimed += o.move_robust == 1 && o.move_spec_met_true >= 0;
     claim_held += o.move_robust == 1 && o.move_spec_met_true == 1;
+    klippers += o.klipper_spec_met_true >= 0;
+    klipper_met += o.klipper_spec_met_true == 1;
     for (size_t k = 0; k < covered.size(); ++k) {
       const double truth = config.truth_values[k].second;
       covered[k] += o.ci95_low[k] <= truth && truth <= o.ci95_high[k];
@@ -368,6 +380,7 @@ CampaignSummary Summarize(const CampaignConfig& config,
   if (tuned > 0) s.spec_met_true = RateOf(spec_met, tuned);
   if (moves > 0) s.move_spec_met_true = RateOf(move_met, moves);
   if (claimed > 0) s.move_claim_held = RateOf(claim_held, claimed);
+  if (klippers > 0) s.klipper_spec_met_true = RateOf(klipper_met, klippers);
   return s;
 }
 
@@ -419,6 +432,11 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
     out << "| of those the tuning said meet the move spec at every check, met on the true axis | "
         << FormatRate(s.move_claim_held) << " |\n";
   }
+  if (s.klipper_spec_met_true.n) {
+    out << "| move spec met on the true axis with the shaper Klipper's rule recommends "
+           "(tune.move.klipper, on the same tuned gains) | "
+        << FormatRate(s.klipper_spec_met_true) << " |\n";
+  }
   out << "| verdicts | explained " << s.explained << ", incomplete " << s.incomplete
       << " |\n";
   if (!s.force_maps.empty()) {
@@ -440,7 +458,8 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
   for (const SeedOutcome& o : outcomes) {
     const bool odd = !o.error.empty() || o.selected != config.truth_effects ||
                      (!config.truth_verdict.empty() && o.verdict != config.truth_verdict) ||
-                     o.spec_met_true == 0 || o.move_spec_met_true == 0;
+                     o.spec_met_true == 0 || o.move_spec_met_true == 0 ||
+                     o.klipper_spec_met_true == 0;
     if (!odd) continue;
     ++listed;
     out << "- seed " << o.seed << ": "
@@ -452,6 +471,9 @@ std::string FormatCampaign(const CampaignConfig& config, const CampaignSummary& 
                       (o.move_robust == 1 ? " (the tuning had it meet the spec at every check)"
                                           : " (the tuning said it does not meet the spec at "
                                             "every check)")
+                : "")
+        << (o.klipper_spec_met_true == 0
+                ? "; Klipper's rule's shaper on the true axis: " + o.klipper_spec_violation_true
                 : "")
         << "\n";
   }
@@ -468,7 +490,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
     (void)truth;
     csv << "," << name << "," << name << "_ci95_low," << name << "_ci95_high";
   }
-  csv << ",tuned_T_p,spec_met_true,move_spec_met_true,move_robust\n";
+  csv << ",tuned_T_p,spec_met_true,move_spec_met_true,move_robust,klipper_spec_met_true\n";
   for (const SeedOutcome& o : outcomes) {
     std::string error = o.error;
     std::replace(error.begin(), error.end(), ',', ';');
@@ -479,7 +501,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
       csv << "," << o.value[k] << "," << o.ci95_low[k] << "," << o.ci95_high[k];
     }
     csv << "," << o.tuned_T_p << "," << o.spec_met_true << "," << o.move_spec_met_true << ","
-        << o.move_robust << "\n";
+        << o.move_robust << "," << o.klipper_spec_met_true << "\n";
   }
   nlohmann::json j;
   j["title"] = config.title;
@@ -504,6 +526,7 @@ void WriteCampaign(const std::string& dir, const CampaignConfig& config,
   if (s.spec_met_true.n) j["spec_met_true"] = RateJson(s.spec_met_true);
   if (s.move_spec_met_true.n) j["move_spec_met_true"] = RateJson(s.move_spec_met_true);
   if (s.move_claim_held.n) j["move_claim_held"] = RateJson(s.move_claim_held);
+  if (s.klipper_spec_met_true.n) j["klipper_spec_met_true"] = RateJson(s.klipper_spec_met_true);
   WriteFileAtomic(dir + "/results.csv", csv.str());
   WriteFileAtomic(dir + "/summary.md", FormatCampaign(config, s, outcomes));
   WriteFileAtomic(dir + "/summary.json", j.dump(2) + "\n");

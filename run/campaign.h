@@ -66,6 +66,11 @@ struct SeedOutcome {
   // Whether the move tuning said its proposal meets the spec at the
   // estimate and at every check (MoveSetting::robust): 1, 0, −1 none.
   int move_robust = -1;
+  // With tune.move.klipper: the setting with the shaper Klipper's rule
+  // recommends (MoveTuning::klipper) on the true axis: 1, 0, −1 none; its
+  // first violation there.
+  int klipper_spec_met_true = -1;
+  std::string klipper_spec_violation_true;
 };
 
 // The job of seed `seed`: each experiment of config.job_path simulated from
@@ -146,6 +151,9 @@ struct CampaignSummary {
   // the spec at the estimate and every check (MoveSetting::robust), those
   // where it met it on the true axis: whether that claim holds.
   Rate move_claim_held;
+  // With tune.move.klipper: the seeds whose Klipper-rule setting met the
+  // move spec on the true axis (SeedOutcome::klipper_spec_met_true).
+  Rate klipper_spec_met_true;
   int explained = 0, incomplete = 0;
   // Seeds per force map kept ("force_map.x_friction" → count), with
   // discover.force_map; empty without.

@@ -20,12 +20,22 @@ double MinJerkDuration(double d, double v, double a, double j) {
 double Reference::MoveDuration() const {
   const double d = std::abs(distance);
   if (d == 0.0) return 0.0;
-  if (kind == Kind::kMinJerk) return MinJerkDuration(d, velocity, acceleration, jerk);
+  const double shaping = shaper.Duration();
+  if (kind == Kind::kMinJerk) return MinJerkDuration(d, velocity, acceleration, jerk) + shaping;
   const double v_peak = std::min(velocity, std::sqrt(d * acceleration));
-  return 2.0 * v_peak / acceleration + (d - v_peak * v_peak / acceleration) / v_peak;
+  return 2.0 * v_peak / acceleration + (d - v_peak * v_peak / acceleration) / v_peak + shaping;
 }
 
 double Reference::Profile(double t) const {
+  if (shaper.type == ShaperType::kNone) return UnshapedProfile(t);
+  double x = origin;
+  for (size_t i = 0; i < shaper.amplitudes.size(); ++i) {
+    x += shaper.amplitudes[i] * (UnshapedProfile(t - shaper.times[i]) - origin);
+  }
+  return x;
+}
+
+double Reference::UnshapedProfile(double t) const {
   const double tau = t - start;
   if (tau <= 0.0 || distance == 0.0) return origin;
   const double d = std::abs(distance);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/axis_params.h"
+#include "sim/input_shaper.h"
 #include "sim/input_signal.h"
 #include "sim/scalar.h"
 
@@ -89,14 +90,21 @@ struct Reference {
   double jerk = HUGE_VAL;
   // Table: reference position samples (m), linearly interpolated.
   InputSignal table;
+  // A move's input shaper (sim/input_shaper.h; none by default): the
+  // profile convolved with its impulses, Σ A_i·P(t − t_i).
+  InputShaper shaper;
 
   // Continuous profile position at time t (m; a move only): the trapezoid
   // (triangular where v_s is not reached), or the minimum-jerk quintic
   // D·(10τ³ − 15τ⁴ + 6τ⁵), τ = (t − start)/T, over the shortest T whose
   // peaks 1.875·D/T, (10/√3)·D/T² and 60·D/T³ respect v_s, a_s and j_s
-  // (Flash & Hogan 1985, the minimum of ∫ jerk² dt between rests).
+  // (Flash & Hogan 1985, the minimum of ∫ jerk² dt between rests); with a
+  // shaper, Σ A_i·(UnshapedProfile(t − t_i) − origin) + origin.
   double Profile(double t) const;
-  // s from start to the end of the move (a move only).
+  // The profile without the shaper (m).
+  double UnshapedProfile(double t) const;
+  // s from start to the end of the move (a move only), the shaper's
+  // duration included.
   double MoveDuration() const;
 };
 

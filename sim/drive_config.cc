@@ -133,6 +133,29 @@ InputSignal ParseInputSignal(YamlMap& map, const std::string& base_dir,
   return s;
 }
 
+InputShaper ParseInputShaper(YamlMap& parent) {
+  YamlMap map(parent.Required("shaper"), parent.file(), parent.KeyPath("shaper."));
+  const std::string name = map.String("type");
+  ShaperType type = ShaperType::kNone;
+  if (!ParseShaperType(name, &type)) {
+    std::string names;
+    for (const std::string& n : ShaperNames()) names += (names.empty() ? "" : ", ") + n;
+    ThrowConfigError(map.file(), map.node()["type"], map.KeyPath("type"), "one of " + names,
+                     "'" + name + "'");
+  }
+  double frequency = 0.0, damping = 0.0;
+  if (type != ShaperType::kNone) {
+    frequency = map.Number("frequency", Range::kPositive);
+    damping = map.Number("damping", 0.1, Range::kNonNegative);
+    if (damping >= 1.0) {
+      ThrowConfigError(map.file(), map.node()["damping"], map.KeyPath("damping"),
+                       "a damping ratio in [0, 1)", Describe(map.node()["damping"]));
+    }
+  }
+  map.Finish();
+  return MakeInputShaper(type, frequency, damping);
+}
+
 Reference ParseReference(YamlMap& map, const std::string& base_dir,
                          double origin) {
   Reference r;
@@ -147,6 +170,7 @@ Reference ParseReference(YamlMap& map, const std::string& base_dir,
     }
     r.start = map.Number("start", 0.0, Range::kNonNegative);
     r.origin = map.Number("origin", origin);
+    if (map.Has("shaper")) r.shaper = ParseInputShaper(map);
   } else {
     r.kind = Reference::Kind::kTable;
     r.table = ParseColumnSignal(map, base_dir);

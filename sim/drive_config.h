@@ -14,6 +14,7 @@
 #include "io/data_table.h"
 #include "io/yaml_util.h"
 #include "sim/controller.h"
+#include "sim/input_shaper.h"
 #include "sim/input_signal.h"
 
 namespace axis {
@@ -45,9 +46,15 @@ void RequireColumn(const YamlMap& map, const YAML::Node& node,
 // or ReadMatFile (file, variable).
 InputSignal ParseColumnSignal(YamlMap& map, const std::string& base_dir);
 
+// A move's `shaper:` mapping (sim/input_shaper.h): `type` (ShaperNames(),
+// any case), `frequency` (Hz, > 0) and `damping` (ζ in [0, 1), default
+// 0.1; neither for `type: none`). Throws std::invalid_argument naming the
+// key.
+InputShaper ParseInputShaper(YamlMap& parent);
+
 // A controller reference (MODEL.md §5): `type: trapezoid` (distance,
-// velocity, acceleration, start, origin), `type: min_jerk` (the same and
-// jerk, optional) or `type: column` (the keys of
+// velocity, acceleration, start, origin, shaper), `type: min_jerk` (the
+// same and jerk, optional) or `type: column` (the keys of
 // ParseColumnSignal). Calls Finish(). Throws std::invalid_argument.
 Reference ParseReference(YamlMap& map, const std::string& base_dir,
                          double origin);

@@ -26,6 +26,10 @@ void Sort(std::vector<LinearMode>* modes) {
 }
 
 // The root as a mode if it is a lightly damped one with Im s > 0.
+// A zero within this fraction of the largest pole's magnitude is at the
+// origin (round-off of a zero at s = 0).
+constexpr double kOriginCluster = 1e-6;
+
 bool AsMode(std::complex<double> s, LinearMode* mode) {
   const double w = std::abs(s);
   if (!(s.imag() > 0.0) || !std::isfinite(w) || w == 0.0) return false;
@@ -159,10 +163,15 @@ std::vector<LinearMode> AntiResonances(const LinearisedAxis& system, size_t row)
   Eigen::EigenSolver<Eigen::MatrixXd> zeros(zero_dynamics, false);
   Eigen::EigenSolver<Matrix> poles(system.A, false);
   if (zeros.info() != Eigen::Success || poles.info() != Eigen::Success) return out;
+  // Zeros at the origin (a differentiating channel, e.g. the acceleration
+  // of a position state) come out as a round-off cluster about 0 that would
+  // pass for a slow, undamped pair: numerically 0 against the poles' scale.
+  double scale = 0.0;
+  for (int j = 0; j < kNumStates; ++j) scale = std::max(scale, std::abs(poles.eigenvalues()[j]));
   for (Eigen::Index k = 0; k < zeros.eigenvalues().size(); ++k) {
     const std::complex<double> s = zeros.eigenvalues()[k];
     LinearMode mode;
-    if (!AsMode(s, &mode)) continue;
+    if (std::abs(s) <= kOriginCluster * scale || !AsMode(s, &mode)) continue;
     bool cancelled = false;
     for (int j = 0; j < kNumStates; ++j) {
       cancelled |= std::abs(poles.eigenvalues()[j] - s) <= 1e-6 * std::abs(s);

@@ -87,9 +87,11 @@ std::vector<LinearMode> Resonances(const LinearisedAxis& system);
 // the input holds the channel at zero (r the relative degree, the first
 // r with C_k·A^(r−1)·B ≠ 0; A − B·C_k/D_k where D_k ≠ 0), less its r
 // eigenvalues at 0 (Isidori, "Nonlinear Control Systems", 3rd ed., §4.3),
-// and less those within 10⁻⁶·|s| of a pole of A (a mode the channel does
+// less those within 10⁻⁶·|s| of a pole of A (a mode the channel does
 // not see, or the input does not reach, cancels and is no
-// anti-resonance). Empty where the channel's response is identically
+// anti-resonance), and less those within 10⁻⁶ of the largest pole's
+// magnitude of the origin (zeros at s = 0 of a differentiating channel,
+// split by round-off). Empty where the channel's response is identically
 // zero. Throws std::out_of_range for a row past the channels.
 std::vector<LinearMode> AntiResonances(const LinearisedAxis& system, size_t row);
 

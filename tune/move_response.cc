@@ -111,6 +111,40 @@ MoveMetrics MeasureMove(const MoveResponse& r, const MoveSpec& spec) {
   return m;
 }
 
+double ResidualVibrationFrequency(const MoveResponse& r, double floor) {
+  const size_t n = r.t.size();
+  if (!r.finite || n == 0) return kNaN;
+  size_t first = 0;
+  while (first < n && r.t[first] <= r.move_duration) ++first;
+  if (n - first < 4) return kNaN;
+  double mean = 0.0;
+  for (size_t k = first; k < n; ++k) mean += r.x[k];
+  mean /= static_cast<double>(n - first);
+  double swing = 0.0;
+  for (size_t k = first; k < n; ++k) swing = std::max(swing, std::abs(r.x[k] - mean));
+  if (!(swing > floor)) return kNaN;
+  std::vector<double> crossings;
+  for (size_t k = first + 1; k < n; ++k) {
+    const double a = r.x[k - 1] - mean, b = r.x[k] - mean;
+    if ((a < 0.0) != (b < 0.0)) {
+      crossings.push_back(r.t[k - 1] + (r.t[k] - r.t[k - 1]) * a / (a - b));
+    }
+  }
+  if (crossings.size() < 3) return kNaN;
+  return static_cast<double>(crossings.size() - 1) /
+         (2.0 * (crossings.back() - crossings.front()));
+}
+
+double MoveSmoothing(const Reference& reference, double dt) {
+  if (reference.shaper.type == ShaperType::kNone || !(dt > 0.0)) return 0.0;
+  const double end = reference.start + reference.MoveDuration();
+  double out = 0.0;
+  for (double t = reference.start; t <= end + dt; t += dt) {
+    out = std::max(out, std::abs(reference.Profile(t) - reference.UnshapedProfile(t)));
+  }
+  return out;
+}
+
 std::vector<std::string> MoveViolations(const MoveMetrics& m, const MoveSpec& spec) {
   std::vector<std::string> out;
   for (const MoveBound& b : kBounds) {

@@ -64,6 +64,19 @@ struct MoveMetrics {
 // every figure NaN (settled false). Never throws.
 MoveMetrics MeasureMove(const MoveResponse& r, const MoveSpec& spec);
 
+// Hz, the frequency of the residual vibration of `r` after its profile
+// ends: from the crossings of x through its mean over that stretch,
+// (crossings − 1)/(2·(last − first crossing time)); NaN where it crosses
+// fewer than three times or its largest swing about the mean is below
+// `floor` (m, ≥ 0). Never throws.
+double ResidualVibrationFrequency(const MoveResponse& r, double floor);
+
+// m, the largest distance between `reference`'s shaped and unshaped
+// command over its move (Reference::Profile, UnshapedProfile), sampled
+// every `dt` s (> 0): what the input shaper costs the path, 0 without one.
+// Never throws.
+double MoveSmoothing(const Reference& reference, double dt);
+
 // The bounds of `spec` that `m` violates, one phrase each ("following
 // error 0.0061 m > 0.005 m"), in MoveSpec order, and the matching
 // MoveMetrics field names ("settling_time", "following_error",

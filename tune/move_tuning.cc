@@ -9,6 +9,7 @@
 
 #include <nlopt.h>
 
+#include "common/format.h"
 #include "estimation/at_estimate.h"
 #include "estimation/current_loop_check.h"
 #include "tune/joint_region.h"
@@ -27,6 +28,12 @@ constexpr int kRobustRounds = 3;
 // The ends added per round: the worst ones (each adds a simulation to every
 // evaluation of the search).
 constexpr size_t kEndsPerRound = 2;
+// s, the grid on which a shaped command's smoothing is read (the move
+// response's output period).
+constexpr double kSmoothingGrid = 1e-4;
+// A residual vibration is shaped only if it swings by more than this
+// fraction of the position band about its mean (ResidualVibrationFrequency).
+constexpr double kVibrationFloor = 0.1;
 
 constexpr FigureField<MoveMetrics> kMoveFigures[] = {
     {"move_time", &MoveMetrics::move_time},
@@ -60,6 +67,14 @@ MoveSpec WithMargin(MoveSpec s, double margin) {
   return s;
 }
 
+// The input shaper a search tunes (none: the unshaped move), and the box of
+// its frequency (Hz, log scale) and damping ratio.
+struct ShaperSearch {
+  ShaperType type = ShaperType::kNone;
+  double f_low = 0.0, f_high = 0.0;
+  double zeta_low = 0.0, zeta_high = 0.0;
+};
+
 struct NloptDeleter {
   void operator()(nlopt_opt o) const { nlopt_destroy(o); }
 };
@@ -91,6 +106,8 @@ class MoveTuner {
     const auto start = std::chrono::steady_clock::now();
     if (!Prepare()) return out_;
     for (const std::string& profile : spec_.profiles) out_.tuned.push_back(Search(profile));
+    SearchShapers();
+    if (settings_.klipper.enabled) ApplyKlippersRule();
     // Every judged run ends together (the plots and tune_move.csv put the
     // current and the proposed side by side): a shorter move settles for
     // longer.
@@ -99,8 +116,10 @@ class MoveTuner {
       judge_end_ = std::max(judge_end_, t.reference.MoveDuration());
     }
     judge_end_ += spec_.settle;
+    if (out_.klipper_ran) judge_end_ = std::max(judge_end_, out_.klipper.reference.MoveDuration());
     Judge(&out_.current);
     for (MoveSetting& t : out_.tuned) Judge(&t);
+    if (out_.klipper_ran) Judge(&out_.klipper);
     out_.proposed = out_.tuned[Choose()];
     out_.ran = true;
     out_.simulations = simulations_;
@@ -129,6 +148,82 @@ class MoveTuner {
       }
     }
     return best;
+  }
+
+  // Each shaper of the settings on each profile, from the profile's
+  // unshaped tuned setting, in the frequency range the settings give or
+  // around the residual vibration that setting leaves.
+  void SearchShapers() {
+    out_.shapers = settings_.shapers;
+    if (settings_.shapers.empty()) return;
+    const size_t unshaped = out_.tuned.size();
+    for (size_t k = 0; k < unshaped; ++k) {
+      const MoveSetting start = out_.tuned[k];
+      ShaperSearch box;
+      if (!ShaperRange(start, &box)) continue;
+      shaped_start_ = &start;
+      for (ShaperType type : settings_.shapers) {
+        box.type = type;
+        shaping_ = box;
+        out_.tuned.push_back(Search(start.profile));
+      }
+      shaped_start_ = nullptr;
+    }
+    shaping_ = ShaperSearch{};
+  }
+
+  // The frequency and damping box of the shapers on `unshaped`'s profile:
+  // the settings' range, else half to twice the frequency of the residual
+  // vibration `unshaped` leaves at the estimate; false, with a note, where
+  // it leaves none to shape.
+  bool ShaperRange(const MoveSetting& unshaped, ShaperSearch* box) {
+    box->zeta_low = settings_.shaper_damping_low;
+    box->zeta_high = settings_.shaper_damping_high;
+    if (!std::isnan(settings_.shaper_frequency_low)) {
+      box->f_low = settings_.shaper_frequency_low;
+      box->f_high = settings_.shaper_frequency_high;
+      out_.shaper_notes.push_back(unshaped.profile + ": " + FormatNumber(box->f_low, 4) + "-" +
+                                  FormatNumber(box->f_high, 4) + " Hz, as tune.move sets");
+      return true;
+    }
+    ++simulations_;
+    const MoveResponse r =
+        SimulateMove(model_, unshaped.controller, unshaped.reference, step_, spec_.settle);
+    const double f = ResidualVibrationFrequency(r, kVibrationFloor * spec_.position_band);
+    if (std::isnan(f)) {
+      out_.shaper_notes.push_back(
+          unshaped.profile + ": no shaper: its unshaped tuned move leaves no residual "
+                             "vibration on the identified model (swing about its mean under " +
+          FormatNumber(kVibrationFloor * spec_.position_band, 3) +
+          " m, or under three crossings; tune.move.shaper_frequency sets a range)");
+      return false;
+    }
+    box->f_low = 0.5 * f;
+    box->f_high = 2.0 * f;
+    out_.shaper_notes.push_back(unshaped.profile + ": " + FormatNumber(box->f_low, 4) + "-" +
+                                FormatNumber(box->f_high, 4) +
+                                " Hz, around the residual vibration of its unshaped tuned "
+                                "move at " + FormatNumber(f, 4) + " Hz");
+    return true;
+  }
+
+  // Klipper's rule on the resonance test of the identified model under the
+  // trapezoid's unshaped tuned gains (else the first profile's), and that
+  // setting with the shaper it recommends.
+  void ApplyKlippersRule() {
+    size_t base = 0;
+    for (size_t k = 0; k < spec_.profiles.size(); ++k) {
+      if (spec_.profiles[k] == "trapezoid") base = k;
+    }
+    const MoveSetting& unshaped = out_.tuned[base];
+    ++simulations_;
+    out_.resonance = SimulateResonanceTest(model_, unshaped.controller, step_, settings_.klipper);
+    out_.klipper_choice =
+        ChooseShaperAsKlipper(out_.resonance, unshaped.reference, settings_.klipper);
+    scenarios_.clear();
+    out_.klipper = Evaluate(unshaped.profile, unshaped.controller, unshaped.speed,
+                            out_.klipper_choice.shaper);
+    out_.klipper_ran = true;
   }
 
   bool Prepare() {
@@ -208,7 +303,8 @@ class MoveTuner {
     return r;
   }
 
-  MoveSetting Evaluate(const std::string& profile, const ControllerConfig& c, double speed) {
+  MoveSetting Evaluate(const std::string& profile, const ControllerConfig& c, double speed,
+                       const InputShaper& shaper = InputShaper{}) {
     MoveSetting s;
     s.K1 = model_.params.K1;
     s.T_p = model_.params.T_p;
@@ -216,6 +312,7 @@ class MoveTuner {
     s.controller = c;
     s.speed = speed;
     s.reference = MoveAt(profile, speed);
+    s.reference.shaper = shaper;
     ++simulations_;
     s.response = SimulateMove(model_, c, s.reference, step_, spec_.settle);
     s.metrics = MeasureMove(s.response, spec_);
@@ -231,8 +328,11 @@ class MoveTuner {
     return s;
   }
 
+  // A move that does not settle is charged the longest unshaped run, or
+  // its own run where a shaper made that longer.
   double ObjectiveOf(const MoveMetrics& m) const {
-    return (m.settled ? m.move_time : penalty_) + penalty_ * MoveViolation(m, search_spec_);
+    return (m.settled ? m.move_time : std::max(penalty_, m.move_time)) +
+           penalty_ * MoveViolation(m, search_spec_);
   }
 
   // The checks at which `s` breaks the spec with its margin, the worst
@@ -261,14 +361,23 @@ class MoveTuner {
     return out;
   }
 
-  // The setting at the coordinates z of the search box.
+  // The setting at the coordinates z of the search box: the gains, the
+  // speed (with slow_down), the shaper's frequency and damping (shaped).
   MoveSetting At(const std::string& profile, const double* z) {
     ControllerConfig c = base_;
-    for (size_t g = 0; g < settings_.gains.size(); ++g) {
-      *ControllerGain(&c, settings_.gains[g].name) = GainAt(settings_.gains[g], z[g]);
+    size_t i = 0;
+    for (; i < settings_.gains.size(); ++i) {
+      *ControllerGain(&c, settings_.gains[i].name) = GainAt(settings_.gains[i], z[i]);
     }
-    const double speed = settings_.slow_down ? z[settings_.gains.size()] : 1.0;
-    return Evaluate(profile, c, speed);
+    const double speed = settings_.slow_down ? z[i++] : 1.0;
+    InputShaper shaper;
+    if (shaping_.type != ShaperType::kNone) {
+      const double f = std::exp(std::log(shaping_.f_low) +
+                                z[i] * (std::log(shaping_.f_high) - std::log(shaping_.f_low)));
+      const double zeta = shaping_.zeta_low + z[i + 1] * (shaping_.zeta_high - shaping_.zeta_low);
+      shaper = MakeInputShaper(shaping_.type, f, zeta);
+    }
+    return Evaluate(profile, c, speed, shaper);
   }
 
   struct SearchState {
@@ -291,17 +400,25 @@ class MoveTuner {
   }
 
   // DIRECT-L on the box for half the budget, then Subplex from the better
-  // of its best and the current setting; then the robust rounds.
+  // of its best and the current setting (with a shaper: the profile's
+  // unshaped tuned setting, the shaper in the middle of its box); then the
+  // robust rounds.
   MoveSetting Search(const std::string& profile) {
     scenarios_.clear();
-    const unsigned n = static_cast<unsigned>(settings_.gains.size() + (settings_.slow_down ? 1 : 0));
+    const size_t gains = settings_.gains.size();
+    const unsigned n = static_cast<unsigned>(gains + (settings_.slow_down ? 1 : 0) +
+                                             (shaping_.type != ShaperType::kNone ? 2 : 0));
     std::vector<double> lower(n, 0.0), upper(n, 1.0), z(n, 0.5);
-    if (settings_.slow_down) lower[n - 1] = kMinSpeed;
+    if (settings_.slow_down) lower[gains] = kMinSpeed;
     SearchState st{this, &profile, MoveSetting{}, 0};
     const int global_budget = settings_.evaluations / 2;
     Run(NLOPT_GN_DIRECT_L, lower, upper, global_budget, &st, &z);
-    std::vector<double> start = Coordinates(st.best.controller, st.best.speed);
-    std::vector<double> current = Coordinates(base_, 1.0);
+    std::vector<double> start =
+        Coordinates(st.best.controller, st.best.speed, st.best.reference.shaper);
+    std::vector<double> current =
+        shaped_start_ != nullptr
+            ? Coordinates(shaped_start_->controller, shaped_start_->speed, InputShaper{})
+            : Coordinates(base_, 1.0, InputShaper{});
     const double best_of_direct = st.best.objective;
     Objective(n, current.data(), nullptr, &st);  // the current gains, in the box
     if (st.best.objective < best_of_direct) start = current;
@@ -329,7 +446,8 @@ class MoveTuner {
         scenarios_.push_back(std::move(check));
       }
       SearchState st{this, &profile, MoveSetting{}, 0};
-      std::vector<double> start = Coordinates(best->controller, best->speed);
+      std::vector<double> start =
+          Coordinates(best->controller, best->speed, best->reference.shaper);
       Run(NLOPT_LN_SBPLX, lower, upper, settings_.evaluations / 2, &st, &start);
       const std::vector<std::string> names = best->scenarios;
       const int evaluations = best->evaluations + st.evaluations;
@@ -339,10 +457,23 @@ class MoveTuner {
     }
   }
 
-  std::vector<double> Coordinates(ControllerConfig c, double speed) const {
+  // The coordinates of a setting in the search box; a shaped search puts
+  // an unshaped setting's shaper in the middle of its box.
+  std::vector<double> Coordinates(ControllerConfig c, double speed,
+                                  const InputShaper& shaper) const {
     std::vector<double> z;
     for (const TunedGain& g : settings_.gains) z.push_back(CoordinateOf(g, *ControllerGain(&c, g.name)));
     if (settings_.slow_down) z.push_back(std::clamp(speed, kMinSpeed, 1.0));
+    if (shaping_.type != ShaperType::kNone) {
+      if (shaper.type == ShaperType::kNone) {
+        z.insert(z.end(), {0.5, 0.5});
+      } else {
+        z.push_back(CoordinateOf({"", shaping_.f_low, shaping_.f_high}, shaper.frequency));
+        z.push_back(std::clamp((shaper.damping - shaping_.zeta_low) /
+                                   (shaping_.zeta_high - shaping_.zeta_low),
+                               0.0, 1.0));
+      }
+    }
     return z;
   }
 
@@ -373,6 +504,8 @@ class MoveTuner {
     s->response = SimulateMove(model_, s->controller, s->reference, step_, settle);
     s->metrics = MeasureMove(s->response, spec_);
     s->violations = MoveViolations(s->metrics, spec_);
+    s->smoothing = MoveSmoothing(s->reference, kSmoothingGrid);
+    s->residual_vibration = {{"the estimate", s->metrics.ringing}};
     WidenMoveBand(s->response, &s->band_low, &s->band_high);
     const std::vector<std::string> broken = MoveViolatedFigures(s->metrics, spec_);
     s->robust = s->violations.empty();
@@ -384,6 +517,7 @@ class MoveTuner {
           SimulateMove(check.model, s->controller, s->reference, check.step, settle);
       WidenMoveBand(r, &s->band_low, &s->band_high);
       const MoveMetrics m = MeasureMove(r, spec_);
+      s->residual_vibration.push_back({check.name, m.ringing});
       const std::vector<std::string> violations = MoveViolations(m, spec_);
       s->checks_met += violations.empty();
       if (check.sample) {
@@ -412,6 +546,8 @@ class MoveTuner {
   std::vector<std::string> fixed_;        // parameters that are settings
   std::vector<Check> checks_;     // the models a setting is judged on
   std::vector<Check> scenarios_;  // those the robust search has added
+  ShaperSearch shaping_;                       // the shaper the search tunes
+  const MoveSetting* shaped_start_ = nullptr;  // its profile's unshaped setting
   double step_ = 0.0;
   double penalty_ = 0.0;
   double judge_end_ = 0.0;  // s, the judged runs' length

@@ -7,7 +7,10 @@
 // so the search simulates the nonlinear model (tune/move_response.h).
 //
 // For each profile of the spec (trapezoid, minimum-jerk at the machine's
-// limits): the controller gains of MoveTuneSettings::gains (MODEL.md §5)
+// limits), unshaped and with each input shaper of
+// MoveTuneSettings::shapers (sim/input_shaper.h; its frequency and
+// damping searched too): the controller gains of MoveTuneSettings::gains
+// (MODEL.md §5)
 // and, with slow_down, a time scale s in [0.25, 1] of the profile are
 // searched to minimise the move time (start to settled in the band) plus
 // a penalty per unit of the spec's violation — each bound tightened by the
@@ -46,9 +49,16 @@
 #include "sim/controller.h"
 #include "tune/analog_loop_tuning.h"
 #include "tune/interval_ends.h"
+#include "tune/klipper_shaper_rule.h"
 #include "tune/move_response.h"
 
 namespace axis {
+
+// A figure of a setting at one model it is judged on.
+struct CheckFigure {
+  std::string check;  // "the estimate", "V_L at low end", "joint sample 3", …
+  double value = 0.0;
+};
 
 // A controller and a move, judged at the estimate (and, for the current
 // and the proposed one, over the uncertainty).
@@ -58,7 +68,15 @@ struct MoveSetting {
   double K1 = 0.0, T_p = 0.0;
   std::string profile;          // "trapezoid" or "min_jerk"
   ControllerConfig controller;  // the gains (the rest as the axis's)
-  Reference reference;          // the move with the limits it uses
+  // The move with the limits it uses and its input shaper
+  // (Reference::shaper; none for an unshaped move).
+  Reference reference;
+  // m, the largest distance between the shaped and the unshaped command
+  // (MoveSmoothing, tune/move_response.h); 0 unshaped.
+  double smoothing = 0.0;
+  // m, the residual vibration (MoveMetrics::ringing) at the estimate and at
+  // every check, in that order (Judge).
+  std::vector<CheckFigure> residual_vibration;
   double speed = 1.0;           // the time scale s of the profile, in (0, 1]
   MoveMetrics metrics;          // at the estimate
   std::vector<std::string> violations;  // at the estimate
@@ -97,8 +115,24 @@ struct MoveTuning {
   // The axis's controller (the model's, else MODEL.md §5's AID 600
   // defaults) on the spec's first profile at the limits.
   MoveSetting current;
-  std::vector<MoveSetting> tuned;  // one per profile of the spec, in its order, judged
+  // The shapers tried (MoveTuneSettings::shapers) and, per profile, the
+  // frequency range searched or why none was ("trapezoid: 5.1-20.4 Hz, from
+  // the residual vibration of its unshaped move at 10.2 Hz").
+  std::vector<ShaperType> shapers;
+  std::vector<std::string> shaper_notes;
+  // One per profile of the spec, in its order, then one per profile and
+  // shaper (profile-major) where a shaper was searched; all judged.
+  std::vector<MoveSetting> tuned;
   MoveSetting proposed;            // the one chosen of `tuned` (TuneMove)
+  // With tune.move.klipper: Klipper's rule (tune/klipper_shaper_rule.h) on
+  // the resonance test simulated on the identified model under the
+  // trapezoid's unshaped tuned gains (else the first profile's), and that
+  // setting with the shaper it recommends, judged as the others but never
+  // proposed.
+  bool klipper_ran = false;
+  ResonanceSpectrum resonance;
+  KlipperShaperChoice klipper_choice;
+  MoveSetting klipper;
   int simulations = 0;
   double seconds = 0.0;
 };

@@ -1,5 +1,6 @@
 #include "tune/tune_settings.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/format.h"
@@ -153,6 +154,83 @@ void ParseGains(YamlMap& move, MoveTuneSettings* out) {
   }
 }
 
+// `[low, high]` at `key` of `map` into *low, *high, with low >= `min`
+// (> min if `open`), high < `max` and low < high.
+void ParseRange(YamlMap& map, const std::string& key, double min, bool open, double max,
+                const std::string& expected, double* low, double* high) {
+  const YAML::Node node = map.Optional(key);
+  if (!node) return;
+  if (!node.IsSequence() || node.size() != 2) {
+    ThrowConfigError(map.file(), node, map.KeyPath(key), "[low, high]", "not a pair");
+  }
+  const double a = map.NumberFrom(node[0], map.KeyPath(key) + "[0]", Range::kAny);
+  const double b = map.NumberFrom(node[1], map.KeyPath(key) + "[1]", Range::kAny);
+  if (!((open ? a > min : a >= min) && a < b && b < max)) {
+    ThrowConfigError(map.file(), node, map.KeyPath(key), expected,
+                     FormatNumber(a) + ", " + FormatNumber(b));
+  }
+  *low = a;
+  *high = b;
+}
+
+void ParseShapers(YamlMap& move, MoveTuneSettings* out) {
+  if (const YAML::Node node = move.Optional("shapers")) {
+    std::string names;
+    for (size_t k = 1; k < ShaperNames().size(); ++k) {
+      names += (names.empty() ? "" : ", ") + ShaperNames()[k];
+    }
+    if (!node.IsSequence()) {
+      ThrowConfigError(move.file(), node, "tune.move.shapers", "a list of " + names,
+                       "not a list");
+    }
+    out->shapers.clear();
+    for (const YAML::Node& p : node) {
+      ShaperType type = ShaperType::kNone;
+      const std::string name = p.IsScalar() ? p.Scalar() : "";
+      if (!ParseShaperType(name, &type) || type == ShaperType::kNone) {
+        ThrowConfigError(move.file(), p, "tune.move.shapers", "one of " + names,
+                         name.empty() ? "not a name" : "'" + name + "'");
+      }
+      if (std::find(out->shapers.begin(), out->shapers.end(), type) != out->shapers.end()) {
+        ThrowConfigError(move.file(), p, "tune.move.shapers", "each shaper once",
+                         "'" + name + "' again");
+      }
+      out->shapers.push_back(type);
+    }
+  }
+  ParseRange(move, "shaper_frequency", 0.0, true, HUGE_VAL, "[low, high] Hz with 0 < low < high",
+             &out->shaper_frequency_low, &out->shaper_frequency_high);
+  ParseRange(move, "shaper_damping", 0.0, false, 1.0,
+             "[low, high] with 0 <= low < high < 1", &out->shaper_damping_low,
+             &out->shaper_damping_high);
+}
+
+void ParseKlipper(YamlMap& move, KlipperRuleSettings* out) {
+  const YAML::Node node = move.Optional("klipper");
+  if (!node) return;
+  out->enabled = true;
+  if (node.IsNull()) return;  // `klipper:` alone: the defaults
+  YamlMap map(node, move.file(), "tune.move.klipper.");
+  out->min_freq = Within(map, "min_freq", out->min_freq, 0.0, 1e6, true, "a frequency > 0 Hz");
+  out->max_freq = Within(map, "max_freq", out->max_freq, out->min_freq, 1e6, true,
+                         "a frequency above min_freq (" + FormatNumber(out->min_freq) + " Hz)");
+  out->accel_per_hz = Within(map, "accel_per_hz", out->accel_per_hz, 0.0, 1e6, true,
+                             "an acceleration per Hz > 0 m/s^2/Hz");
+  out->hz_per_sec = Within(map, "hz_per_sec", out->hz_per_sec, 0.0, 1e6, true,
+                           "a sweep rate > 0 Hz/s");
+  map.Finish();
+  if (!(out->max_freq > out->min_freq)) {
+    ThrowConfigError(move.file(), node, "tune.move.klipper.max_freq",
+                     "a frequency above min_freq (" + FormatNumber(out->min_freq) + " Hz)",
+                     FormatNumber(out->max_freq) + " Hz");
+  }
+  if ((out->max_freq - out->min_freq) / out->hz_per_sec > 3600.0) {
+    ThrowConfigError(move.file(), node, "tune.move.klipper",
+                     "a resonance test of at most an hour ((max_freq - min_freq)/hz_per_sec)",
+                     FormatNumber((out->max_freq - out->min_freq) / out->hz_per_sec) + " s");
+  }
+}
+
 void ParseMove(YamlMap& tune, MoveTuneSettings* out) {
   const YAML::Node node = tune.Optional("move");
   if (!node) return;
@@ -160,6 +238,8 @@ void ParseMove(YamlMap& tune, MoveTuneSettings* out) {
   out->enabled = true;
   ParseMoveSpec(move, &out->spec);
   ParseGains(move, out);
+  ParseShapers(move, out);
+  ParseKlipper(move, &out->klipper);
   if (const YAML::Node b = move.Optional("slow_down")) {
     try {
       out->slow_down = b.as<bool>();

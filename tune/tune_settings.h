@@ -17,6 +17,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "sim/input_shaper.h"
+
 namespace axis {
 
 struct TuneSpec {
@@ -93,6 +95,22 @@ struct MoveSpec {
   double max_ringing = std::numeric_limits<double>::quiet_NaN();
 };
 
+// `tune.move.klipper:` (issue 59): the shaper Klipper's selection rule
+// would choose (tune/klipper_shaper_rule.h), from its resonance test
+// simulated on the identified model, set beside the proposal and judged
+// the same way. Klipper's [resonance_tester] defaults, in SI units.
+struct KlipperRuleSettings {
+  bool enabled = false;       // `tune.move.klipper:` present
+  double min_freq = 5.0;      // Hz, > 0
+  double max_freq = 133.33;   // Hz, > min_freq
+  double accel_per_hz = 0.075;  // m/s² per Hz (Klipper's 75 mm/s² per Hz), > 0
+  double hz_per_sec = 1.0;    // Hz/s, the sweep's rate, > 0
+  // The damping ratio the shapers are designed at (Klipper's default),
+  // in [0, 1), and those their remaining vibration is judged over.
+  double design_damping = 0.1;
+  std::vector<double> test_damping = {0.075, 0.1, 0.15};
+};
+
 struct MoveTuneSettings {
   bool enabled = false;  // `tune.move:` present
   MoveSpec spec;
@@ -105,6 +123,20 @@ struct MoveTuneSettings {
   bool slow_down = true;
   // Simulations of the search per profile, in [20, 5000].
   int evaluations = 160;
+  // Input shapers (sim/input_shaper.h) tried on each profile besides the
+  // unshaped move: "ZV", "MZV", "ZVD", "EI", "2HUMP_EI", "3HUMP_EI" (empty:
+  // none). For each, the gains, the speed, the shaper's frequency and its
+  // damping are searched together.
+  std::vector<ShaperType> shapers;
+  // Hz, the shaper frequencies searched (log scale), 0 < low < high; NaN:
+  // from half to twice the frequency of the residual vibration the
+  // profile's unshaped tuned move leaves on the identified model (no shaper
+  // where it leaves none).
+  double shaper_frequency_low = std::numeric_limits<double>::quiet_NaN();
+  double shaper_frequency_high = std::numeric_limits<double>::quiet_NaN();
+  // The shaper damping ratios searched, 0 <= low < high < 1.
+  double shaper_damping_low = 0.0, shaper_damping_high = 0.3;
+  KlipperRuleSettings klipper;
   // The design margin, in [0, 0.5]: the search meets every bound of the
   // spec lowered by this fraction (what the identified model does not
   // capture — its RK4 step, the quasi-steady current loop, the corners of
@@ -146,6 +178,11 @@ struct TuneSettings {
 //              following_error: 0.005, overshoot: 1.0e-4, current: 8.1,
 //              ringing: 1.0e-4}
 //       gains: {G_p: [10, 10000], G_v: [0, 100]}
+//       shapers: [ZV, MZV, ZVD, EI, 2HUMP_EI, 3HUMP_EI]
+//       shaper_frequency: [5, 50]
+//       shaper_damping: [0, 0.3]
+//       klipper: {min_freq: 5, max_freq: 133.33, accel_per_hz: 0.075,
+//                 hz_per_sec: 1}
 //       slow_down: true
 //       evaluations: 160
 //       margin: 0.1

@@ -1,0 +1,84 @@
+// Klipper's choice of input shaper, re-implemented from its documentation
+// (Klipper docs/Measuring_Resonances.md and docs/Config_Reference.md
+// [resonance_tester]; not from its code), so that the shaper tune.move
+// proposes can be set beside the one Klipper's rule would pick on the same
+// identified axis (tune.move.klipper:, tune/tune_settings.h;
+// docs/tuning.md).
+//
+// 1. The resonance test (TEST_RESONANCES): the axis, under its position
+//    controller, vibrates at a frequency that rises from min_freq to
+//    max_freq at hz_per_sec, with an acceleration amplitude of
+//    accel_per_hz·f; an accelerometer on the carriage records the arm's
+//    acceleration. Here it is simulated on the identified model
+//    (SimulateResonanceTest) and its power spectral density estimated by
+//    Welch's method (common/spectral.h).
+// 2. The fit of each shaper (ZV, MZV, ZVD, EI, 2HUMP_EI, 3HUMP_EI) designed
+//    at Klipper's default damping ratio 0.1: for each candidate frequency
+//    every 0.2 Hz over the test's range, the remaining vibration v — read
+//    here as the test spectrum's share left after shaping, the PSD-weighted
+//    mean of the shaper's residual vibration ShaperVibration(f, ζ) over the
+//    test's bins, the largest over the damping ratios ζ ∈ {0.075, 0.1,
+//    0.15} — and the smoothing s (MoveSmoothing of the move, m: Klipper's
+//    own smoothing figure is "abstract"; the score is proportional to it,
+//    so its unit does not change the choice); the score
+//    s·(v^1.5 + 0.2·v + 0.01) (as issue 59 quotes Klipper's heuristic);
+//    the shaper's fitted frequency is the one of the lowest score.
+// 3. The recommended shaper: the lowest score of the fitted ones.
+#ifndef TUNE_KLIPPER_SHAPER_RULE_H_
+#define TUNE_KLIPPER_SHAPER_RULE_H_
+
+#include <string>
+#include <vector>
+
+#include "sim/config.h"
+#include "sim/controller.h"
+#include "sim/input_shaper.h"
+#include "tune/tune_settings.h"
+
+namespace axis {
+
+// The power spectral density of the resonance test's accelerometer.
+struct ResonanceSpectrum {
+  std::vector<double> frequency;  // Hz, the Welch bins in [min_freq, max_freq]
+  std::vector<double> psd;        // (m/s²)²/Hz, the arm acceleration's
+  double seconds = 0.0;           // s, the test's length
+  int averages = 0;               // Welch segments
+};
+
+// The resonance test of `test` on `model` under `controller` (MODEL.md §5;
+// the model's own is ignored), from rest at x = 0, simulated by RK4 at
+// `step` (s, > 0) and recorded at the largest multiple of `step` that
+// samples max_freq at least four times a period; the reference is the
+// swept vibration (amplitude accel_per_hz·f/(2πf)²) read by the controller
+// at every control sample. Throws std::invalid_argument for settings out of
+// range (those ParseTuneSettings checks) and std::runtime_error if the
+// simulated test leaves the finite numbers.
+ResonanceSpectrum SimulateResonanceTest(const AxisConfig& model,
+                                        const ControllerConfig& controller, double step,
+                                        const KlipperRuleSettings& test);
+
+// One shaper as Klipper's rule fits it.
+struct KlipperShaperFit {
+  ShaperType type = ShaperType::kNone;
+  double frequency = 0.0;  // Hz, the fitted frequency (design damping KlipperRuleSettings)
+  double vibration = 0.0;  // the remaining vibration v, a fraction
+  double smoothing = 0.0;  // m, MoveSmoothing of the move with it
+  double score = 0.0;      // s·(v^1.5 + 0.2·v + 0.01), m
+};
+
+struct KlipperShaperChoice {
+  std::vector<KlipperShaperFit> fitted;  // one per shaper, in ShaperType order
+  size_t recommended = 0;                // the index in `fitted` of the lowest score
+  InputShaper shaper;                    // the recommended one, designed
+};
+
+// Steps 2 and 3 above on `spectrum` for the move `move` (its own shaper
+// ignored). Throws std::invalid_argument if the spectrum is empty or its
+// total power is not positive.
+KlipperShaperChoice ChooseShaperAsKlipper(const ResonanceSpectrum& spectrum,
+                                          const Reference& move,
+                                          const KlipperRuleSettings& rule);
+
+}  // namespace axis
+
+#endif  // TUNE_KLIPPER_SHAPER_RULE_H_
