@@ -292,7 +292,8 @@ const CheckFigure* WorstVibration(const MoveSetting& s) {
   const CheckFigure* worst = nullptr;
   for (size_t k = 1; k < s.residual_vibration.size(); ++k) {
     const CheckFigure& c = s.residual_vibration[k];
-    if (worst == nullptr || !(c.value <= worst->value)) worst = &c;
+    if (std::isnan(c.value)) continue;
+    if (worst == nullptr || c.value > worst->value) worst = &c;
   }
   return worst;
 }
@@ -450,6 +451,7 @@ std::string FormatMoveTuning(const MoveTuning& t) {
         << " (where the estimate's best broke it)\n";
   }
   if (t.klipper_ran) out << KlipperText(t);
+  if (!t.klipper_note.empty()) out << "  " << t.klipper_note << "\n";
   out << MoveFiguresTable(t);
   for (const auto* setting : {&t.current, &t.proposed}) {
     out << RobustLine(setting == &t.current ? "current" : "proposed", setting->robust,
@@ -464,7 +466,7 @@ std::string FormatMoveTuning(const MoveTuning& t) {
 namespace {
 
 Json KlipperJson(const MoveTuning& t) {
-  if (!t.klipper_ran) return {{"ran", false}};
+  if (!t.klipper_ran) return {{"ran", false}, {"note", t.klipper_note}};
   Json fitted = Json::array();
   for (const KlipperShaperFit& f : t.klipper_choice.fitted) {
     fitted.push_back({{"shaper", ShaperName(f.type)},

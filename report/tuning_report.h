@@ -62,9 +62,12 @@ std::string FormatMoveTuning(const MoveTuning& t);
 // "G_ff", "alpha"}, "move": {"velocity", "acceleration", "jerk",
 // "duration"}, "shaper": {"type", "frequency" (Hz), "damping",
 // "amplitudes", "times" (s), "duration" (s)}, "smoothing" (m),
-// "residual_vibration": [{"check", "ringing" (m)}], "metrics": {...},
+// "residual_vibration": [{"check", "ringing" (m)}], "checks_met", "metrics": {...},
 // "violations", "objective", "scenarios", "evaluations", "spread", "robust",
-// "robust_violations"}], "simulations", "seconds"}; NaN and infinite
+// "robust_violations"}], "klipper": {"ran", "note" (if not), "resonance_test":
+// {"seconds", "averages", "frequency" (Hz), "psd" ((m/s²)²/Hz)}, "fitted":
+// [{"shaper", "frequency", "vibration", "smoothing", "score"}],
+// "recommended", "setting" (as "tuned")}, "simulations", "seconds"}; NaN and infinite
 // figures are null. Never throws.
 nlohmann::json MoveTuningToJson(const MoveTuning& t);
 

@@ -20,7 +20,7 @@
 //         a = (3X² + 2X + 3V²)/(16X), X = (V²(√(1−V²) + 1))^(1/3)
 //   3HUMP_EI  A ∝ [a, b·K, (1−2a−2b)·K², b·K³, a·K⁴], t = [0, ½, 1, 3/2, 2]·T_d,
 //         a = (1 + 3V + 2√(2V(V+1)))/16, b = (1−V)/4
-//   (the extra-insensitive shapers: Singhose, Seering & Singer 1996/1997,
+//   (the extra-insensitive shapers: Singhose, Derezinski & Singer 1996,
 //   "Extra-insensitive input shapers for controlling flexible spacecraft",
 //   J. Guidance, Control, and Dynamics 19(2); their undamped closed forms,
 //   each impulse scaled by K per half period for ζ > 0, as Klipper does),
@@ -66,8 +66,8 @@ InputShaper MakeInputShaper(ShaperType type, double frequency, double damping);
 // natural frequency `frequency` Hz and damping `damping` after its last
 // impulse, relative to the unshaped impulse (Singer & Seering 1990, eq. 4):
 //   V = e^(−ζω t_N) · |Σ A_i e^(ζω t_i) e^(jω_d t_i)|,
-// ω = 2πf, ω_d = ω√(1−ζ²). 1 for the none shaper; 0 at a ZV, ZVD or MZV
-// shaper's own design point. Throws std::invalid_argument as MakeInputShaper.
+// ω = 2πf, ω_d = ω√(1−ζ²). 1 for the none shaper; 0 at a ZV, ZVD, MZV or
+// (undamped) 2HUMP_EI shaper's own design point, V at EI's and 3HUMP_EI's. Throws std::invalid_argument as MakeInputShaper.
 double ShaperVibration(const InputShaper& s, double frequency, double damping);
 
 // "none", "ZV", "MZV", "ZVD", "EI", "2HUMP_EI", "3HUMP_EI" (Klipper's names).

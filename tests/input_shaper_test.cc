@@ -19,6 +19,7 @@
 #include "sim/controller.h"
 #include "sim/drive_config.h"
 #include "sim/input_shaper.h"
+#include "tune/klipper_shaper_rule.h"
 #include "tune/move_response.h"
 #include "tune/tune_settings.h"
 
@@ -185,12 +186,78 @@ TEST(InputShaperTest, AShapedTrapezoidEndsLaterAtItsTargetAndLeavesTheModeStill)
   const double shaped_ringing = residual(shaped);
   EXPECT_GT(unshaped_ringing, 1e-3);
   EXPECT_LT(shaped_ringing, 1e-6 * unshaped_ringing + 1e-9);
-  // The smoothing: the shaped command lags the unshaped by at most the
-  // distance the cruise covers in the ZV delay's second share.
+  // The smoothing against the command delayed by the centroid t̄ = A_1·t_1:
+  // 0 in the cruise, ½·a·Σ A_i(t_i − t̄)² = ½·a·A_0·A_1·t_1² through the
+  // 0.05 s acceleration (longer than the 0.042 s shaper), to the 1e-5 s
+  // grid (a·h·t_1 ≈ 4e-6 of it).
+  const double a0 = shaped.shaper.amplitudes[0], a1 = shaped.shaper.amplitudes[1];
+  const double t1 = shaped.shaper.times[1];
   const double smoothing = MoveSmoothing(shaped, 1e-5);
-  EXPECT_GT(smoothing, 0.0);
-  EXPECT_LE(smoothing, shaped.shaper.amplitudes[1] * r.velocity * shaped.shaper.times[1] + 1e-9);
+  EXPECT_NEAR(smoothing, 0.5 * r.acceleration * a0 * a1 * t1 * t1, 1e-9);
   EXPECT_EQ(MoveSmoothing(r, 1e-5), 0.0);
+}
+
+// Klipper's recommendation on the (vibration, smoothing) pairs its docs
+// print (Measuring_Resonances.md): 2HUMP_EI; 3HUMP_EI under max_smoothing
+// 0.2; MZV over the near-tied 2HUMP_EI (scores 0.002342 and 0.00234).
+TEST(InputShaperTest, KlippersRuleRecommendsWhatItsDocsPrint) {
+  const auto pick = [](const std::vector<std::pair<double, double>>& vs) {
+    std::vector<KlipperShaperFit> fits;
+    for (size_t k = 0; k < vs.size(); ++k) {
+      KlipperShaperFit f;
+      f.type = static_cast<ShaperType>(k + 1);
+      f.vibration = vs[k].first;
+      f.smoothing = vs[k].second;
+      f.score = KlipperScore(f.vibration, f.smoothing);
+      fits.push_back(f);
+    }
+    return fits[RecommendShaper(fits)].type;
+  };
+  // ZV, MZV, EI, 2HUMP_EI, 3HUMP_EI as printed (ZVD, absent there, at a
+  // score no rule would pick).
+  const auto with_zvd = [](std::vector<std::pair<double, double>> v) {
+    v.insert(v.begin() + 2, {0.5, 1.0});
+    return v;
+  };
+  EXPECT_EQ(pick(with_zvd({{0.203, 0.053}, {0.036, 0.168}, {0.049, 0.135}, {0.001, 0.264},
+                           {0.0, 0.356}})),
+            ShaperType::k2HumpEI);
+  EXPECT_EQ(pick(with_zvd({{0.197, 0.057}, {0.036, 0.170}, {0.048, 0.139}, {0.027, 0.200},
+                           {0.014, 0.155}})),
+            ShaperType::k3HumpEI);
+  EXPECT_EQ(pick(with_zvd({{0.132, 0.105}, {0.017, 0.150}, {0.022, 0.240}, {0.0, 0.234},
+                           {0.0, 0.235}})),
+            ShaperType::kMZV);
+  EXPECT_NEAR(KlipperScore(0.017, 0.150), 0.150 * (std::pow(0.017, 1.5) + 0.0034 + 0.01), 1e-15);
+  EXPECT_THROW(RecommendShaper({}), std::invalid_argument);
+}
+
+// On a spectrum of one lightly damped mode, every fitted shaper's remaining
+// vibration is small and the frequencies sit near the mode's; an empty
+// spectrum is refused.
+TEST(InputShaperTest, KlippersRuleFitsASingleModeSpectrum) {
+  ResonanceSpectrum spectrum;
+  const double f_mode = 40.0, zeta = 0.05;
+  for (double f = 5.0; f <= 133.0; f += 0.5) {
+    const double r = f / f_mode;
+    spectrum.frequency.push_back(f);
+    spectrum.psd.push_back(1.0 / (std::pow(1 - r * r, 2) + std::pow(2 * zeta * r, 2)));
+  }
+  Reference move;
+  move.distance = 0.1;
+  move.velocity = 0.5;
+  move.acceleration = 5.0;
+  const KlipperShaperChoice choice = ChooseShaperAsKlipper(spectrum, move, KlipperRuleSettings{});
+  ASSERT_EQ(choice.fitted.size(), 6u);
+  for (const KlipperShaperFit& f : choice.fitted) {
+    SCOPED_TRACE(ShaperName(f.type));
+    EXPECT_LT(f.vibration, 0.2);
+    EXPECT_GT(f.frequency, 0.6 * f_mode);
+    EXPECT_LT(f.frequency, 1.6 * f_mode);
+  }
+  EXPECT_EQ(choice.shaper.type, choice.fitted[choice.recommended].type);
+  EXPECT_THROW(ChooseShaperAsKlipper(ResonanceSpectrum{}, move, KlipperRuleSettings{}),
+               std::invalid_argument);
 }
 
 // The frequency read off a residual vibration built by hand.
@@ -276,6 +343,23 @@ TEST(InputShaperTest, TuneMoveShaperKeys) {
                 .find("tune.move.shaper_frequency"),
             std::string::npos);
   EXPECT_NE(TuneError("{shapers: [ZV], shaper_damping: [0, 1]}").find("tune.move.shaper_damping"),
+            std::string::npos);
+  EXPECT_NE(TuneError("{shapers: [ZV], shaper_frequency: [0.01, 5]}")
+                .find("tune.move.shaper_frequency"),
+            std::string::npos);
+  EXPECT_NE(TuneError("{shaper_frequency: [5, 50]}").find("tune.move.shaper_frequency"),
+            std::string::npos);
+  // klipper: defaults, and a range named by its key.
+  ParseTuneSettings(ParseYamlText("move: {klipper: }", "job.yaml"), "job.yaml", &t);
+  EXPECT_TRUE(t.move.klipper.enabled);
+  EXPECT_EQ(t.move.klipper.max_freq, 133.33);
+  EXPECT_EQ(t.move.klipper.accel_per_hz, 0.075);
+  EXPECT_NE(TuneError("{klipper: {min_freq: 200}}").find("tune.move.klipper.max_freq"),
+            std::string::npos);
+  EXPECT_NE(TuneError("{klipper: {hz_per_sec: 0}}").find("tune.move.klipper.hz_per_sec"),
+            std::string::npos);
+  EXPECT_NE(TuneError("{klipper: {max_freq: 10, min_freq: 5, hz_per_sec: 0.001}}")
+                .find("tune.move.klipper"),
             std::string::npos);
 }
 

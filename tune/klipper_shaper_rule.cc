@@ -20,6 +20,14 @@ constexpr double kFrequencyStep = 0.2;
 constexpr double kResolution = 0.5;
 // s, the grid on which a candidate's smoothing is read.
 constexpr double kSmoothingGrid = 1e-3;
+// Per shaper, the frequencies whose remaining vibration is within this
+// factor (and kVibrationSlack) of the shaper's least are "as good" on
+// vibration; the least score among them is its fit.
+constexpr double kVibrationFactor = 1.2;
+constexpr double kVibrationSlack = 0.01;
+// Shapers whose score is within this factor of the lowest tie; the one with
+// the least smoothing among them is recommended.
+constexpr double kScoreTie = 1.2;
 
 // The swept vibration: phase φ(t) = 2π(f0·t + ½·r·t²), frequency
 // f(t) = f0 + r·t, position −(A(t)/ω(t)²)·sin φ with A = accel_per_hz·f
@@ -54,6 +62,26 @@ double RemainingVibration(const ResonanceSpectrum& spectrum, double total,
 
 }  // namespace
 
+double KlipperScore(double vibration, double smoothing) {
+  return smoothing * (std::pow(vibration, 1.5) + 0.2 * vibration + 0.01);
+}
+
+size_t RecommendShaper(const std::vector<KlipperShaperFit>& fitted) {
+  if (fitted.empty()) throw std::invalid_argument("RecommendShaper: expected fits, got none");
+  size_t lowest = 0;
+  for (size_t k = 1; k < fitted.size(); ++k) {
+    if (fitted[k].score < fitted[lowest].score) lowest = k;
+  }
+  size_t out = lowest;
+  for (size_t k = 0; k < fitted.size(); ++k) {
+    if (fitted[k].score <= kScoreTie * fitted[lowest].score &&
+        fitted[k].smoothing < fitted[out].smoothing) {
+      out = k;
+    }
+  }
+  return out;
+}
+
 ResonanceSpectrum SimulateResonanceTest(const AxisConfig& model,
                                         const ControllerConfig& controller, double step,
                                         const KlipperRuleSettings& test) {
@@ -62,6 +90,12 @@ ResonanceSpectrum SimulateResonanceTest(const AxisConfig& model,
     throw std::invalid_argument(
         "SimulateResonanceTest: expected step > 0, 0 < min_freq < max_freq, accel_per_hz > 0 "
         "and hz_per_sec > 0");
+  }
+  if (test.max_freq > 0.25 / controller.T_s) {
+    throw std::invalid_argument(
+        "tune.move.klipper.max_freq: expected at most a quarter of the controller's sample "
+        "rate (" + std::to_string(0.25 / controller.T_s) + " Hz: the sweep is read every T_s), "
+        "got " + std::to_string(test.max_freq) + " Hz");
   }
   const double duration = (test.max_freq - test.min_freq) / test.hz_per_sec;
   ExperimentConfig e;
@@ -121,19 +155,26 @@ KlipperShaperChoice ChooseShaperAsKlipper(const ResonanceSpectrum& spectrum,
   Reference shaped = move;
   KlipperShaperChoice out;
   for (size_t t = 1; t < ShaperNames().size(); ++t) {
-    KlipperShaperFit best;
-    best.type = static_cast<ShaperType>(t);
-    best.score = HUGE_VAL;
+    const ShaperType type = static_cast<ShaperType>(t);
+    std::vector<KlipperShaperFit> candidates;
+    double least = HUGE_VAL;
     for (double f = rule.min_freq; f <= rule.max_freq + 1e-9; f += kFrequencyStep) {
-      shaped.shaper = MakeInputShaper(best.type, f, rule.design_damping);
+      shaped.shaper = MakeInputShaper(type, f, rule.design_damping);
       const double v = RemainingVibration(spectrum, total, shaped.shaper, rule.test_damping);
       const double smoothing = MoveSmoothing(shaped, kSmoothingGrid);
-      const double score = smoothing * (std::pow(v, 1.5) + 0.2 * v + 0.01);
-      if (score < best.score) best = {best.type, f, v, smoothing, score};
+      candidates.push_back({type, f, v, smoothing, KlipperScore(v, smoothing)});
+      least = std::min(least, v);
+    }
+    KlipperShaperFit best;
+    best.score = HUGE_VAL;
+    for (const KlipperShaperFit& c : candidates) {
+      if (c.vibration <= kVibrationFactor * least + kVibrationSlack && c.score < best.score) {
+        best = c;
+      }
     }
     out.fitted.push_back(best);
-    if (best.score < out.fitted[out.recommended].score) out.recommended = out.fitted.size() - 1;
   }
+  out.recommended = RecommendShaper(out.fitted);
   const KlipperShaperFit& chosen = out.fitted[out.recommended];
   out.shaper = MakeInputShaper(chosen.type, chosen.frequency, rule.design_damping);
   return out;

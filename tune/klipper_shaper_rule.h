@@ -21,9 +21,17 @@
 //    0.15} — and the smoothing s (MoveSmoothing of the move, m: Klipper's
 //    own smoothing figure is "abstract"; the score is proportional to it,
 //    so its unit does not change the choice); the score
-//    s·(v^1.5 + 0.2·v + 0.01) (as issue 59 quotes Klipper's heuristic);
-//    the shaper's fitted frequency is the one of the lowest score.
-// 3. The recommended shaper: the lowest score of the fitted ones.
+//    s·(v^1.5 + 0.2·v + 0.01) (as issue 59 quotes Klipper's heuristic).
+//    The docs say the fit "tries not to exacerbate the smoothing, but at
+//    the same time ... minimize the resulting vibrations": the shaper's
+//    fitted frequency is the lowest score among the frequencies whose v is
+//    within 1.2·v_min + 1 % of the shaper's least.
+// 3. The recommended shaper: among the fitted shapers whose score is within
+//    20 % of the lowest, the one with the least smoothing — which
+//    reproduces the three recommendations the docs print
+//    (Measuring_Resonances.md: 2HUMP_EI, 3HUMP_EI with max_smoothing, and
+//    MZV at a score of 0.00234 against 2HUMP_EI's 0.00234;
+//    tests/input_shaper_test.cc).
 #ifndef TUNE_KLIPPER_SHAPER_RULE_H_
 #define TUNE_KLIPPER_SHAPER_RULE_H_
 
@@ -51,8 +59,9 @@ struct ResonanceSpectrum {
 // samples max_freq at least four times a period; the reference is the
 // swept vibration (amplitude accel_per_hz·f/(2πf)²) read by the controller
 // at every control sample. Throws std::invalid_argument for settings out of
-// range (those ParseTuneSettings checks) and std::runtime_error if the
-// simulated test leaves the finite numbers.
+// range (those ParseTuneSettings checks) or a max_freq above a quarter of
+// the controller's sample rate 1/T_s (the sweep is read every T_s), and
+// std::runtime_error if the simulated test leaves the finite numbers.
 ResonanceSpectrum SimulateResonanceTest(const AxisConfig& model,
                                         const ControllerConfig& controller, double step,
                                         const KlipperRuleSettings& test);
@@ -71,6 +80,15 @@ struct KlipperShaperChoice {
   size_t recommended = 0;                // the index in `fitted` of the lowest score
   InputShaper shaper;                    // the recommended one, designed
 };
+
+// Klipper's score s·(v^1.5 + 0.2·v + 0.01) of a remaining vibration v (a
+// fraction) and a smoothing s. Never throws.
+double KlipperScore(double vibration, double smoothing);
+
+// Step 3 above: the index in `fitted` (their scores and smoothings set) of
+// the recommended shaper. Throws std::invalid_argument if `fitted` is
+// empty.
+size_t RecommendShaper(const std::vector<KlipperShaperFit>& fitted);
 
 // Steps 2 and 3 above on `spectrum` for the move `move` (its own shaper
 // ignored). Throws std::invalid_argument if the spectrum is empty or its

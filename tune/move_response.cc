@@ -137,10 +137,15 @@ double ResidualVibrationFrequency(const MoveResponse& r, double floor) {
 
 double MoveSmoothing(const Reference& reference, double dt) {
   if (reference.shaper.type == ShaperType::kNone || !(dt > 0.0)) return 0.0;
+  double centroid = 0.0;
+  for (size_t i = 0; i < reference.shaper.amplitudes.size(); ++i) {
+    centroid += reference.shaper.amplitudes[i] * reference.shaper.times[i];
+  }
   const double end = reference.start + reference.MoveDuration();
   double out = 0.0;
   for (double t = reference.start; t <= end + dt; t += dt) {
-    out = std::max(out, std::abs(reference.Profile(t) - reference.UnshapedProfile(t)));
+    out = std::max(out,
+                   std::abs(reference.Profile(t) - reference.UnshapedProfile(t - centroid)));
   }
   return out;
 }

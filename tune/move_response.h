@@ -71,10 +71,13 @@ MoveMetrics MeasureMove(const MoveResponse& r, const MoveSpec& spec);
 // `floor` (m, ≥ 0). Never throws.
 double ResidualVibrationFrequency(const MoveResponse& r, double floor);
 
-// m, the largest distance between `reference`'s shaped and unshaped
-// command over its move (Reference::Profile, UnshapedProfile), sampled
-// every `dt` s (> 0): what the input shaper costs the path, 0 without one.
-// Never throws.
+// m, the smoothing of `reference`'s input shaper: the largest distance
+// between the shaped command and the unshaped one delayed by the shaper's
+// centroid t̄ = Σ A_i·t_i, max |Σ A_i·P(t − t_i) − P(t − t̄)| over the move,
+// sampled every `dt` s (> 0). The delay alone costs no path (0 at constant
+// velocity); at a constant acceleration a it is ½·a·Σ A_i·(t_i − t̄)², the
+// rounding the shaper gives the move's corners. 0 without a shaper. Never
+// throws.
 double MoveSmoothing(const Reference& reference, double dt);
 
 // The bounds of `spec` that `m` violates, one phrase each ("following

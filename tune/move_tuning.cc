@@ -115,8 +115,8 @@ class MoveTuner {
     for (const MoveSetting& t : out_.tuned) {
       judge_end_ = std::max(judge_end_, t.reference.MoveDuration());
     }
-    judge_end_ += spec_.settle;
     if (out_.klipper_ran) judge_end_ = std::max(judge_end_, out_.klipper.reference.MoveDuration());
+    judge_end_ += spec_.settle;
     Judge(&out_.current);
     for (MoveSetting& t : out_.tuned) Judge(&t);
     if (out_.klipper_ran) Judge(&out_.klipper);
@@ -217,9 +217,15 @@ class MoveTuner {
     }
     const MoveSetting& unshaped = out_.tuned[base];
     ++simulations_;
-    out_.resonance = SimulateResonanceTest(model_, unshaped.controller, step_, settings_.klipper);
-    out_.klipper_choice =
-        ChooseShaperAsKlipper(out_.resonance, unshaped.reference, settings_.klipper);
+    try {
+      out_.resonance =
+          SimulateResonanceTest(model_, unshaped.controller, step_, settings_.klipper);
+      out_.klipper_choice =
+          ChooseShaperAsKlipper(out_.resonance, unshaped.reference, settings_.klipper);
+    } catch (const std::exception& e) {
+      out_.klipper_note = std::string("Klipper's rule not applied: ") + e.what();
+      return;
+    }
     scenarios_.clear();
     out_.klipper = Evaluate(unshaped.profile, unshaped.controller, unshaped.speed,
                             out_.klipper_choice.shaper);

@@ -130,6 +130,7 @@ struct MoveTuning {
   // setting with the shaper it recommends, judged as the others but never
   // proposed.
   bool klipper_ran = false;
+  std::string klipper_note;  // why it did not run, with tune.move.klipper
   ResonanceSpectrum resonance;
   KlipperShaperChoice klipper_choice;
   MoveSetting klipper;

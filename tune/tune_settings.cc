@@ -198,11 +198,21 @@ void ParseShapers(YamlMap& move, MoveTuneSettings* out) {
       out->shapers.push_back(type);
     }
   }
-  ParseRange(move, "shaper_frequency", 0.0, true, HUGE_VAL, "[low, high] Hz with 0 < low < high",
-             &out->shaper_frequency_low, &out->shaper_frequency_high);
+  // The longest shaper (3HUMP_EI, two damped periods) at 0.05 Hz lasts
+  // 40 s: every search simulates it.
+  ParseRange(move, "shaper_frequency", 0.05, false, HUGE_VAL,
+             "[low, high] Hz with 0.05 <= low < high", &out->shaper_frequency_low,
+             &out->shaper_frequency_high);
   ParseRange(move, "shaper_damping", 0.0, false, 1.0,
              "[low, high] with 0 <= low < high < 1", &out->shaper_damping_low,
              &out->shaper_damping_high);
+  for (const char* key : {"shaper_frequency", "shaper_damping"}) {
+    if (move.Has(key) && out->shapers.empty()) {
+      ThrowConfigError(move.file(), move.Optional(key), move.KeyPath(key),
+                       "a range only with tune.move.shapers (the shapers it is searched for)",
+                       "no shapers");
+    }
+  }
 }
 
 void ParseKlipper(YamlMap& move, KlipperRuleSettings* out) {

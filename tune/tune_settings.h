@@ -128,7 +128,7 @@ struct MoveTuneSettings {
   // none). For each, the gains, the speed, the shaper's frequency and its
   // damping are searched together.
   std::vector<ShaperType> shapers;
-  // Hz, the shaper frequencies searched (log scale), 0 < low < high; NaN:
+  // Hz, the shaper frequencies searched (log scale), 0.05 <= low < high; NaN:
   // from half to twice the frequency of the residual vibration the
   // profile's unshaped tuned move leaves on the identified model (no shaper
   // where it leaves none).
