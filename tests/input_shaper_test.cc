@@ -337,30 +337,26 @@ TEST(InputShaperTest, TuneMoveShaperKeys) {
   EXPECT_EQ(t.move.shaper_frequency_high, 50.0);
   EXPECT_EQ(t.move.shaper_damping_low, 0.02);
   EXPECT_EQ(t.move.shaper_damping_high, 0.2);
-  EXPECT_NE(TuneError("{shapers: [ZV, ZV]}").find("tune.move.shapers"), std::string::npos);
-  EXPECT_NE(TuneError("{shapers: [none]}").find("tune.move.shapers"), std::string::npos);
-  EXPECT_NE(TuneError("{shapers: [ZV], shaper_frequency: [50, 5]}")
-                .find("tune.move.shaper_frequency"),
-            std::string::npos);
-  EXPECT_NE(TuneError("{shapers: [ZV], shaper_damping: [0, 1]}").find("tune.move.shaper_damping"),
-            std::string::npos);
-  EXPECT_NE(TuneError("{shapers: [ZV], shaper_frequency: [0.01, 5]}")
-                .find("tune.move.shaper_frequency"),
-            std::string::npos);
-  EXPECT_NE(TuneError("{shaper_frequency: [5, 50]}").find("tune.move.shaper_frequency"),
-            std::string::npos);
-  // klipper: defaults, and a range named by its key.
+  // Each bad block is refused naming its key.
+  const std::pair<const char*, const char*> refused[] = {
+      {"{shapers: [ZV, ZV]}", "tune.move.shapers"},
+      {"{shapers: [none]}", "tune.move.shapers"},
+      {"{shapers: [ZV], shaper_frequency: [50, 5]}", "tune.move.shaper_frequency"},
+      {"{shapers: [ZV], shaper_damping: [0, 1]}", "tune.move.shaper_damping"},
+      {"{shapers: [ZV], shaper_frequency: [0.01, 5]}", "tune.move.shaper_frequency"},
+      {"{shaper_frequency: [5, 50]}", "tune.move.shaper_frequency"},
+      {"{klipper: {min_freq: 200}}", "tune.move.klipper.max_freq"},
+      {"{klipper: {hz_per_sec: 0}}", "tune.move.klipper.hz_per_sec"},
+      {"{klipper: {max_freq: 10, min_freq: 5, hz_per_sec: 0.001}}", "tune.move.klipper"},
+  };
+  for (const auto& [text, key] : refused) {
+    EXPECT_NE(TuneError(text).find(key), std::string::npos) << text;
+  }
+  // klipper: alone, the defaults.
   ParseTuneSettings(ParseYamlText("move: {klipper: }", "job.yaml"), "job.yaml", &t);
   EXPECT_TRUE(t.move.klipper.enabled);
   EXPECT_EQ(t.move.klipper.max_freq, 133.33);
   EXPECT_EQ(t.move.klipper.accel_per_hz, 0.075);
-  EXPECT_NE(TuneError("{klipper: {min_freq: 200}}").find("tune.move.klipper.max_freq"),
-            std::string::npos);
-  EXPECT_NE(TuneError("{klipper: {hz_per_sec: 0}}").find("tune.move.klipper.hz_per_sec"),
-            std::string::npos);
-  EXPECT_NE(TuneError("{klipper: {max_freq: 10, min_freq: 5, hz_per_sec: 0.001}}")
-                .find("tune.move.klipper"),
-            std::string::npos);
 }
 
 }  // namespace
