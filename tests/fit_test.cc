@@ -32,15 +32,40 @@ const std::string kRoot = PROJECT_SOURCE_DIR;
 const std::map<std::string, double> kTruth = {
     {"V_L", 2.7}, {"B_a", 200.0}, {"b_g", 1500.0}, {"k_g", 5.0e6}, {"T_p", 0.04}};
 
+// The noise-free trace of testdata/generate/quasi_steady/<name>.yaml (the
+// paper job's fitting model: quasi-steady current loop at 100 µs), written
+// once per test directory; returns its path.
+std::string QuasiSteadyRecord(const std::string& name) {
+  const std::string csv = testing_files::TestTempDir() + "quasi_steady_" + name + ".csv";
+  static std::map<std::string, bool> written;
+  if (!written[csv]) {
+    const ExperimentConfig g =
+        LoadExperiment(kRoot + "/testdata/generate/quasi_steady/" + name + ".yaml");
+    SimulateAxisOptions options;
+    options.no_noise = true;
+    WriteTraceCsv(csv, SimulateExperiment(g, options), g.options.channels);
+    written[csv] = true;
+  }
+  return csv;
+}
+
 // The paper job (configs/jobs/x_axis_paper.yaml) on `suffix` data ("" noisy,
-// "_clean" noise-free), with the given initial values.
+// "_clean" noise-free, both from the full current loop at 10 µs, fitted with
+// it; "quasi_steady": the noise-free QuasiSteadyRecord, fitted with the
+// quasi-steady loop at 100 µs as the paper job does), with the given initial
+// values.
 std::string PaperJob(const std::string& suffix,
                      const std::map<std::string, double>& initial,
                      int starts = 0, int seed = 1, double window = 0.0,
                      int probe_rounds = 8) {
+  const bool quasi_steady = suffix == "quasi_steady";
   std::ostringstream y;
-  y << "model: " << kRoot << "/configs/axes/x_axis.yaml\n"
-    << "free:\n"
+  y << "model: " << kRoot << "/configs/axes/x_axis.yaml\n";
+  if (quasi_steady) {
+    y << "configuration: {current_loop: quasi_steady}\n"
+      << "simulation: {step: 1.0e-4}\n";
+  }
+  y << "free:\n"
     << "  V_L: {initial: " << initial.at("V_L") << ", lower: 0.5, upper: 20}\n"
     << "  B_a: {initial: " << initial.at("B_a") << ", lower: 10, upper: 2000}\n"
     << "  b_g: {initial: " << initial.at("b_g") << ", lower: 100, upper: 20000}\n"
@@ -48,8 +73,10 @@ std::string PaperJob(const std::string& suffix,
     << "  T_p: {initial: " << initial.at("T_p") << ", lower: 0.005, upper: 1.0}\n"
     << "experiments:\n";
   for (const char* name : {"x_step_10V", "x_step_4V"}) {
+    const std::string data = quasi_steady ? QuasiSteadyRecord(name)
+                                          : kRoot + "/testdata/" + name + suffix + ".csv";
     y << "  - name: " << name << "\n"
-      << "    data: " << kRoot << "/testdata/" << name << suffix << ".csv\n"
+      << "    data: " << data << "\n"
       << "    channels: {u: u, a: a, tach: tach}\n"
       << "    input: {column: u}\n"
       << "    fit: {a: 0.02, tach: 0.005}\n";
@@ -90,18 +117,20 @@ FitResult Fit(const std::string& job_path,
   return FitParameters(job.problem);
 }
 
-// Noise-free data: the truth is the exact minimum (up to the RK4 error, which
-// is identical in data and model because both use the same 10 µs grid), so
+// Noise-free data from the fitting model itself (the paper job's
+// quasi-steady current loop at 100 µs): the truth is the exact minimum (up
+// to the RK4 error, which is identical in data and model because both use
+// the same grid), so
 // the estimates must reach it to the solver's tolerance; 1e-4 relative is
 // the issue's requirement. Every parameter starts a factor of 2 off,
-// alternating direction, both ways. From the second start a single LM run
-// ends in a T_p local minimum (T_p ≈ 0.018 s): two extra random starts
-// (multi-start, allowed by the issue) find the truth. The optimum check
-// (solver.probe_rounds) is off: the starts alone must reach it (with the
-// check, the test took 34 s of the suite instead of 8 s).
+// alternating direction, both ways, with two random starts drawn by the fit
+// (on the full loop's trace at 10 µs a single run from the second start
+// ended in a T_p local minimum near 0.018 s; on this model a single run
+// reaches the truth from both). The optimum check (solver.probe_rounds) is
+// off: the starts alone must reach it.
 TEST(FitTest, NoiseFreeRecoveryFromFactorTwoAboveAndBelow) {
   for (const auto& start : {Scaled(2.0, 0.5), Scaled(0.5, 2.0)}) {
-    const FitResult r = Fit(PaperJob("_clean", start, /*starts=*/2, 1, 0.0,
+    const FitResult r = Fit(PaperJob("quasi_steady", start, /*starts=*/2, 1, 0.0,
                                      /*probe_rounds=*/0),
                             UncertaintySettings::Method::kGaussNewton);
     for (const auto& [name, truth] : kTruth) {
@@ -118,15 +147,16 @@ TEST(FitTest, NoiseFreeRecoveryFromFactorTwoAboveAndBelow) {
 // run in tests/html_report_jobs_test.cc (PaperJobInChromium), which fits
 // it anyway.
 
-// Multi-start from random points in the bounds: the fit reaches the truth
-// (1e-3 relative on noise-free data) in at least 95 % of the seeds, i.e. in
-// all 5 here. Each seed is a random initial point plus two random starts
-// drawn by the fit (with one, 9 of 10 seeds reached the truth: not enough);
-// the two lowest after the shorter horizons fit the whole record
-// (solver.finalists). Over seeds 1–10 (commit a113df5) 10 of 10 reached it;
-// larger rates are the optimum campaign's (scripts/optimum-campaign). The
-// optimum check is off (probe_rounds: 0), so the starts alone are tested:
-// 5 of 5 without it too (28 s alone instead of about 60 s with it).
+// Multi-start from random points in the bounds, on the paper job's fitting
+// model (quasi-steady current loop at 100 µs) and its noise-free trace: the
+// fit as a user runs it (two random starts drawn by the fit, the two lowest
+// after the shorter horizons fitting the whole record, solver.finalists,
+// then the optimum check at its default 8 probe rounds) reaches the truth
+// (1e-3 relative) in at least 95 % of the seeds, i.e. in all 5 here. The
+// starts alone (probe_rounds: 0) reach it in 8 of 10 seeds: seeds 3 and 8
+// end in a local minimum with b_g at its upper bound (20000 N*s/m, k_g
+// 1.7e6 N/m, cost 5.5e5 against 0), which the optimum check's probes leave.
+// Larger rates are the optimum campaign's (scripts/optimum-campaign).
 TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
   const int kSeeds = 5;
   int reached = 0;
@@ -141,14 +171,18 @@ TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
     for (const auto& [name, b] : bounds) {
       start[name] = std::exp(UniformReal(std::log(b.first), std::log(b.second), rng));
     }
-    const FitResult r = Fit(PaperJob("_clean", start, /*starts=*/2, seed, 0.0,
-                                     /*probe_rounds=*/0),
+    const FitResult r = Fit(PaperJob("quasi_steady", start, /*starts=*/2, seed),
                             UncertaintySettings::Method::kGaussNewton);
     bool ok = true;
     for (const auto& [name, truth] : kTruth) {
       ok = ok && std::abs(Estimate(r, name).value / truth - 1.0) < 1e-3;
     }
     reached += ok;
+    if (!ok) {
+      std::cout << "seed " << seed << " final cost " << r.final_cost;
+      for (const auto& [name, truth] : kTruth) std::cout << " " << name << "=" << Estimate(r, name).value;
+      std::cout << "\n";
+    }
   }
   RecordProperty("seeds_reaching_truth", std::to_string(reached) + "/" +
                                              std::to_string(kSeeds));
