@@ -1,5 +1,6 @@
 #include "sim/drive_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
@@ -289,6 +290,36 @@ ControllerConfig ParseController(YamlMap& map, const ControllerConfig& d) {
                               Range::kNonNegative);
   map.Finish();
   return c;
+}
+
+void CheckSupplyPositive(const InputSignal& supply, const YamlMap& map,
+                         const YAML::Node& node, const std::string& key) {
+  std::ostringstream got;
+  got << std::setprecision(6);
+  if (supply.kind == InputSignal::Kind::kTable) {
+    for (size_t k = 0; k < supply.values.size(); ++k) {
+      const double v = supply.values[k] + supply.offset;
+      if (std::isfinite(v) && v > 0.0) continue;
+      got << v << " V at t = " << supply.times[k] << " s";
+      ThrowConfigError(map.file(), node, key, "a supply voltage > 0 V throughout", got.str());
+    }
+    return;
+  }
+  double least = supply.offset;
+  switch (supply.kind) {
+    case InputSignal::Kind::kStep:
+      least = std::min(supply.offset, supply.offset + supply.amplitude);
+      break;
+    case InputSignal::Kind::kSine:
+    case InputSignal::Kind::kChirp:
+      least = supply.offset - std::abs(supply.amplitude);
+      break;
+    default:  // zero, and a ramp at its start
+      break;
+  }
+  if (std::isfinite(least) && least > 0.0) return;
+  got << "a least value of " << least << " V";
+  ThrowConfigError(map.file(), node, key, "a supply voltage > 0 V throughout", got.str());
 }
 
 }  // namespace axis

@@ -59,11 +59,21 @@ InputShaper ParseInputShaper(YamlMap& parent);
 Reference ParseReference(YamlMap& map, const std::string& base_dir,
                          double origin);
 
+// Throws the config error "<file>:<line>: key '<key>': expected a supply
+// voltage > 0 V throughout, got <value> V at t = <t> s" (a table's first
+// sample that is ≤ 0 or not finite) or "... got a least value of <value> V"
+// (a step's two levels, a sine's or chirp's offset − |amplitude|, a ramp's
+// value at its start) unless `supply` stays above 0 V. `map` and `node`
+// locate the key.
+void CheckSupplyPositive(const InputSignal& supply, const YamlMap& map,
+                         const YAML::Node& node, const std::string& key);
+
 // The drive's supply voltage `supply:` of a closed-loop experiment whose
 // controller outputs a duty cycle (Drive::supply, MODEL.md §5): a number
 // (V, > 0) as a constant signal, or a mapping read by `signal` (a column of
-// the record, or a signal type). Throws std::invalid_argument naming the
-// key for a number ≤ 0 or not finite, and whatever `signal` throws.
+// the record, or a signal type) whose every value is > 0 V
+// (CheckSupplyPositive). Throws std::invalid_argument naming the key for a
+// value ≤ 0 or not finite, and whatever `signal` throws.
 template <typename SignalOf>
 InputSignal ParseSupply(YamlMap& root, const SignalOf& signal) {
   const YAML::Node node = root.Optional("supply");
@@ -73,7 +83,9 @@ InputSignal ParseSupply(YamlMap& root, const SignalOf& signal) {
     return constant;
   }
   YamlMap map(node, root.file(), root.KeyPath("supply."));
-  return signal(map);
+  InputSignal supply = signal(map);
+  CheckSupplyPositive(supply, root, node, root.KeyPath("supply"));
+  return supply;
 }
 
 // Throws the config error "<file>:<line>: key '<key>': expected a drive that

@@ -457,6 +457,20 @@ TEST(RotaryConfigTest, TheFirmwareLoopNeedsItsSupplyAndDrive) {
   EXPECT_NE(experiment_error("supply: 7.4\ncontroller: {type: sampled_position}\n")
                 .find("key 'supply': expected a supply only with controller type: servo_firmware"),
             std::string::npos);
+  // A supply that reaches 0 V, as a signal or as a recorded column.
+  EXPECT_NE(experiment_error("supply: {type: sine, offset: 1, amplitude: 2, frequency: 1}\n")
+                .find("key 'supply': expected a supply voltage > 0 V throughout, got a least "
+                      "value of -1 V"),
+            std::string::npos);
+  const std::string csv = ::testing::TempDir() + "supply.csv";
+  std::ofstream(csv) << "t,vin\n0,7.4\n0.05,0\n0.1,7.3\n";
+  EXPECT_NE(experiment_error("supply: {type: column, file: " + csv +
+                             ", time: t, column: vin}\n")
+                .find("key 'supply': expected a supply voltage > 0 V throughout, got 0 V at "
+                      "t = 0.05 s"),
+            std::string::npos);
+  EXPECT_EQ(experiment_error("supply: {type: sine, offset: 7, amplitude: 0.5, frequency: 1}\n"),
+            "");
 }
 
 }  // namespace
