@@ -65,9 +65,12 @@ std::string FormatForceMap(const ForceMapReport& report) {
   const ForceMap& map = report.map;
   out << "\nForce map " << FormText(map) << " (" << report.kind << "): " << map.knots.size()
       << " knots over [" << Number(map.knots.front()) << ", " << Number(map.knots.back()) << "] "
-      << VariableUnit(map) << "\n";
+      << VariableUnit(map, report.rotary) << "\n";
+  const std::string force_unit = MapForceUnit(report.rotary);
+  const std::string lambda_unit =
+      report.rotary ? "1/(" + force_unit + ")^2" : "1/" + force_unit + "^2";
   TextTable grid;
-  grid.headers = {"lambda (1/N^2)", "edf", "chi2 (linearised)", "BIC", ""};
+  grid.headers = {"lambda (" + lambda_unit + ")", "edf", "chi2 (linearised)", "BIC", ""};
   grid.right = {true, true, true, true, false};
   for (const SmoothingChoice& s : report.grid) {
     grid.rows.push_back({Number(s.lambda, 3), Number(s.edf), Number(s.chi2, 7), Number(s.bic, 7),
@@ -76,17 +79,19 @@ std::string FormatForceMap(const ForceMapReport& report) {
   out << "\nRoughness penalty, BIC with the effective number of parameters:\n"
       << RenderText(grid);
   TextTable values;
-  values.headers = {"knot (" + std::string(VariableUnit(map)) + ")", "force (N)",
-                    "std error (N)"};
+  values.headers = {"knot (" + std::string(VariableUnit(map, report.rotary)) + ")",
+                    (report.rotary ? "torque (" : "force (") + force_unit + ")",
+                    "std error (" + force_unit + ")"};
   values.right = {true, true, true};
   for (size_t k = 0; k < report.values.size(); ++k) {
     values.rows.push_back({Number(map.knots[k]), Number(report.values[k]),
                            Number(report.std_errors[k], 3)});
   }
-  out << "\nLearned force (values at the knots; 95 % band: +-1.96 std error):\n"
+  out << "\nLearned " << (report.rotary ? "torque" : "force")
+      << " (values at the knots; 95 % band: +-1.96 std error):\n"
       << RenderText(values);
-  out << "lambda " << Number(report.lambda, 3) << " 1/N^2, edf " << Number(report.edf)
-      << ", s2 " << Number(report.s2) << "; BIC " << Number(report.bic_before, 7) << " -> "
+  out << "lambda " << Number(report.lambda, 3) << " " << lambda_unit << ", edf "
+      << Number(report.edf) << ", s2 " << Number(report.s2) << "; BIC " << Number(report.bic_before, 7) << " -> "
       << Number(report.bic_after, 7) << (report.kept ? " (kept)" : " (not kept)") << "\n";
   for (const ForceMapRemoval& r : report.removals) {
     out << "without " << r.effect << ": BIC " << Number(r.bic_with, 7) << " -> "
@@ -143,6 +148,8 @@ nlohmann::json ForceMapToJson(const ForceMapReport& report) {
   out["kind"] = report.kind;
   out["variable"] = VariableName(report.map);
   out["friction"] = report.map.friction;
+  out["variable_unit"] = VariableUnit(report.map, report.rotary);
+  out["value_unit"] = MapForceUnit(report.rotary);
   out["knots"] = report.map.knots;
   out["values"] = report.values;
   nlohmann::json se = nlohmann::json::array();
@@ -189,10 +196,12 @@ std::string ForceMapPlotScript(const ForceMapReport& report, const std::string& 
     s << "set terminal pngcairo size 1000,600 noenhanced; ";
   }
   s << "set output '" << output
-    << "'; set datafile separator ','; set grid; set key top left; set title 'learned force "
+    << "'; set datafile separator ','; set grid; set key top left; set title 'learned "
+    << (report.rotary ? "torque " : "force ")
     << FormText(report.map) << (report.kept ? "" : " (not kept)") << "'; set xlabel '"
-    << VariableName(report.map) << " (" << VariableUnit(report.map)
-    << ")'; set ylabel 'force (N)'; plot '" << csv_path
+    << VariableName(report.map) << " (" << VariableUnit(report.map, report.rotary)
+    << ")'; set ylabel '" << (report.rotary ? "torque (" : "force (")
+    << MapForceUnit(report.rotary) << ")'; plot '" << csv_path
     << "' every ::1 using 1:3:4 with filledcurves lc rgb '#c6dbef' title '95 % band', '"
     << csv_path << "' every ::1 using 1:2 with lines lw 2 lc rgb '#08519c' title 'f', 0 with "
     << "lines lc rgb 'gray' notitle";

@@ -69,9 +69,12 @@ struct ForceMapReport {
   std::vector<ForceMapRemoval> removals;
   std::string kind;           // "x", "x_friction" or "v" (ForceMapKind)
   ForceMap map;               // the refitted map's structure
-  std::vector<double> values, std_errors;  // N, per knot
+  // The axis turns (AxisStructure::motion rotary): the variable in rad or
+  // rad/s and the values in N·m, as the texts, the CSV and the plot say.
+  bool rotary = false;
+  std::vector<double> values, std_errors;  // N (N·m if rotary), per knot
   std::vector<SmoothingChoice> grid;
-  double lambda = 0.0;  // the chosen λ, 1/N²
+  double lambda = 0.0;  // the chosen λ, 1/N² (1/(N·m)² if rotary)
   double edf = 0.0;     // effective parameters at the refit
   double s2 = 0.0;      // data Σr²/(m − edf)
   // BIC of the library model (Σr² + n·ln(m)) and of the model with the map

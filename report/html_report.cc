@@ -215,8 +215,9 @@ class Plotter {
 
   // A <figure> with the learned force of `map` and its band.
   std::string ForceMap(const ForceMapReport& map) {
-    return Later("The learned load force (N) with its pointwise 95 % band (Bayesian, of the "
-                 "penalised fit).",
+    const std::string what =
+        map.rotary ? "The learned load torque (N*m)" : "The learned load force (N)";
+    return Later(what + " with its pointwise 95 % band (Bayesian, of the penalised fit).",
                  [&map](const std::string& csv) { WriteForceMapCsv(csv, map); },
                  Gnuplot("force map", [&map](const std::string& csv, const std::string& output) {
                    return ForceMapPlotScript(map, csv, output, true);

@@ -237,5 +237,41 @@ TEST(ForceMapDiscoveryTest, SpringStaysALibraryEffect) {
   ExpectLibraryEffectWins(job, "spring");
 }
 
+// A map learned on a rotary axis speaks its units: the variable in rad
+// (rad/s for f(v)), the values in N*m, in the text, report.json and the
+// plot; a linear axis keeps m and N.
+TEST(ForceMapReportTest, ARotaryAxisMapIsInRadiansAndNewtonMetres) {
+  ForceMapReport report;
+  report.tried = true;
+  report.kept = true;
+  report.reason = "binned structure along the travel";
+  report.kind = "x";
+  report.map.enabled = true;
+  report.map.knots = {0.0, 1.0, 2.0, 3.0};
+  report.values = {0.1, -0.2, 0.3, 0.0};
+  report.std_errors = {0.01, 0.01, 0.01, 0.01};
+  report.lambda = 2.0;
+  report.rotary = true;
+  const std::string text = FormatForceMap(report);
+  EXPECT_NE(text.find("] rad\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("knot (rad)"), std::string::npos) << text;
+  EXPECT_NE(text.find("torque (N*m)"), std::string::npos) << text;
+  EXPECT_NE(text.find("lambda (1/(N*m)^2)"), std::string::npos) << text;
+  EXPECT_EQ(text.find("(N)"), std::string::npos) << text;
+  const nlohmann::json json = ForceMapToJson(report);
+  EXPECT_EQ(json["variable_unit"], "rad");
+  EXPECT_EQ(json["value_unit"], "N*m");
+  EXPECT_NE(ForceMapPlotScript(report, "m.csv", "m.png", false).find("set ylabel 'torque (N*m)'"),
+            std::string::npos);
+  report.map.variable = ForceMapVariable::kV;
+  EXPECT_NE(FormatForceMap(report).find("knot (rad/s)"), std::string::npos);
+  report.rotary = false;
+  report.map.variable = ForceMapVariable::kX;
+  const std::string linear = FormatForceMap(report);
+  EXPECT_NE(linear.find("knot (m)"), std::string::npos) << linear;
+  EXPECT_NE(linear.find("force (N)"), std::string::npos) << linear;
+  EXPECT_NE(linear.find("lambda (1/N^2)"), std::string::npos) << linear;
+}
+
 }  // namespace
 }  // namespace axis

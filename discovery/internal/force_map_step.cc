@@ -85,7 +85,8 @@ Eigen::MatrixXd CardinalWeights(const std::vector<double>& knots, const std::vec
 std::string Number(double x, int digits = 4) { return FormatNumber(x, digits); }
 
 // Runs of `z` where `inside` holds, as "x in [a, b] m, [c, d] m".
-std::string Runs(const ForceMapCurve& c, const ForceMap& map, const std::vector<bool>& inside) {
+std::string Runs(const ForceMapCurve& c, const ForceMap& map, bool rotary,
+                 const std::vector<bool>& inside) {
   std::ostringstream out;
   int runs = 0;
   for (size_t j = 0; j < inside.size();) {
@@ -96,7 +97,7 @@ std::string Runs(const ForceMapCurve& c, const ForceMap& map, const std::vector<
     size_t end = j;
     while (end + 1 < inside.size() && inside[end + 1]) ++end;
     out << (runs++ ? ", " : "") << "[" << Number(c.z[j]) << ", " << Number(c.z[end]) << "] "
-        << VariableUnit(map);
+        << VariableUnit(map, rotary);
     j = end + 1;
   }
   return runs ? std::string(VariableName(map)) + " in " + out.str() : "";
@@ -300,6 +301,7 @@ void ForceMapStep::AdoptForm() {
   fit_ = std::move(fits_[winner_]);
   report_.kind = ForceMapKind(map_job_.model.structure.force_map);
   report_.map = map_job_.model.structure.force_map;
+  report_.rotary = map_job_.model.structure.motion == Motion::kRotary;
   k_map_ = static_cast<int>(report_.map.knots.size());
 }
 
@@ -447,7 +449,7 @@ void ForceMapStep::RecordCurve() {
     report_.curve.high.push_back(f + kZ975 * sd);
     nonzero.push_back(std::abs(f) > kZ975 * sd);
   }
-  const std::string runs = Runs(report_.curve, report_.map, nonzero);
+  const std::string runs = Runs(report_.curve, report_.map, report_.rotary, nonzero);
   if (!runs.empty()) report_.significant.push_back(runs);
 }
 

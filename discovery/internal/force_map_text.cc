@@ -2,10 +2,12 @@
 
 namespace axis {
 
-// The unit of the map's variable.
-const char* VariableUnit(const ForceMap& map) {
-  return map.variable == ForceMapVariable::kV ? "m/s" : "m";
+const char* VariableUnit(const ForceMap& map, bool rotary) {
+  if (map.variable == ForceMapVariable::kV) return rotary ? "rad/s" : "m/s";
+  return rotary ? "rad" : "m";
 }
+
+const char* MapForceUnit(bool rotary) { return rotary ? "N*m" : "N"; }
 
 const char* VariableName(const ForceMap& map) {
   return map.variable == ForceMapVariable::kV ? "v" : "x";

@@ -9,8 +9,12 @@
 
 namespace axis {
 
-// The unit of the map's variable: "m/s" for f(v), else "m". Never throws.
-const char* VariableUnit(const ForceMap& map);
+// The unit of the map's variable: "m/s" for f(v), else "m"; "rad/s" and
+// "rad" on a rotary axis (`rotary`, AxisStructure::motion). Never throws.
+const char* VariableUnit(const ForceMap& map, bool rotary);
+
+// The unit of the map's values: "N", or "N*m" on a rotary axis. Never throws.
+const char* MapForceUnit(bool rotary);
 
 // The map's variable: "v" for f(v), else "x". Never throws.
 const char* VariableName(const ForceMap& map);
