@@ -284,8 +284,9 @@ void AnalyseChannels(const EstimationProblem& job, const FitExperiment& e,
 
 }  // namespace
 
-std::vector<ExperimentFrequencyResponse> AnalyseFrequencyResponse(const EstimationProblem& job,
-                                                                  const FitResult& result) {
+std::vector<ExperimentFrequencyResponse> AnalyseFrequencyResponse(
+    const EstimationProblem& job, const FitResult& result,
+    const FrequencyResponseSettings& settings) {
   std::vector<ExperimentFrequencyResponse> out;
   const bool rotary = job.model.structure.motion == Motion::kRotary;
   for (const FitExperiment& e : job.experiments) {
@@ -293,11 +294,10 @@ std::vector<ExperimentFrequencyResponse> AnalyseFrequencyResponse(const Estimati
     r.experiment = e.name;
     const std::vector<double> u = ExperimentInput(e, rotary, &r.input, &r.input_unit);
     r.sample_period = e.t.size() > 1 ? e.t[1] - e.t[0] : e.options.output_period;
-    r.segment_length =
-        std::min(WelchSegmentLength(u.size(), WelchOptions{}.min_averages), kMaxSegment);
+    r.segment_length = std::min(WelchSegmentLength(u.size(), settings.min_averages), kMaxSegment);
     if (r.segment_length == 0 || !(r.sample_period > 0.0)) {
-      r.note = r.input + ": a record of " + std::to_string(u.size()) +
-               " samples, too short for 8 averages of 16";
+      r.note = r.input + ": a record of " + std::to_string(u.size()) + " samples, too short for " +
+               std::to_string(settings.min_averages) + " averages of 16";
       out.push_back(std::move(r));
       continue;
     }

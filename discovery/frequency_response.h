@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/spectral.h"
+#include "discovery/frequency_response_settings.h"
 #include "estimation/estimation_problem.h"
 #include "estimation/fit_result.h"
 #include "sim/axis_config.h"
@@ -102,12 +103,14 @@ struct ExperimentFrequencyResponse {
 // The frequency response of each fitted experiment of `job`, whose model
 // must hold the estimate (AtEstimate, estimation/at_estimate.h), with the
 // covariance of `result` (ParameterCovariance). Welch options: the
-// automatic segment length (≥ 8 averages), at most 4096 samples (a longer
-// record gives more averages); band: BandCriterion's defaults.
+// automatic segment length (≥ settings.min_averages averages), at most
+// 4096 samples (a longer record gives more averages); band: BandCriterion's
+// defaults. `settings.enabled` is the caller's to test.
 // Throws std::runtime_error if the model at the estimate does not simulate
 // a record.
-std::vector<ExperimentFrequencyResponse> AnalyseFrequencyResponse(const EstimationProblem& job,
-                                                                  const FitResult& result);
+std::vector<ExperimentFrequencyResponse> AnalyseFrequencyResponse(
+    const EstimationProblem& job, const FitResult& result,
+    const FrequencyResponseSettings& settings = {});
 
 // The input of experiment `e` at its sample times (see above) and its name
 // and unit. Never throws (but std::bad_alloc).

@@ -16,6 +16,7 @@
 
 #include "design/design_settings.h"
 #include "discovery/discovery_settings.h"
+#include "discovery/frequency_response_settings.h"
 #include "estimation/estimation_problem.h"
 #include "estimation/full_loop_refit.h"
 #include "report/published_reference.h"
@@ -30,6 +31,8 @@ struct FitJob {
   FullLoopRefitSettings full_loop;  // `simulation:` keys full_loop_refit_above, full_loop_intervals
   DiscoverySettings discover;       // `discover:` key (enabled if present)
   DesignSettings design;            // `design:` key (design/experiment_design.h)
+  // `frequency_response:` key (discovery/frequency_response.h)
+  FrequencyResponseSettings frequency_response;
   TuneSettings tune;                // `tune:` key (tune/analog_loop_tuning.h)
   PublishedReference published;     // `published:` key (report/published.h)
   BenchmarkSettings benchmark;      // `benchmark:` key (run/benchmark.h)

@@ -311,11 +311,13 @@ class JobPipeline {
 
   // The frequency response of each fitted experiment at the final
   // estimate (discovery/frequency_response.h).
+  // Off with `frequency_response: {enabled: false}`.
   void AnalyseTheFrequencyResponse() {
+    if (!run_.job.frequency_response.enabled) return;
     Stage("frequency response");
     try {
-      run_.frequency_response =
-          AnalyseFrequencyResponse(AtEstimate(run_.job.problem, result_), result_);
+      run_.frequency_response = AnalyseFrequencyResponse(AtEstimate(run_.job.problem, result_),
+                                                         result_, run_.job.frequency_response);
     } catch (const std::exception& e) {
       run_.frequency_response.clear();  // the fitted model does not simulate a record
       run_.frequency_response_note = std::string("no frequency response: ") + e.what();
@@ -420,7 +422,9 @@ class JobPipeline {
       extra.markdown += "\n## Frequency response\n\n```\n" +
                         FormatFrequencyResponse(run_.frequency_response) + "```\n";
     }
-    extra.json["frequency_response"] = FrequencyResponseToJson(run_.frequency_response);
+    if (run_.job.frequency_response.enabled) {
+      extra.json["frequency_response"] = FrequencyResponseToJson(run_.frequency_response);
+    }
     if (run_.job.published.present) AddPublishedSection();
     if (run_.discovered) AddDiscoverySections();
     if (run_.job.design.enabled) {

@@ -15,6 +15,7 @@
 #include "common/statistics.h"
 #include "design/design_settings.h"
 #include "discovery/discovery_settings.h"
+#include "discovery/frequency_response_settings.h"
 #include "estimation/full_loop_refit.h"
 #include "estimation/solver_settings.h"
 #include "io/csv.h"
@@ -672,6 +673,9 @@ FitJob FitJobParser::Parse() {
     ReadDesignSettings(node, path_, &job_.design);
   }
   if (const YAML::Node node = root_.Optional("tune")) ParseTuneSettings(node, path_, &job_.tune);
+  if (const YAML::Node node = root_.Optional("frequency_response")) {
+    ReadFrequencyResponseSettings(node, path_, &job_.frequency_response);
+  }
   ParseOutput();
   ParseExperiments();
   CheckFitMemory();

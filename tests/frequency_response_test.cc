@@ -11,6 +11,7 @@
 // the whole analysis on a simulated record.
 #include <cmath>
 #include <complex>
+#include <fstream>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -556,6 +557,32 @@ TEST(FrequencyResponseTest, TheJobPipelineReportsIt) {
   bool phase = false;
   for (const RunPhase& p : run.phases) phase |= p.name == "frequency response";
   EXPECT_TRUE(phase);
+
+  // `frequency_response:` settings: more averages (a shorter segment, a
+  // coarser grid), or none at all; a bad key is refused naming it.
+  const auto with = [&](const std::string& settings) {
+    std::ifstream in(job);
+    std::stringstream text;
+    text << in.rdbuf() << "frequency_response: " << settings << "\n";
+    return testing_files::WriteTemp("job_" + std::to_string(settings.size()) + ".yaml",
+                                    text.str());
+  };
+  const JobRun more = RunJob(LoadFitJob(with("{min_averages: 32}")), false, log);
+  ASSERT_EQ(more.frequency_response.size(), 1u);
+  EXPECT_GE(more.frequency_response[0].averages, 32);
+  EXPECT_LT(more.frequency_response[0].segment_length, r.segment_length);
+  const JobRun off = RunJob(LoadFitJob(with("{enabled: false}")), false, log);
+  EXPECT_TRUE(off.frequency_response.empty());
+  EXPECT_EQ(off.sections.json.count("frequency_response"), 0u);
+  for (const RunPhase& p : off.phases) EXPECT_NE(p.name, "frequency response");
+  try {
+    LoadFitJob(with("{min_averages: 1}"));
+    ADD_FAILURE() << "min_averages: 1 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'frequency_response.min_averages'"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
