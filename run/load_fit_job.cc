@@ -12,6 +12,7 @@
 
 #include <Eigen/Dense>
 
+#include "common/format.h"
 #include "common/statistics.h"
 #include "design/design_settings.h"
 #include "discovery/discovery_settings.h"
@@ -646,6 +647,7 @@ class FitJobParser {
   FreeParameter ParseFreeParameter(YamlMap& free, const YAML::Node& key,
                                    const std::string& name);
   void ParseSolver();  // solver:, uncertainty:
+  void CheckKlipperSampleRate(const YAML::Node& tune);  // tune.move.klipper vs T_s
   void ParseOutput();
   void ParseExperiments();  // experiments:, validate:
   void CheckFitMemory();
@@ -672,7 +674,10 @@ FitJob FitJobParser::Parse() {
   if (const YAML::Node node = root_.Optional("design")) {
     ReadDesignSettings(node, path_, &job_.design);
   }
-  if (const YAML::Node node = root_.Optional("tune")) ParseTuneSettings(node, path_, &job_.tune);
+  if (const YAML::Node node = root_.Optional("tune")) {
+    ParseTuneSettings(node, path_, &job_.tune);
+    CheckKlipperSampleRate(node);
+  }
   if (const YAML::Node node = root_.Optional("frequency_response")) {
     ReadFrequencyResponseSettings(node, path_, &job_.frequency_response);
   }
@@ -688,6 +693,22 @@ FitJob FitJobParser::Parse() {
   }
   root_.Finish();
   return std::move(job_);
+}
+
+// Klipper's resonance test is read by the position controller every T_s
+// (tune/klipper_shaper_rule.h SimulateResonanceTest): its max_freq must be
+// at most a quarter of 1/T_s, refused here rather than after the fit.
+void FitJobParser::CheckKlipperSampleRate(const YAML::Node& tune) {
+  const KlipperRuleSettings& k = job_.tune.move.klipper;
+  const AxisConfig& m = job_.problem.model;
+  const double limit = 0.25 / (m.has_controller ? m.controller : ControllerConfig{}).T_s;
+  if (!k.enabled || k.max_freq <= limit) return;
+  const YAML::Node move = tune.IsMap() ? tune["move"] : YAML::Node();
+  const YAML::Node at = move && move.IsMap() && move["klipper"] ? move["klipper"] : tune;
+  ThrowConfigError(path_, at, "tune.move.klipper.max_freq",
+                   "at most a quarter of the controller's sample rate (" + FormatNumber(limit) +
+                       " Hz: the sweep is read every T_s)",
+                   FormatNumber(k.max_freq) + " Hz");
 }
 
 void FitJobParser::ParseModel() {

@@ -18,6 +18,7 @@
 #include "io/yaml_util.h"
 #include "sim/controller.h"
 #include "sim/drive_config.h"
+#include "run/load_fit_job.h"
 #include "sim/input_shaper.h"
 #include "tune/klipper_shaper_rule.h"
 #include "tune/move_response.h"
@@ -357,6 +358,26 @@ TEST(InputShaperTest, TuneMoveShaperKeys) {
   EXPECT_TRUE(t.move.klipper.enabled);
   EXPECT_EQ(t.move.klipper.max_freq, 133.33);
   EXPECT_EQ(t.move.klipper.accel_per_hz, 0.075);
+}
+
+// Klipper's sweep is read by the controller every T_s: a max_freq above a
+// quarter of 1/T_s (50 Hz for the X axis's 5 ms) is refused when the job
+// loads, naming the key, before any fit.
+TEST(InputShaperTest, KlipperMaxFreqAboveTheControllersReachIsRefusedAtLoad) {
+  const std::string dir = std::string(PROJECT_SOURCE_DIR) + "/configs/jobs/tune";
+  YAML::Node job = YAML::LoadFile(dir + "/x_axis_shaped.yaml");
+  EXPECT_NO_THROW(ParseFitJob(job, "x_axis_shaped.yaml", dir));
+  job["tune"]["move"]["klipper"]["max_freq"] = 60.0;
+  try {
+    ParseFitJob(job, "x_axis_shaped.yaml", dir);
+    ADD_FAILURE() << "max_freq 60 Hz was accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("key 'tune.move.klipper.max_freq': expected at most a quarter of the "
+                        "controller's sample rate (50 Hz"),
+              std::string::npos)
+        << what;
+  }
 }
 
 }  // namespace
