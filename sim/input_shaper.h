@@ -67,7 +67,8 @@ InputShaper MakeInputShaper(ShaperType type, double frequency, double damping);
 // impulse, relative to the unshaped impulse (Singer & Seering 1990, eq. 4):
 //   V = e^(−ζω t_N) · |Σ A_i e^(ζω t_i) e^(jω_d t_i)|,
 // ω = 2πf, ω_d = ω√(1−ζ²). 1 for the none shaper; 0 at a ZV, ZVD, MZV or
-// (undamped) 2HUMP_EI shaper's own design point, V at EI's and 3HUMP_EI's. Throws std::invalid_argument as MakeInputShaper.
+// (undamped) 2HUMP_EI shaper's own design point, V at EI's and 3HUMP_EI's.
+// Throws std::invalid_argument as MakeInputShaper.
 double ShaperVibration(const InputShaper& s, double frequency, double damping);
 
 // "none", "ZV", "MZV", "ZVD", "EI", "2HUMP_EI", "3HUMP_EI" (Klipper's names).

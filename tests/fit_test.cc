@@ -180,7 +180,9 @@ TEST(FitTest, MultiStartReachesTheTruthFromRandomStarts) {
     reached += ok;
     if (!ok) {
       std::cout << "seed " << seed << " final cost " << r.final_cost;
-      for (const auto& [name, truth] : kTruth) std::cout << " " << name << "=" << Estimate(r, name).value;
+      for (const auto& [name, truth] : kTruth) {
+        std::cout << " " << name << "=" << Estimate(r, name).value;
+      }
       std::cout << "\n";
     }
   }
