@@ -209,18 +209,23 @@ double ProfileLikelihood::Refit(const std::vector<double>& start) {
                                     : std::numeric_limits<double>::infinity();
 }
 
-// P at x refitted from solved point `warm`; where that ends above the
-// threshold, also from the estimate and, if it ends near the threshold (at
-// most kRetry times it), from solved point `outer` (−1: none); the lowest
-// counts. The cost is piecewise smooth with small jumps (the encoder
-// quantiser, backlash contacts moving across controller samples), so one
-// local refit can stop in a local minimum up to about half the threshold
-// above the profile (issue 9, seed 24 of the PRBS campaign); a refit from
-// another side of the bump finds it.
+// P at x refitted from solved point `warm`; where that ends near the
+// threshold (above it, at most kRetry times it) or fails, also from the
+// estimate and, if still near the threshold, from solved point `outer`
+// (−1: none); the lowest counts. The cost is piecewise smooth with small
+// jumps (the encoder quantiser, backlash contacts moving across controller
+// samples), so one local refit can stop in a local minimum up to about half
+// the threshold above the profile (issue 9, seed 24 of the PRBS campaign); a
+// refit from another side of the bump finds it. A refit ending further
+// above than kRetry thresholds is not retried: a bump of that size cannot
+// bring it below the threshold, and the walk-out's points far out (4t to
+// 16t standard deviations) all end there on a smooth profile.
 double ProfileLikelihood::ProfileAt(double x, size_t warm, int outer,
                                     std::vector<double>* solved) {
   double rise = RiseAt(x, xs_[warm], points_[warm], solved);
-  if (warm != 0 && !MetLower() && rise > threshold_) LowerFrom(x, 0, &rise, solved);
+  if (warm != 0 && !MetLower() && (NearThreshold(rise) || !std::isfinite(rise))) {
+    LowerFrom(x, 0, &rise, solved);
+  }
   if (outer >= 0 && std::isfinite(rises_[outer]) && !MetLower() && NearThreshold(rise)) {
     LowerFrom(x, static_cast<size_t>(outer), &rise, solved);
   }

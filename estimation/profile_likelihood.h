@@ -62,11 +62,12 @@ struct ProfileOptions {
 // started from a solved point moved along the Gauss–Newton profile
 // direction C·e_k/C_kk (options.basis.cov_theta). Per side,
 // P is evaluated at θ*_k ± {1, 2, 4, 8}·t·√C_kk (clipped to the bound
-// θ's bounds), each refit warm-started from the previous point and,
-// where it ends above the threshold, also from θ*; a refit ending above but
-// within 3 times the threshold is retried from the solved point outside it
-// (the lowest result counts): the cost is piecewise smooth with small jumps,
-// and one local refit can stop in a local minimum above the profile. The
+// θ's bounds), each refit warm-started from the previous point; a refit
+// that fails, or ends above the threshold but within 3 times it, is retried
+// from θ* and (if still near) from the solved point outside it (the lowest
+// result counts): the cost is piecewise smooth with small jumps, and one
+// local refit can stop in a local minimum up to about half the threshold
+// above the profile, too little to matter further out. The
 // profile can cross a bump between minima, so the end is placed past the
 // furthest point still below the threshold (the hull of the confidence
 // set), refined by regula falsi on √(P − cost*) (linear in x near a smooth
