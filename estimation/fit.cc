@@ -57,7 +57,13 @@ std::vector<FitResult> FitConcurrently(
   std::vector<double> wall(n, 0.0);
   const int at_once =
       static_cast<int>(std::min<size_t>(std::max(1, threads), std::max<size_t>(1, n)));
-  const int inner = std::max(1, std::max(1, threads) / at_once);
+  // Twice the fair share of evaluation threads, at most all: while every
+  // fit of the batch runs the cores are oversubscribed at most twofold, and
+  // as the batch thins (its last refits run alone for tens of seconds:
+  // the force map's slowest form, a discovery step's last candidate) the
+  // fits still running use the cores the others freed.
+  const int fair = std::max(1, std::max(1, threads) / at_once);
+  const int inner = std::min(std::max(1, threads), 2 * fair);
   const FitControl none;
   std::mutex done_lock;
   size_t done = 0;
