@@ -92,7 +92,8 @@ std::string FormatForceMap(const ForceMapReport& report) {
       << RenderText(values);
   out << "lambda " << Number(report.lambda, 3) << " " << lambda_unit << ", edf "
       << Number(report.edf) << ", s2 " << Number(report.s2) << "; BIC "
-      << Number(report.bic_before, 7) << " -> " << Number(report.bic_after, 7) << (report.kept ? " (kept)" : " (not kept)") << "\n";
+      << Number(report.bic_before, 7) << " -> " << Number(report.bic_after, 7)
+      << (report.kept ? " (kept)" : " (not kept)") << "\n";
   for (const ForceMapRemoval& r : report.removals) {
     out << "without " << r.effect << ": BIC " << Number(r.bic_with, 7) << " -> "
         << Number(r.bic_without, 7) << (r.removed ? " (removed: a stand-in for the map)" : " (stays)")

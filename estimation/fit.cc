@@ -62,8 +62,8 @@ std::vector<FitResult> FitConcurrently(
   // as the batch thins (its last refits run alone for tens of seconds:
   // the force map's slowest form, a discovery step's last candidate) the
   // fits still running use the cores the others freed.
-  const int fair = std::max(1, std::max(1, threads) / at_once);
-  const int inner = std::min(std::max(1, threads), 2 * fair);
+  const int cores = std::max(1, threads);
+  const int inner = std::min(cores, 2 * std::max(1, cores / at_once));
   const FitControl none;
   std::mutex done_lock;
   size_t done = 0;

@@ -30,6 +30,7 @@
 #include "sim/drive_config.h"
 #include "sim/auto_step.h"
 #include "sim/preflight.h"
+#include "tune/klipper_shaper_rule.h"
 
 namespace axis {
 namespace {
@@ -695,13 +696,14 @@ FitJob FitJobParser::Parse() {
   return std::move(job_);
 }
 
-// Klipper's resonance test is read by the position controller every T_s
-// (tune/klipper_shaper_rule.h SimulateResonanceTest): its max_freq must be
-// at most a quarter of 1/T_s, refused here rather than after the fit.
+// Klipper's resonance test is read by the position controller every T_s:
+// its max_freq above KlipperHighestFrequency (tune/klipper_shaper_rule.h)
+// is refused here rather than after the fit.
 void FitJobParser::CheckKlipperSampleRate(const YAML::Node& tune) {
   const KlipperRuleSettings& k = job_.tune.move.klipper;
   const AxisConfig& m = job_.problem.model;
-  const double limit = 0.25 / (m.has_controller ? m.controller : ControllerConfig{}).T_s;
+  const double limit =
+      KlipperHighestFrequency(m.has_controller ? m.controller : ControllerConfig{});
   if (!k.enabled || k.max_freq <= limit) return;
   const YAML::Node move = tune.IsMap() ? tune["move"] : YAML::Node();
   const YAML::Node at = move && move.IsMap() && move["klipper"] ? move["klipper"] : tune;

@@ -16,9 +16,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "io/yaml_util.h"
+#include "run/load_fit_job.h"
 #include "sim/controller.h"
 #include "sim/drive_config.h"
-#include "run/load_fit_job.h"
 #include "sim/input_shaper.h"
 #include "tune/klipper_shaper_rule.h"
 #include "tune/move_response.h"

@@ -82,6 +82,10 @@ size_t RecommendShaper(const std::vector<KlipperShaperFit>& fitted) {
   return out;
 }
 
+double KlipperHighestFrequency(const ControllerConfig& controller) {
+  return 0.25 / controller.T_s;
+}
+
 ResonanceSpectrum SimulateResonanceTest(const AxisConfig& model,
                                         const ControllerConfig& controller, double step,
                                         const KlipperRuleSettings& test) {
@@ -91,10 +95,11 @@ ResonanceSpectrum SimulateResonanceTest(const AxisConfig& model,
         "SimulateResonanceTest: expected step > 0, 0 < min_freq < max_freq, accel_per_hz > 0 "
         "and hz_per_sec > 0");
   }
-  if (test.max_freq > 0.25 / controller.T_s) {
+  if (test.max_freq > KlipperHighestFrequency(controller)) {
     throw std::invalid_argument(
         "tune.move.klipper.max_freq: expected at most a quarter of the controller's sample "
-        "rate (" + std::to_string(0.25 / controller.T_s) + " Hz: the sweep is read every T_s), "
+        "rate (" + std::to_string(KlipperHighestFrequency(controller)) +
+        " Hz: the sweep is read every T_s), "
         "got " + std::to_string(test.max_freq) + " Hz");
   }
   const double duration = (test.max_freq - test.min_freq) / test.hz_per_sec;

@@ -66,6 +66,12 @@ ResonanceSpectrum SimulateResonanceTest(const AxisConfig& model,
                                         const ControllerConfig& controller, double step,
                                         const KlipperRuleSettings& test);
 
+// The highest frequency a resonance test may sweep under `controller`: a
+// quarter of its sample rate, 0.25 / T_s (Hz; the sweep is read every T_s,
+// four samples a period). The job loader refuses a max_freq above it
+// (run/load_fit_job.cc), as SimulateResonanceTest does.
+double KlipperHighestFrequency(const ControllerConfig& controller);
+
 // One shaper as Klipper's rule fits it.
 struct KlipperShaperFit {
   ShaperType type = ShaperType::kNone;
