@@ -40,6 +40,14 @@ struct FullLoopRefitSettings {
   // again on the full loop (ten times the cost per simulation).
   enum class Intervals { kCarried, kRefitted };
   Intervals intervals = Intervals::kCarried;
+  // Whether a job declared with the full current loop is fitted on its
+  // quasi-steady screen first (estimation/quasi_steady_screen.h) and then
+  // refitted with the full loop at its own step, whatever the shift:
+  // kAuto where the model has the screen (an analog velocity loop) and the
+  // screen's step is coarser than the job's; kOff fits the full loop
+  // throughout.
+  enum class Screen { kAuto, kOff };
+  Screen screen = Screen::kAuto;
 
   // The keys of `simulation:` these settings own (io/settings_reader.h).
   template <typename Archive>
@@ -47,6 +55,7 @@ struct FullLoopRefitSettings {
     a->Visit("full_loop_refit_above", &refit_above, YamlMap::Range::kPositiveOrInfinite);
     a->Visit("full_loop_intervals", &intervals,
              {{"carried", Intervals::kCarried}, {"refitted", Intervals::kRefitted}});
+    a->Visit("quasi_steady_screen", &screen, {{"auto", Screen::kAuto}, {"off", Screen::kOff}});
   }
 };
 

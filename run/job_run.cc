@@ -21,6 +21,7 @@
 #include "estimation/fit_notes.h"
 #include "estimation/fit_result.h"
 #include "estimation/full_loop_refit.h"
+#include "estimation/quasi_steady_screen.h"
 #include "estimation/residual_bootstrap.h"
 #include "run/fit_job.h"
 #include "sim/simulation_count.h"
@@ -57,6 +58,7 @@ class JobPipeline {
     // its fit and the loop's refits are exploratory (fewer checks,
     // estimation/estimation_problem.h).
     run_.job.problem.exploratory = run_.job.discover.enabled;
+    ScreenTheCurrentLoop();
     FitDeclaredModel();
     CheckTheAccelerometerSampling();
     if (run_.discovered) DiscoverEffects();
@@ -109,6 +111,34 @@ class JobPipeline {
         }
       }
     }
+  }
+
+  // A job declared with the full current loop is fitted on its
+  // quasi-steady screen (estimation/quasi_steady_screen.h): the starts, the
+  // checks and the discovery loop at the screen's coarser step; the full
+  // loop at the job's own step is refitted once the model is settled
+  // (CheckTheCurrentLoop). Where the screen has no coarser step or none
+  // divides a record's period, the job is fitted as declared.
+  void ScreenTheCurrentLoop() {
+    const EstimationProblem& job = run_.job.problem;
+    if (run_.job.full_loop.screen != FullLoopRefitSettings::Screen::kAuto ||
+        !HasQuasiSteadyScreen(job)) {
+      return;
+    }
+    EstimationProblem screen;
+    try {
+      screen = QuasiSteadyScreen(job);
+    } catch (const std::invalid_argument&) {
+      return;
+    }
+    if (!(SmallestStep(screen) > SmallestStep(job))) return;
+    out_ << "screen: fitting the quasi-steady current loop at " << SmallestStep(screen)
+         << " s first, then the declared full loop at " << SmallestStep(job)
+         << " s from its estimate (simulation.quasi_steady_screen: off fits the full loop "
+            "throughout)\n";
+    declared_ = job;
+    screened_ = true;
+    run_.job.problem = std::move(screen);
   }
 
   void FitDeclaredModel() {
@@ -175,11 +205,21 @@ class JobPipeline {
   // standard errors on the independent-data square + sweep records, where
   // 79/100 intervals held the truth); not after a force map is adopted
   // (its roughness penalty belongs to the quasi-steady fit's λ). A refit
-  // that fails keeps the quasi-steady fit, with the note.
+  // that fails keeps the quasi-steady fit, with the note. A screened job
+  // (ScreenTheCurrentLoop) is refitted whatever the shift: its user
+  // declared the full loop.
   void CheckTheCurrentLoop() {
     const AxisStructure& structure = run_.job.problem.model.structure;
     if (structure.amplifier != Amplifier::kAnalogVelocityLoop ||
-        structure.current_loop != CurrentLoop::kQuasiSteady || result_.abandoned_horizon != 0.0) {
+        structure.current_loop != CurrentLoop::kQuasiSteady) {
+      return;
+    }
+    if (result_.abandoned_horizon != 0.0) {
+      if (screened_) {
+        result_.model_note += std::string(result_.model_note.empty() ? "" : "; ") +
+                              "the fit stopped on the quasi-steady screen of the declared full "
+                              "current loop: the values are the screen's";
+      }
       return;
     }
     Stage("checking the quasi-steady current loop against the full loop");
@@ -188,12 +228,19 @@ class JobPipeline {
     const double check_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
     std::string refit_failed;
-    if (!run_.force_map.kept && run_.loop_check.largest > run_.job.full_loop.refit_above) {
+    if (screened_ && run_.force_map.kept) {
+      refit_failed = "; the declared full current loop was not refitted after the force map "
+                     "(its roughness penalty belongs to the quasi-steady fit): the values are "
+                     "the quasi-steady screen's";
+    }
+    if (!run_.force_map.kept &&
+        (screened_ || run_.loop_check.largest > run_.job.full_loop.refit_above)) {
       try {
         RefitTheFullLoop(check_seconds);
       } catch (const std::exception& e) {
         refit_failed = std::string("; the full-loop refit failed (") + e.what() +
-                       "): the values are the quasi-steady fit's";
+                       (screened_ ? "): the values are the quasi-steady screen's"
+                                  : "): the values are the quasi-steady fit's");
       }
     }
     if (run_.discovered && run_.loop_check.refitted) JudgeTheEffectsAgain();
@@ -215,11 +262,19 @@ class JobPipeline {
   void RefitTheFullLoop(double check_seconds) {
     Stage("refitting with the full current loop");
     const FitJob& job = run_.job;
-    out_ << "\n" << run_.loop_check.note << "\nRefitting with the full current loop at "
-         << run_.loop_check.full_step << " s from the quasi-steady estimate (simulation."
-         << "full_loop_refit_above: " << job.full_loop.refit_above << ")\n";
     EstimationProblem full =
         FullLoopRefitProblem(job.problem, result_, run_.loop_check, job.full_loop.intervals);
+    // The screened job's own step, not the check's.
+    if (screened_) run_.loop_check.full_step = UseDeclaredSteps(declared_, &full);
+    std::ostringstream why;
+    if (screened_) {
+      why << "the job declares the full loop; simulation.quasi_steady_screen: auto";
+    } else {
+      why << "simulation.full_loop_refit_above: " << job.full_loop.refit_above;
+    }
+    out_ << "\n" << run_.loop_check.note << "\nRefitting with the full current loop at "
+         << run_.loop_check.full_step << " s from the quasi-steady estimate (" << why.str()
+         << ")\n";
     FitResult refit = FitParameters(full, &out_);
     if (!std::isfinite(refit.final_cost) || !refit.converged) {
       throw std::runtime_error(refit.termination.empty() ? "no estimate" : refit.termination);
@@ -253,8 +308,7 @@ class JobPipeline {
          << " standard errors against the full loop on these records; the values and "
             "traces are the full loop's, refitted at "
          << run_.loop_check.full_step
-         << " s from the estimate less that shift (simulation.full_loop_refit_above: "
-         << job.full_loop.refit_above
+         << " s from the estimate less that shift (" << why.str()
          << "; the cost's initial value is the full loop's at the quasi-steady estimate); "
          << (carried ? "the intervals are the quasi-steady fit's, carried over "
                        "(simulation.full_loop_intervals: carried)"
@@ -493,6 +547,10 @@ class JobPipeline {
   JobRun run_;
   FitResult result_;  // moved into run_.result at the end
   double base_fit_seconds_ = 0.0;
+  // The job as declared, while its quasi-steady screen is fitted
+  // (ScreenTheCurrentLoop).
+  EstimationProblem declared_;
+  bool screened_ = false;
   nlohmann::json input_notes_ = nlohmann::json::array();
   std::string input_markdown_;
   std::string proposal_text_;  // FormatProposal's, with `design:`

@@ -130,7 +130,7 @@ def test_progress_lines_come_from_the_calling_thread(fitted):
     result, lines, threads = fitted
     assert threads == {threading.get_ident()}
     assert any(line.startswith("start  0  horizon") for line in lines)
-    assert any(line.startswith("optimum verified") for line in lines)
+    assert any("optimum verified" in line for line in lines)
     assert all("\n" not in line for line in lines)
 
 

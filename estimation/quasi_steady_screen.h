@@ -1,0 +1,53 @@
+// The quasi-steady screen of a job declared with the paper's full current
+// loop (issue 57: screen coarse, confirm fine once). The full loop's
+// electrical mode limits RK4 to about 19.5 µs on the X axis, so the paper's
+// model is integrated at 10 µs; its quasi-steady limit (sim/axis_params.h
+// CurrentLoop::kQuasiSteady, MODEL.md §2: K_a "sufficiently large") has no
+// such mode and is stable to about 139 µs, five to ten times fewer steps for
+// a trace that differs by a small fraction of the noise on the paper's
+// records (tests/axis_model_test.cc). fit-params (run/job_run.h RunJob) fits
+// the screen — the starts, the horizon continuation, the checks and the
+// discovery loop — and then refits the declared full loop at the job's own
+// step from the screen's estimate less its first-order shift
+// (estimation/full_loop_refit.h), so the values reported are the declared
+// model's.
+#ifndef ESTIMATION_QUASI_STEADY_SCREEN_H_
+#define ESTIMATION_QUASI_STEADY_SCREEN_H_
+
+#include <string>
+
+#include "estimation/estimation_problem.h"
+
+namespace axis {
+
+// Whether fit-params screens `job` with the quasi-steady current loop: an
+// analog velocity loop (MODEL.md §3) declared with the full current loop.
+// Never throws.
+bool HasQuasiSteadyScreen(const EstimationProblem& job);
+
+// The screen of `job` (HasQuasiSteadyScreen): the same job with
+// `current_loop: quasi_steady`, every experiment (fitted and validated)
+// integrated at the automatic step of the quasi-steady model (sim/auto_step.h
+// AutoStep: at most 0.52 of its RK4 stability limit over the free
+// parameters' ranges, dividing the record's output period and, in closed
+// loop, the control period T_s), never finer than the experiment's own
+// step. Output periods, durations and sample times are the job's. Throws
+// std::invalid_argument, naming why, where the model has no screen, the
+// quasi-steady model's linearisation is not finite, or no such step
+// divides an experiment's output period; the caller then fits the job as
+// declared.
+EstimationProblem QuasiSteadyScreen(const EstimationProblem& job);
+
+// Gives every experiment of `full` (fitted and validated) the integration
+// step of the experiment of the same name in `declared` (the job before its
+// screen), where there is one. Returns the smallest step of `full`'s
+// experiments afterwards (s). Never throws.
+double UseDeclaredSteps(const EstimationProblem& declared, EstimationProblem* full);
+
+// The smallest integration step (s) of the experiments of `job`, fitted and
+// validated; +inf if it has none. Never throws.
+double SmallestStep(const EstimationProblem& job);
+
+}  // namespace axis
+
+#endif  // ESTIMATION_QUASI_STEADY_SCREEN_H_
