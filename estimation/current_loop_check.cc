@@ -134,7 +134,8 @@ CurrentLoopCheck CheckCurrentLoop(const EstimationProblem& job, const FitResult&
     note << "; the quasi-steady fit of the full loop's trace at the estimate, minus the "
             "estimate): fit the full loop (configuration: {current_loop: full}, simulation: "
             "{step: "
-         << FormatNumber(check.full_step, 3) << "}) for estimates and intervals free of it";
+         << FormatNumber(check.full_step, 3)
+         << ", quasi_steady_screen: off}) for estimates and intervals free of it";
     check.note = note.str();
   }
   return check;

@@ -50,6 +50,11 @@ struct CurrentLoopCheck {
   // simulation.full_loop_refit_above and the job was refitted with the
   // full loop at kFullLoopStep.
   bool refitted = false;
+  // Set by fit-params when the job declares the full loop and was fitted on
+  // its quasi-steady screen first (estimation/quasi_steady_screen.h): the
+  // screen's smallest step (s).
+  bool screened = false;
+  double screen_step = 0.0;
 };
 
 // A copy of `job` with the paper's full current loop (CurrentLoop::kFull)

@@ -93,7 +93,7 @@ std::string QuasiSteadyDelayNote(const EstimationProblem& job, const FitResult& 
       << " s (eq. 3), at least half the standard error of " << note.str()
       << ": a delay absorbs part of that lag (about half of it on the sensor_delay "
          "case, one standard error there); for the delay, fit the full loop "
-         "(configuration: {current_loop: full})";
+         "(configuration: {current_loop: full}, simulation: {quasi_steady_screen: off})";
   return out.str();
 }
 

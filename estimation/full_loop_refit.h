@@ -25,8 +25,10 @@
 
 namespace axis {
 
-// When and how a quasi-steady fit is refitted with the full loop (job keys
-// simulation.full_loop_refit_above and simulation.full_loop_intervals).
+// When and how a quasi-steady fit is refitted with the full loop, and
+// whether a full-loop job is screened with the quasi-steady loop first (job
+// keys simulation.full_loop_refit_above, simulation.full_loop_intervals and
+// simulation.quasi_steady_screen).
 struct FullLoopRefitSettings {
   // The shift of the estimate against the full loop, in standard errors,
   // past which fit-params refits with the full loop (run/job_run.h RunJob,

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sim/auto_step.h"
+#include "sim/simulate.h"
 
 namespace axis {
 
@@ -25,28 +26,33 @@ EstimationProblem QuasiSteadyScreen(const EstimationProblem& job) {
   std::vector<ParameterRange> ranges;
   for (const FreeParameter& f : job.free) ranges.push_back({f.name, f.lower, f.upper});
   const double limit = AutoStepLimit(screen.model.structure, screen.model.params, ranges);
-  const double control_period = job.model.has_controller ? job.model.controller.T_s : 0.0;
+  if (!(limit > 0.0)) {
+    throw std::invalid_argument("expected a positive RK4 step limit of the quasi-steady model");
+  }
+  const double model_period = job.model.has_controller ? job.model.controller.T_s : 0.0;
   for (std::vector<FitExperiment>* list : {&screen.experiments, &screen.validate}) {
     for (FitExperiment& e : *list) {
-      const double period = e.options.output_period;
-      const double step = AutoStep(limit, period, control_period);
-      const double n = std::round(period / step);
-      if (!(n >= 1.0) || std::abs(n * step - period) > 1e-6 * step) {
-        throw std::invalid_argument("no quasi-steady step divides the output period of " +
-                                    e.name);
-      }
-      e.options.step = std::max(e.options.step, period / n);
+      // The experiment's own controller period where it runs closed loop
+      // (a job's `controller:` may override the model's), and the model's,
+      // as the job's loader chose the step (run/load_fit_job.cc).
+      const double control_period = e.drive.closed_loop ? e.drive.controller.T_s : model_period;
+      const double step = AutoStep(limit, e.options.output_period, control_period);
+      e.options.step = std::max(e.options.step, step);
+      // Throws std::invalid_argument where the output or control period is
+      // not a whole number of steps.
+      MakeGrid(e.options, e.drive);
     }
   }
   return screen;
 }
 
-double UseDeclaredSteps(const EstimationProblem& declared, EstimationProblem* full) {
+double TakeFinerSteps(const EstimationProblem& declared, EstimationProblem* full) {
   for (std::vector<FitExperiment>* list : {&full->experiments, &full->validate}) {
     for (FitExperiment& e : *list) {
       const std::vector<FitExperiment>& from =
           list == &full->experiments ? declared.experiments : declared.validate;
-      if (const FitExperiment* d = FindExperiment(from, e.name)) e.options.step = d->options.step;
+      const FitExperiment* d = FindExperiment(from, e.name);
+      if (d != nullptr) e.options.step = std::min(e.options.step, d->options.step);
     }
   }
   return SmallestStep(*full);

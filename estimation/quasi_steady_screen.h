@@ -14,8 +14,6 @@
 #ifndef ESTIMATION_QUASI_STEADY_SCREEN_H_
 #define ESTIMATION_QUASI_STEADY_SCREEN_H_
 
-#include <string>
-
 #include "estimation/estimation_problem.h"
 
 namespace axis {
@@ -29,20 +27,23 @@ bool HasQuasiSteadyScreen(const EstimationProblem& job);
 // `current_loop: quasi_steady`, every experiment (fitted and validated)
 // integrated at the automatic step of the quasi-steady model (sim/auto_step.h
 // AutoStep: at most 0.52 of its RK4 stability limit over the free
-// parameters' ranges, dividing the record's output period and, in closed
-// loop, the control period T_s), never finer than the experiment's own
-// step. Output periods, durations and sample times are the job's. Throws
-// std::invalid_argument, naming why, where the model has no screen, the
-// quasi-steady model's linearisation is not finite, or no such step
-// divides an experiment's output period; the caller then fits the job as
-// declared.
+// parameters' ranges, dividing the record's output period and the control
+// period T_s — the experiment's own in closed loop, else the model's),
+// never finer than the experiment's own step. Output periods, durations and
+// sample times are the job's. Throws std::invalid_argument, naming why,
+// where the model has no screen, the quasi-steady model's linearisation is
+// not finite, or no such step divides an experiment's periods
+// (sim/simulate.h MakeGrid); the caller then fits the job as declared.
 EstimationProblem QuasiSteadyScreen(const EstimationProblem& job);
 
-// Gives every experiment of `full` (fitted and validated) the integration
-// step of the experiment of the same name in `declared` (the job before its
-// screen), where there is one. Returns the smallest step of `full`'s
-// experiments afterwards (s). Never throws.
-double UseDeclaredSteps(const EstimationProblem& declared, EstimationProblem* full);
+// Gives every experiment of `full` (fitted and validated) the finer of its
+// own integration step and that of the experiment of the same name in
+// `declared` (the job before its screen), where there is one: the refit
+// runs at the job's step unless the discovered model at its estimate needs
+// a finer one (estimation/current_loop_check.h WithFullLoop). Both divide
+// the experiment's periods, so the finer does. Returns the smallest step of
+// `full`'s experiments afterwards (s). Never throws.
+double TakeFinerSteps(const EstimationProblem& declared, EstimationProblem* full);
 
 // The smallest integration step (s) of the experiments of `job`, fitted and
 // validated; +inf if it has none. Never throws.

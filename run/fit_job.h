@@ -29,7 +29,7 @@ struct FitJob {
   std::string title;
   EstimationProblem problem;  // problem.path: the job file
   FullLoopRefitSettings full_loop;  // `simulation:` keys full_loop_refit_above,
-                                   // full_loop_intervals, quasi_steady_screen
+                                    // full_loop_intervals, quasi_steady_screen
   DiscoverySettings discover;       // `discover:` key (enabled if present)
   DesignSettings design;            // `design:` key (design/experiment_design.h)
   // `frequency_response:` key (discovery/frequency_response.h)

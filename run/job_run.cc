@@ -138,6 +138,7 @@ class JobPipeline {
             "throughout)\n";
     declared_ = job;
     screened_ = true;
+    screen_step_ = SmallestStep(screen);
     run_.job.problem = std::move(screen);
   }
 
@@ -225,6 +226,8 @@ class JobPipeline {
     Stage("checking the quasi-steady current loop against the full loop");
     const auto check_start = std::chrono::steady_clock::now();
     run_.loop_check = CheckCurrentLoop(run_.job.problem, result_);
+    run_.loop_check.screened = screened_;
+    run_.loop_check.screen_step = screened_ ? screen_step_ : 0.0;
     const double check_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
     std::string refit_failed;
@@ -265,7 +268,7 @@ class JobPipeline {
     EstimationProblem full =
         FullLoopRefitProblem(job.problem, result_, run_.loop_check, job.full_loop.intervals);
     // The screened job's own step, not the check's.
-    if (screened_) run_.loop_check.full_step = UseDeclaredSteps(declared_, &full);
+    if (screened_) run_.loop_check.full_step = TakeFinerSteps(declared_, &full);
     std::ostringstream why;
     if (screened_) {
       why << "the job declares the full loop; simulation.quasi_steady_screen: auto";
@@ -302,11 +305,17 @@ class JobPipeline {
     refit.jacobian_evaluations += result_.jacobian_evaluations;
     run_.loop_check.refitted = true;
     std::ostringstream note;
-    note << "fitted first with the quasi-steady current loop, which shifted the estimate by "
-            "up to "
-         << FormatNumber(run_.loop_check.largest, 3)
-         << " standard errors against the full loop on these records; the values and "
-            "traces are the full loop's, refitted at "
+    if (run_.loop_check.measured) {
+      note << "fitted first with the quasi-steady current loop, which shifted the estimate by "
+              "up to "
+           << FormatNumber(run_.loop_check.largest, 3)
+           << " standard errors against the full loop on these records";
+    } else {
+      note << "fitted first with the quasi-steady current loop (its shift against the full "
+              "loop not measured"
+           << (run_.loop_check.note.empty() ? "" : ": " + run_.loop_check.note) << ")";
+    }
+    note << "; the values and traces are the full loop's, refitted at "
          << run_.loop_check.full_step
          << " s from the estimate less that shift (" << why.str()
          << "; the cost's initial value is the full loop's at the quasi-steady estimate); "
@@ -506,6 +515,8 @@ class JobPipeline {
     run_.sections.json["current_loop_check"] = {
         {"largest_shift_in_std_errors", JsonNumber<nlohmann::json>(check.largest)},
         {"refitted_with_full_loop", check.refitted},
+        {"screened", check.screened},
+        {"screen_step", JsonNumber<nlohmann::json>(check.screen_step)},
         {"parameters", shifts},
         {"note", check.note}};
     std::ostringstream line;
@@ -551,6 +562,7 @@ class JobPipeline {
   // (ScreenTheCurrentLoop).
   EstimationProblem declared_;
   bool screened_ = false;
+  double screen_step_ = 0.0;  // s, the screen's smallest step
   nlohmann::json input_notes_ = nlohmann::json::array();
   std::string input_markdown_;
   std::string proposal_text_;  // FormatProposal's, with `design:`

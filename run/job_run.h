@@ -57,8 +57,9 @@ struct JobRun {
   // With `tune.move:` (tune/move_tuning.h): the position controller and the
   // move tuned on the axis with the analog loop as proposed.
   MoveTuning move_tuning;
-  // With current_loop: quasi_steady, what the approximation costs the final
-  // estimate (estimation/current_loop_check.h); ran = false otherwise.
+  // With current_loop: quasi_steady, declared or the screen of a full-loop
+  // job (estimation/quasi_steady_screen.h), what the approximation costs the
+  // final estimate (estimation/current_loop_check.h); ran = false otherwise.
   CurrentLoopCheck loop_check;
   // The declared model refitted under each accelerometer convention with a
   // free delay on `a`, and the whole fit's χ² of each (report.json
@@ -82,7 +83,10 @@ struct JobRun {
   std::vector<std::string> input_lines;
 };
 
-// Runs `job` as fit-params does, writing no file: FitParameters; with
+// Runs `job` as fit-params does, writing no file: a model with the analog
+// velocity loop and the full current loop on its quasi-steady screen first
+// (estimation/quasi_steady_screen.h; simulation.quasi_steady_screen), then
+// refitted with the full loop; FitParameters; with
 // `discover` or the job's `discover:`, the residual diagnostics and the
 // discovery loop (Discover); the residual bootstrap if
 // uncertainty.bootstrap > 0; the published comparison if the job has one.
