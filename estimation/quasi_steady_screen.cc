@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <exception>
 #include <stdexcept>
 #include <vector>
 
+#include "estimation/evaluate_experiment.h"
+#include "estimation/fit_result.h"
 #include "sim/auto_step.h"
 #include "sim/simulate.h"
 
@@ -15,6 +18,70 @@ bool HasQuasiSteadyScreen(const EstimationProblem& job) {
   const AxisStructure& s = job.model.structure;
   return s.amplifier == Amplifier::kAnalogVelocityLoop && s.current_loop == CurrentLoop::kFull;
 }
+
+namespace {
+
+// `job`'s experiments (fitted and validated) at the steps of the rule under
+// `limit` (s): AutoStep for each record's output period and control period
+// T_s (the experiment's own in closed loop, else the model's, as the job's
+// loader chose its step: run/load_fit_job.cc), never finer than its own.
+// Throws std::invalid_argument where a period is not a whole number of
+// steps (MakeGrid).
+void SetScreenSteps(double limit, EstimationProblem* job) {
+  const double model_period = job->model.has_controller ? job->model.controller.T_s : 0.0;
+  for (std::vector<FitExperiment>* list : {&job->experiments, &job->validate}) {
+    for (FitExperiment& e : *list) {
+      const double control_period = e.drive.closed_loop ? e.drive.controller.T_s : model_period;
+      e.options.step =
+          std::max(e.options.step, AutoStep(limit, e.options.output_period, control_period));
+      MakeGrid(e.options, e.drive);
+    }
+  }
+}
+
+// The job's model with its free parameters at their initial values.
+AxisParams<double> StartParams(const EstimationProblem& job) {
+  AxisParams<double> params = job.model.params;
+  for (const FreeParameter& f : job.free) {
+    if (double* field = FindParam(&params, f.name)) *field = f.initial;
+  }
+  return params;
+}
+
+// The largest RMS, over the fitted channels of the fitted experiments, of
+// the difference between the traces of `model` and of `reference` (the
+// same experiments, other structure or steps) at `params`, in each
+// channel's σ; +inf where a simulation fails or leaves the finite numbers.
+double TraceDistance(const EstimationProblem& model, const EstimationProblem& reference,
+                     const AxisParams<double>& params) {
+  double worst = 0.0;
+  try {
+    for (size_t i = 0; i < model.experiments.size(); ++i) {
+      const ExperimentFit a = EvaluateExperiment(model.model.structure, params,
+                                                 model.experiments[i]);
+      const ExperimentFit b = EvaluateExperiment(reference.model.structure, params,
+                                                 reference.experiments[i]);
+      for (size_t c = 0; c < a.channels.size() && c < b.channels.size(); ++c) {
+        const ChannelFit& x = a.channels[c];
+        const ChannelFit& y = b.channels[c];
+        if (!x.fitted || !(x.sigma > 0.0) || x.simulated.size() != y.simulated.size()) continue;
+        double sum = 0.0;
+        for (size_t k = 0; k < x.simulated.size(); ++k) {
+          const double d = (x.simulated[k] - y.simulated[k]) / x.sigma;
+          sum += d * d;
+        }
+        const double rms = std::sqrt(sum / std::max<size_t>(1, x.simulated.size()));
+        if (!std::isfinite(rms)) return std::numeric_limits<double>::infinity();
+        worst = std::max(worst, rms);
+      }
+    }
+  } catch (const std::exception&) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return worst;
+}
+
+}  // namespace
 
 EstimationProblem QuasiSteadyScreen(const EstimationProblem& job) {
   if (!HasQuasiSteadyScreen(job)) {
@@ -29,19 +96,22 @@ EstimationProblem QuasiSteadyScreen(const EstimationProblem& job) {
   if (!(limit > 0.0)) {
     throw std::invalid_argument("expected a positive RK4 step limit of the quasi-steady model");
   }
-  const double model_period = job.model.has_controller ? job.model.controller.T_s : 0.0;
-  for (std::vector<FitExperiment>* list : {&screen.experiments, &screen.validate}) {
-    for (FitExperiment& e : *list) {
-      // The experiment's own controller period where it runs closed loop
-      // (a job's `controller:` may override the model's), and the model's,
-      // as the job's loader chose the step (run/load_fit_job.cc).
-      const double control_period = e.drive.closed_loop ? e.drive.controller.T_s : model_period;
-      const double step = AutoStep(limit, e.options.output_period, control_period);
-      e.options.step = std::max(e.options.step, step);
-      // Throws std::invalid_argument where the output or control period is
-      // not a whole number of steps.
-      MakeGrid(e.options, e.drive);
-    }
+  EstimationProblem coarse = screen;
+  SetScreenSteps(limit, &screen);
+  // A coarser step where its traces are as close to the declared model's.
+  const double stability = limit / kAutoStepFraction;
+  try {
+    SetScreenSteps(kScreenStepFraction * stability, &coarse);
+  } catch (const std::invalid_argument&) {
+    return screen;
+  }
+  if (!(SmallestStep(coarse) > SmallestStep(screen))) return screen;
+  const AxisParams<double> start = StartParams(job);
+  const double automatic = TraceDistance(screen, job, start);
+  const double coarser = TraceDistance(coarse, job, start);
+  if (std::isfinite(automatic) &&
+      coarser <= kScreenErrorGrowth * automatic + kScreenErrorSlack) {
+    return coarse;
   }
   return screen;
 }
