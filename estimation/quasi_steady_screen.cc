@@ -48,35 +48,37 @@ AxisParams<double> StartParams(const EstimationProblem& job) {
   return params;
 }
 
-// The largest RMS, over the fitted channels of the fitted experiments, of
-// the difference between the traces of `model` and of `reference` (the
-// same experiments, other structure or steps) at `params`, in each
-// channel's σ; +inf where a simulation fails or leaves the finite numbers.
-double TraceDistance(const EstimationProblem& model, const EstimationProblem& reference,
-                     const AxisParams<double>& params) {
+// The goodness of fit of `job`'s fitted experiments at `params`: their
+// simulated traces. Throws as EvaluateExperiment where a simulation fails.
+std::vector<ExperimentFit> FittedTraces(const EstimationProblem& job,
+                                        const AxisParams<double>& params) {
+  std::vector<ExperimentFit> traces;
+  for (const FitExperiment& e : job.experiments) {
+    traces.push_back(EvaluateExperiment(job.model.structure, params, e));
+  }
+  return traces;
+}
+
+// The largest RMS, over the fitted channels, of the difference between the
+// traces `a` and `reference` of the same experiments, in each channel's σ;
+// +inf where a trace leaves the finite numbers.
+double TraceDistance(const std::vector<ExperimentFit>& a,
+                     const std::vector<ExperimentFit>& reference) {
   double worst = 0.0;
-  try {
-    for (size_t i = 0; i < model.experiments.size(); ++i) {
-      const ExperimentFit a = EvaluateExperiment(model.model.structure, params,
-                                                 model.experiments[i]);
-      const ExperimentFit b = EvaluateExperiment(reference.model.structure, params,
-                                                 reference.experiments[i]);
-      for (size_t c = 0; c < a.channels.size() && c < b.channels.size(); ++c) {
-        const ChannelFit& x = a.channels[c];
-        const ChannelFit& y = b.channels[c];
-        if (!x.fitted || !(x.sigma > 0.0) || x.simulated.size() != y.simulated.size()) continue;
-        double sum = 0.0;
-        for (size_t k = 0; k < x.simulated.size(); ++k) {
-          const double d = (x.simulated[k] - y.simulated[k]) / x.sigma;
-          sum += d * d;
-        }
-        const double rms = std::sqrt(sum / std::max<size_t>(1, x.simulated.size()));
-        if (!std::isfinite(rms)) return std::numeric_limits<double>::infinity();
-        worst = std::max(worst, rms);
+  for (size_t i = 0; i < a.size() && i < reference.size(); ++i) {
+    for (size_t c = 0; c < a[i].channels.size() && c < reference[i].channels.size(); ++c) {
+      const ChannelFit& x = a[i].channels[c];
+      const ChannelFit& y = reference[i].channels[c];
+      if (!x.fitted || !(x.sigma > 0.0) || x.simulated.size() != y.simulated.size()) continue;
+      double sum = 0.0;
+      for (size_t k = 0; k < x.simulated.size(); ++k) {
+        const double d = (x.simulated[k] - y.simulated[k]) / x.sigma;
+        sum += d * d;
       }
+      const double rms = std::sqrt(sum / std::max<size_t>(1, x.simulated.size()));
+      if (!std::isfinite(rms)) return std::numeric_limits<double>::infinity();
+      worst = std::max(worst, rms);
     }
-  } catch (const std::exception&) {
-    return std::numeric_limits<double>::infinity();
   }
   return worst;
 }
@@ -106,12 +108,18 @@ EstimationProblem QuasiSteadyScreen(const EstimationProblem& job) {
     return screen;
   }
   if (!(SmallestStep(coarse) > SmallestStep(screen))) return screen;
+  // The declared model simulated once at its own (finest) step.
   const AxisParams<double> start = StartParams(job);
-  const double automatic = TraceDistance(screen, job, start);
-  const double coarser = TraceDistance(coarse, job, start);
-  if (std::isfinite(automatic) &&
-      coarser <= kScreenErrorGrowth * automatic + kScreenErrorSlack) {
-    return coarse;
+  try {
+    const std::vector<ExperimentFit> declared = FittedTraces(job, start);
+    const double automatic = TraceDistance(FittedTraces(screen, start), declared);
+    const double coarser = TraceDistance(FittedTraces(coarse, start), declared);
+    if (std::isfinite(automatic) &&
+        coarser <= kScreenErrorGrowth * automatic + kScreenErrorSlack) {
+      return coarse;
+    }
+  } catch (const std::exception&) {
+    // A trace that cannot be simulated at the start: the automatic step.
   }
   return screen;
 }

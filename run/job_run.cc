@@ -131,14 +131,15 @@ class JobPipeline {
     } catch (const std::invalid_argument&) {
       return;
     }
-    if (!(SmallestStep(screen) > SmallestStep(job))) return;
-    out_ << "screen: fitting the quasi-steady current loop at " << SmallestStep(screen)
-         << " s first, then the declared full loop at " << SmallestStep(job)
+    const double declared_step = SmallestStep(job);
+    screen_step_ = SmallestStep(screen);
+    if (!(screen_step_ > declared_step)) return;
+    out_ << "screen: fitting the quasi-steady current loop at " << screen_step_
+         << " s first, then the declared full loop at " << declared_step
          << " s from its estimate (simulation.quasi_steady_screen: off fits the full loop "
             "throughout)\n";
     declared_ = job;
     screened_ = true;
-    screen_step_ = SmallestStep(screen);
     run_.job.problem = std::move(screen);
   }
 
@@ -230,9 +231,9 @@ class JobPipeline {
     run_.loop_check.screen_step = screened_ ? screen_step_ : 0.0;
     const double check_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
-    std::string refit_failed;
+    std::string not_refitted;
     if (screened_ && run_.force_map.kept) {
-      refit_failed = "; the declared full current loop was not refitted after the force map "
+      not_refitted = "; the declared full current loop was not refitted after the force map "
                      "(its roughness penalty belongs to the quasi-steady fit): the values are "
                      "the quasi-steady screen's";
     }
@@ -241,16 +242,16 @@ class JobPipeline {
       try {
         RefitTheFullLoop(check_seconds);
       } catch (const std::exception& e) {
-        refit_failed = std::string("; the full-loop refit failed (") + e.what() +
+        not_refitted = std::string("; the full-loop refit failed (") + e.what() +
                        (screened_ ? "): the values are the quasi-steady screen's"
                                   : "): the values are the quasi-steady fit's");
       }
     }
     if (run_.discovered && run_.loop_check.refitted) JudgeTheEffectsAgain();
-    if (!run_.loop_check.refitted && (!run_.loop_check.note.empty() || !refit_failed.empty())) {
+    if (!run_.loop_check.refitted && (!run_.loop_check.note.empty() || !not_refitted.empty())) {
       const std::string note = run_.loop_check.note.empty()
-                                   ? refit_failed.substr(2)  // without its leading "; "
-                                   : run_.loop_check.note + refit_failed;
+                                   ? not_refitted.substr(2)  // without its leading "; "
+                                   : run_.loop_check.note + not_refitted;
       result_.model_note += (result_.model_note.empty() ? "" : "; ") + note;
     }
   }
