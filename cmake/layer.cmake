@@ -9,6 +9,7 @@ function(axis_layer name)
   add_library(${name} ${sources})
   target_link_libraries(${name} ${ARGN})
   set_target_properties(${name} PROPERTIES OUTPUT_NAME servo_axis_id_${name})
+  axis_use_pch(${name} library)  # cmake/precompiled_headers.cmake
 endfunction()
 
 # axis_fuzz_coverage(TARGET...): compiles the sources of each TARGET that
@@ -30,8 +31,11 @@ function(axis_fuzz_coverage)
       endif()
     endforeach()
     if(instrumented)
+      # Without the precompiled header (cmake/precompiled_headers.cmake):
+      # clang accepts one only where it was built with the same options.
       set_source_files_properties(${instrumented} TARGET_DIRECTORY ${target}
-                                  PROPERTIES COMPILE_OPTIONS -fsanitize=fuzzer-no-link)
+                                  PROPERTIES COMPILE_OPTIONS -fsanitize=fuzzer-no-link
+                                             SKIP_PRECOMPILE_HEADERS ON)
     endif()
   endforeach()
 endfunction()

@@ -72,7 +72,9 @@ TEST(AutoStepTest, TheStepDividesThePeriodsUnderTheBound) {
         const double h = AutoStep(limit, output, control);
         EXPECT_LE(h, limit * (1 + 1e-12));
         EXPECT_TRUE(Whole(output, h));
-        if (control > 0.0) EXPECT_TRUE(Whole(control, h));
+        if (control > 0.0) {
+          EXPECT_TRUE(Whole(control, h));
+        }
       }
     }
   }

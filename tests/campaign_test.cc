@@ -266,7 +266,9 @@ TEST(CampaignTest, ASeedGivesWhatFitParamsReportsOnItsRecords) {
     EXPECT_EQ(p["ci95_low"].get<double>(), o.ci95_low[0]);
     EXPECT_EQ(p["ci95_high"].get<double>(), o.ci95_high[0]);
     for (const ParameterEstimate& e : alone.parameters) {
-      if (e.name == "B_a") EXPECT_NE(e.value, o.value[0]);
+      if (e.name == "B_a") {
+        EXPECT_NE(e.value, o.value[0]);
+      }
     }
   }
   EXPECT_TRUE(found);

@@ -58,7 +58,9 @@ TEST(InputShaperTest, AmplitudesArePositiveSumToOneAndSpanTheirPeriods) {
       for (size_t i = 0; i < s.amplitudes.size(); ++i) {
         EXPECT_GT(s.amplitudes[i], 0.0);
         sum += s.amplitudes[i];
-        if (i > 0) EXPECT_GT(s.times[i], s.times[i - 1]);
+        if (i > 0) {
+          EXPECT_GT(s.times[i], s.times[i - 1]);
+        }
       }
       EXPECT_NEAR(sum, 1.0, 1e-15);
       EXPECT_EQ(s.times.front(), 0.0);

@@ -131,7 +131,9 @@ TEST(MoveTuneTest, TheProposalMeetsTheSpecOnTheAxisThatMadeTheData) {
   // profiles that meet the spec at every check (a faster one that breaks it
   // at some sample of the joint region is not proposed).
   for (const MoveSetting& other : t.tuned) {
-    if (other.robust) EXPECT_LE(t.proposed.objective, other.objective) << other.profile;
+    if (other.robust) {
+      EXPECT_LE(t.proposed.objective, other.objective) << other.profile;
+    }
   }
   EXPECT_LE(t.proposed.speed, 1.0);
   EXPECT_GE(t.proposed.speed, 0.25);
