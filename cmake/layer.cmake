@@ -32,7 +32,7 @@ function(axis_fuzz_coverage)
     endforeach()
     if(instrumented)
       # Without the precompiled header (cmake/precompiled_headers.cmake):
-      # clang accepts one only where it was built with the same options.
+      # clang refuses one built with another -fsanitize set.
       set_source_files_properties(${instrumented} TARGET_DIRECTORY ${target}
                                   PROPERTIES COMPILE_OPTIONS -fsanitize=fuzzer-no-link
                                              SKIP_PRECOMPILE_HEADERS ON)

@@ -2,16 +2,17 @@
 # Eigen, nlohmann/json, yaml-cpp and the standard library are parsed once per
 # target kind instead of once per source file.
 # Two precompiled headers, each built once and reused by every target of its
-# kind (REUSE_FROM needs the same compiler flags): the position-independent
-# libraries', and the test executables' (PIE, GoogleTest, the tests'
-# PROJECT_SOURCE_DIR/BINARY_DIR). The apps, benchmarks, the io library (none
-# of these headers but yaml-cpp) and the Python module compile without.
+# kind (REUSE_FROM needs the same compiler flags): one compiled as the
+# libraries are (-fPIC where the Python module needs it), one as the test
+# executables are (GoogleTest, the tests' PROJECT_SOURCE_DIR/BINARY_DIR).
+# The apps, benchmarks, the io library and the Python module compile
+# without.
 # The project's own headers are never precompiled, so a file that forgets an
-# #include of the project's still fails; one that forgets a third-party
-# #include fails where no precompiled header is used: the installed
-# package's consumer (tests/install_test.sh), the io library and, in the
-# sanitizer tree, every source that reads YAML (cmake/layer.cmake
-# axis_fuzz_coverage), or with -DAXIS_PCH=OFF.
+# #include of the project's still fails. One that forgets a third-party or
+# standard #include (say <map>) compiles here and fails only without a
+# precompiled header: in the io library, in the sanitizer tree's sources
+# that read YAML (cmake/layer.cmake axis_fuzz_coverage), or with
+# -DAXIS_PCH=OFF.
 option(AXIS_PCH "precompile the third-party headers (faster builds)" ON)
 
 set(AXIS_PCH_HEADERS
@@ -21,7 +22,8 @@ set(AXIS_PCH_HEADERS
 
 # The libraries whose headers are precompiled. A precompiled header is used
 # only where the compiler sees the same macros as when it was built (GCC
-# -Winvalid-pch; Ceres's imported target defines GLOG_* and GFLAGS_*), so
+# -Winvalid-pch; the glog, gflags and Boost targets Ceres and Boost::headers
+# bring define GLOG_*, GFLAGS_* and BOOST_ALL_NO_LIB), so
 # every target that uses one links these too (privately: they add usage
 # requirements and no code a final link does not already have).
 set(AXIS_PCH_LIBRARIES Ceres::ceres Eigen3::Eigen yaml-cpp nlohmann_json::nlohmann_json
@@ -40,7 +42,7 @@ function(axis_pch_targets)
   # a precompiled header must match).
   set(stub ${CMAKE_BINARY_DIR}/axis_pch_stub.cc)
   set(main ${CMAKE_BINARY_DIR}/axis_pch_main.cc)
-  if(NOT EXISTS ${main})
+  if(NOT EXISTS ${main} OR NOT EXISTS ${stub})
     file(WRITE ${stub} "// The translation unit that builds a precompiled header.\n")
     file(WRITE ${main} "// The executable that builds a precompiled header.\nint main() { return 0; }\n")
   endif()
@@ -48,6 +50,8 @@ function(axis_pch_targets)
   target_link_libraries(axis_pch_library PRIVATE ${AXIS_PCH_LIBRARIES})
   target_precompile_headers(axis_pch_library PRIVATE ${AXIS_PCH_HEADERS})
   add_executable(axis_pch_test ${main})
+  set_target_properties(axis_pch_test PROPERTIES
+                        RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/CMakeFiles/axis_pch_test)
   target_link_libraries(axis_pch_test PRIVATE ${AXIS_PCH_LIBRARIES} GTest::gtest)
   target_compile_definitions(axis_pch_test PRIVATE
     PROJECT_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
