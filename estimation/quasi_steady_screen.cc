@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <exception>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
+#include "common/statistics.h"
 #include "estimation/evaluate_experiment.h"
 #include "estimation/fit_result.h"
 #include "sim/auto_step.h"
@@ -69,13 +70,11 @@ double TraceDistance(const std::vector<ExperimentFit>& a,
     for (size_t c = 0; c < a[i].channels.size() && c < reference[i].channels.size(); ++c) {
       const ChannelFit& x = a[i].channels[c];
       const ChannelFit& y = reference[i].channels[c];
-      if (!x.fitted || !(x.sigma > 0.0) || x.simulated.size() != y.simulated.size()) continue;
-      double sum = 0.0;
-      for (size_t k = 0; k < x.simulated.size(); ++k) {
-        const double d = (x.simulated[k] - y.simulated[k]) / x.sigma;
-        sum += d * d;
+      if (!x.fitted || !(x.sigma > 0.0) || x.simulated.empty() ||
+          x.simulated.size() != y.simulated.size()) {
+        continue;
       }
-      const double rms = std::sqrt(sum / std::max<size_t>(1, x.simulated.size()));
+      const double rms = Rms(y.simulated, x.simulated) / x.sigma;
       if (!std::isfinite(rms)) return std::numeric_limits<double>::infinity();
       worst = std::max(worst, rms);
     }
