@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/non_central_chi_squared.hpp>
 
+#include "common/concurrency.h"
 #include "common/format.h"
 #include "discovery/candidates.h"
 #include "discovery/discovery.h"
@@ -372,6 +374,7 @@ class ExperimentDesigner {
 
   std::vector<DesignCandidate> family_;
   size_t best_ = 0;  // family_.size() while none is feasible
+  std::mutex best_mutex_;  // guards best_ and p_.rel_se_predicted in ScoreFamily
 };
 
 ExperimentProposal ExperimentDesigner::Run() {
@@ -499,16 +502,19 @@ void ExperimentDesigner::ScoreFamily() {
   family_ = first.drive.closed_loop ? ClosedLoopFamily(d_, first.options.output_period)
                                     : Family(d_);
   best_ = family_.size();
-  for (size_t k = 0; k < family_.size(); ++k) {
-    ScoreCandidate(k);
-    ShowCandidate(family_[k]);
-  }
+  // Each input's simulations and Jacobian are its own: the inputs are
+  // scored side by side on the job's threads, and the best is the same
+  // whatever the order they end in (ScoreCandidate).
+  ForEachConcurrently(family_.size(), job_.solver.threads,
+                      [this](size_t k) { ScoreCandidate(k); });
+  for (const DesignCandidate& c : family_) ShowCandidate(c);
   p_.candidates = family_;
 }
 
 // Feasible if the axis stays inside design.travel in every model simulated
 // and the proposal's Jacobian can be taken; then its criterion, and the
-// best so far.
+// best so far: the highest criterion, of equal ones the first in the
+// family (best_mutex_: the inputs are scored concurrently).
 void ExperimentDesigner::ScoreCandidate(size_t k) {
   DesignCandidate& c = family_[k];
   const FitExperiment e = ProposedExperiment(job_, c.input, d_.duration, p_.start_x);
@@ -542,7 +548,9 @@ void ExperimentDesigner::ScoreCandidate(size_t k) {
   } else {
     c.criterion = LogDet(f);
   }
-  if (best_ == family_.size() || c.criterion > family_[best_].criterion) {
+  const std::lock_guard<std::mutex> lock(best_mutex_);
+  if (best_ == family_.size() || c.criterion > family_[best_].criterion ||
+      (c.criterion == family_[best_].criterion && k < best_)) {
     best_ = k;
     if (!t_design_) p_.rel_se_predicted = RelativeErrors(job_, f, s2_);
   }

@@ -10,14 +10,15 @@
 
 namespace axis {
 
-Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj_out) {
+Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, int threads,
+                                  Eigen::MatrixXd* jtj_out) {
   Eigen::MatrixXd out =
       Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::quiet_NaN());
   // One evaluation of the Jacobian serves JᵀJ and the covariance (a
   // ceres::Covariance would evaluate it again: at the full loop's 10 µs a
   // Jacobian costs a second or more).
   DenseJacobian j;
-  const bool evaluated = EvaluateDenseJacobian(problem, n, &j);
+  const bool evaluated = EvaluateDenseJacobian(problem, n, threads, &j);
   const Eigen::MatrixXd jtj = evaluated ? GaussNewtonOf(j) : Eigen::MatrixXd();
   if (jtj_out != nullptr) *jtj_out = jtj;
   // A Jacobian with non-finite entries (a hypersensitive full-loop record
@@ -64,9 +65,9 @@ std::vector<bool> NullSpaceMembersOf(const Eigen::MatrixXd& jtj, int n_free) {
   return out;
 }
 
-std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free) {
+std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free, int threads) {
   Eigen::MatrixXd jtj;
-  if (!GaussNewtonMatrix(problem, n_free, &jtj)) {
+  if (!GaussNewtonMatrix(problem, n_free, threads, &jtj)) {
     return std::vector<bool>(n_free, true);
   }
   return NullSpaceMembersOf(jtj, n_free);

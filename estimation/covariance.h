@@ -23,8 +23,11 @@ constexpr double kMinReciprocalCondition = 1e-14;
 // √kMinReciprocalCondition of the largest if JᵀJ is rank deficient; NaN
 // where the Jacobian cannot be evaluated or is not finite. *jtj_out (if not
 // null) receives JᵀJ (n×n; empty if the Jacobian could not be evaluated),
-// for NullSpaceMembersOf. Never throws but std::bad_alloc.
-Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj_out);
+// for NullSpaceMembersOf. The Jacobian's residual blocks are evaluated on
+// up to `threads` threads (EvaluateDenseJacobian). Never throws but
+// std::bad_alloc.
+Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, int threads,
+                                  Eigen::MatrixXd* jtj_out);
 
 // Free parameters (the first n_free of θ) that lie in the numerical null
 // space of the weighted Jacobian whose JᵀJ over them is `jtj` (n_free ×
@@ -34,9 +37,10 @@ Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, Eigen::MatrixX
 // if its column is zero).
 std::vector<bool> NullSpaceMembersOf(const Eigen::MatrixXd& jtj, int n_free);
 
-// NullSpaceMembersOf the Jacobian of `problem` at the current θ; every
-// parameter if it cannot be evaluated there.
-std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free);
+// NullSpaceMembersOf the Jacobian of `problem` at the current θ (evaluated
+// on up to `threads` threads); every parameter if it cannot be evaluated
+// there.
+std::vector<bool> NullSpaceMembers(ceres::Problem* problem, int n_free, int threads);
 
 }  // namespace axis
 

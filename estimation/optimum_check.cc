@@ -11,10 +11,12 @@
 
 namespace axis {
 
-bool EvaluateDenseJacobian(ceres::Problem* problem, int n, DenseJacobian* j) {
+bool EvaluateDenseJacobian(ceres::Problem* problem, int n, int threads, DenseJacobian* j) {
   ceres::CRSMatrix crs;
   double cost = 0.0;
-  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &crs)) {
+  ceres::Problem::EvaluateOptions options;
+  options.num_threads = std::max(1, threads);
+  if (!problem->Evaluate(options, &cost, nullptr, nullptr, &crs)) {
     return false;
   }
   *j = DenseJacobian::Zero(crs.num_rows, n);
@@ -37,9 +39,9 @@ Eigen::MatrixXd GaussNewtonOf(const DenseJacobian& j) {
   return jtj;
 }
 
-bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj) {
+bool GaussNewtonMatrix(ceres::Problem* problem, int n, int threads, Eigen::MatrixXd* jtj) {
   DenseJacobian j;
-  if (!EvaluateDenseJacobian(problem, n, &j)) return false;
+  if (!EvaluateDenseJacobian(problem, n, threads, &j)) return false;
   *jtj = GaussNewtonOf(j);
   return true;
 }
@@ -64,7 +66,7 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
   *best_cost = cost;
   if (lowest_scale != nullptr) *lowest_scale = 0.0;
   Eigen::MatrixXd jtj;
-  if (!GaussNewtonMatrix(problem, n, &jtj)) return;
+  if (!GaussNewtonMatrix(problem, n, threads, &jtj)) return;
   std::vector<Eigen::VectorXd> directions;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
   const double largest = eig.eigenvalues().maxCoeff();

@@ -19,16 +19,19 @@ using DenseJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eige
 
 // The Jacobian of the weighted residuals over the first n entries of θ at
 // the current θ (m × n; θ is the problem's single parameter block), or
-// false if it cannot be evaluated there.
-bool EvaluateDenseJacobian(ceres::Problem* problem, int n, DenseJacobian* j);
+// false if it cannot be evaluated there. The residual blocks (one per
+// experiment) are evaluated on up to `threads` threads
+// (ceres::Problem::EvaluateOptions::num_threads; < 1 counts as 1); each
+// block's rows are the same whatever the number.
+bool EvaluateDenseJacobian(ceres::Problem* problem, int n, int threads, DenseJacobian* j);
 
 // JᵀJ of `j` (the Gauss–Newton approximation of the cost's Hessian),
 // summed row by row in column order. Never throws but std::bad_alloc.
 Eigen::MatrixXd GaussNewtonOf(const DenseJacobian& j);
 
-// GaussNewtonOf the Jacobian at the current θ (EvaluateDenseJacobian), or
-// false if it cannot be evaluated there.
-bool GaussNewtonMatrix(ceres::Problem* problem, int n, Eigen::MatrixXd* jtj);
+// GaussNewtonOf the Jacobian at the current θ (EvaluateDenseJacobian on
+// `threads` threads), or false if it cannot be evaluated there.
+bool GaussNewtonMatrix(ceres::Problem* problem, int n, int threads, Eigen::MatrixXd* jtj);
 
 // The relative function and parameter tolerance of the continuation's
 // shorter horizons (at least; the job's if larger): they only deliver a warm

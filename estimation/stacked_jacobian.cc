@@ -2,10 +2,12 @@
 
 #include <memory>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <ceres/ceres.h>
 
+#include "common/concurrency.h"
 #include "estimation/experiment_cost.h"
 #include "estimation/estimation_problem.h"
 
@@ -17,10 +19,11 @@ void StackedJacobian(const EstimationProblem& job, Eigen::VectorXd* r, Eigen::Ma
   std::vector<double> theta(n);
   for (int k = 0; k < n; ++k) theta[k] = map.ToInternal(k, job.free[k].initial);
   EvaluationCounter counter;
-  std::vector<Eigen::VectorXd> rs;
-  std::vector<Eigen::MatrixXd> js;
-  int m = 0;
-  for (const FitExperiment& e : job.experiments) {
+  const size_t count = job.experiments.size();
+  std::vector<Eigen::VectorXd> rs(count);
+  std::vector<Eigen::MatrixXd> js(count);
+  ForEachConcurrently(count, job.solver.threads, [&](size_t k) {
+    const FitExperiment& e = job.experiments[k];
     std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
         job.model.structure, map, e, n, -1, &counter));
     const int me = cost->num_residuals();
@@ -33,10 +36,11 @@ void StackedJacobian(const EstimationProblem& job, Eigen::VectorXd* r, Eigen::Ma
                                "': the simulation at the fitted parameters "
                                "failed; no score test possible");
     }
-    rs.push_back(re);
-    js.push_back(je);
-    m += me;
-  }
+    rs[k] = std::move(re);
+    js[k] = je;
+  });
+  int m = 0;
+  for (const Eigen::VectorXd& re : rs) m += static_cast<int>(re.size());
   r->resize(m);
   jac->resize(m, n);
   int row = 0;

@@ -20,7 +20,10 @@ namespace axis {
 // estimated initial states: at the estimate the residual is orthogonal to
 // those directions, so a candidate column's share along them adds to the
 // score test's variance and nothing to its score (the test errs
-// conservative).
+// conservative). The experiments are simulated on up to job.solver.threads
+// threads (common/concurrency.h ForEachConcurrently), each into its own
+// rows: the result does not depend on the number. If several simulations
+// fail, the error names the first such experiment.
 void StackedJacobian(const EstimationProblem& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac);
 
 }  // namespace axis

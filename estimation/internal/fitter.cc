@@ -797,7 +797,7 @@ void Fitter::EstimateUncertainty() {
     {
       PhaseTimer timer("covariance", p_.counter, &result_);
       cov_theta_ = std::isfinite(best_cost_)
-                       ? CovarianceOfTheta(full_problem_, theta_size_, &jtj_at_)
+                       ? CovarianceOfTheta(full_problem_, theta_size_, job_.solver.threads, &jtj_at_)
                        : Eigen::MatrixXd::Constant(theta_size_, theta_size_, kNaN);
       jtj_point_ = p_.theta;
     }
@@ -1055,7 +1055,7 @@ std::vector<bool> Fitter::Determined(const Eigen::MatrixXd& cov) {
     const std::vector<bool> null =
         jtj_point_ == p_.theta && jtj_at_.rows() == theta_size_
             ? NullSpaceMembersOf(jtj_at_.topLeftCorner(n_free_, n_free_), n_free_)
-            : NullSpaceMembers(full_problem_, n_free_);
+            : NullSpaceMembers(full_problem_, n_free_, job_.solver.threads);
     for (int i = 0; i < n_free_; ++i) determined[i] = !null[i];
   }
   // Both members of a nearly collinear pair are undetermined: the pairs are
