@@ -1,6 +1,9 @@
 // Running independent pieces of work on a few threads: the fits of
-// FitConcurrently (estimation/fit.h), the seeds of a campaign (run/campaign.h) and
-// the gnuplot runs of a report (report/report.h, report/html_report.h).
+// FitConcurrently (estimation/fit.h), the records of a stacked Jacobian
+// (estimation/stacked_jacobian.h), the sampling-convention check's refits
+// (estimation/sampling_check.h), the experiment design's inputs
+// (design/experiment_design.h), the seeds of a campaign (run/campaign.h)
+// and the gnuplot runs of a report (report/report.h, report/html_report.h).
 #ifndef COMMON_CONCURRENCY_H_
 #define COMMON_CONCURRENCY_H_
 

@@ -513,8 +513,8 @@ void ExperimentDesigner::ScoreFamily() {
 
 // Feasible if the axis stays inside design.travel in every model simulated
 // and the proposal's Jacobian can be taken; then its criterion, and the
-// best so far: the highest criterion, of equal ones the first in the
-// family (best_mutex_: the inputs are scored concurrently).
+// best so far: the highest finite criterion, of equal ones the first in
+// the family (best_mutex_: the inputs are scored concurrently).
 void ExperimentDesigner::ScoreCandidate(size_t k) {
   DesignCandidate& c = family_[k];
   const FitExperiment e = ProposedExperiment(job_, c.input, d_.duration, p_.start_x);
@@ -549,6 +549,7 @@ void ExperimentDesigner::ScoreCandidate(size_t k) {
     c.criterion = LogDet(f);
   }
   const std::lock_guard<std::mutex> lock(best_mutex_);
+  if (!std::isfinite(c.criterion)) return;
   if (best_ == family_.size() || c.criterion > family_[best_].criterion ||
       (c.criterion == family_[best_].criterion && k < best_)) {
     best_ = k;

@@ -101,8 +101,13 @@ struct ExperimentProposal {
 // standard error exceeds design.rel_se > 0; else nothing (reason says
 // why). The fitted channels and σ of the proposal are those of
 // job.experiments[0], its step and output period too, and in closed loop
-// its controller. Throws std::invalid_argument if the job has no fitted
-// experiment; std::runtime_error if the simulation at the estimates fails.
+// its controller. The candidate inputs are scored side by side on
+// job.solver.threads threads; the best is the highest criterion (of equal
+// ones the first in family order; an input whose criterion is not finite
+// is never the best), whatever the order they end in, and the `design:`
+// progress lines come after every input is scored, in family order.
+// Throws std::invalid_argument if the job has no fitted experiment;
+// std::runtime_error if the simulation at the estimates fails.
 ExperimentProposal ProposeExperiment(const EstimationProblem& job, const FitResult& result,
                                      const DesignSettings& design,
                                      const DiscoverySettings& discover,

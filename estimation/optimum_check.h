@@ -19,8 +19,8 @@ using DenseJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eige
 
 // The Jacobian of the weighted residuals over the first n entries of θ at
 // the current θ (m × n; θ is the problem's single parameter block), or
-// false if it cannot be evaluated there. The residual blocks (one per
-// experiment) are evaluated on up to `threads` threads
+// false if it cannot be evaluated there. The residual blocks (the
+// experiments', a roughness penalty's) are evaluated on up to `threads` threads
 // (ceres::Problem::EvaluateOptions::num_threads; < 1 counts as 1); each
 // block's rows are the same whatever the number.
 bool EvaluateDenseJacobian(ceres::Problem* problem, int n, int threads, DenseJacobian* j);
@@ -72,7 +72,8 @@ double LowerThan(double cost, double relative);
 // (θ* and `cost` if nothing is lower). The probes simulate in double (the
 // guard of `counter` off); a point lower than θ* is kept only if it also
 // passes the sensitivity guard (ExperimentCost), as the solver will start
-// from it. The cost is evaluated on `threads` threads (CostAt). Leaves
+// from it. The cost and JᵀJ are evaluated on `threads` threads (CostAt,
+// GaussNewtonMatrix). Leaves
 // *theta at θ*. *lowest_scale (if not null) receives the s of the point
 // returned in *best (standard deviations; 0 if nothing is lower): lower
 // points at 0.01 mean a cost rough below the standard-error scale.

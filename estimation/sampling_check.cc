@@ -216,33 +216,27 @@ SamplingCheck CheckAccelerometerSampling(const EstimationProblem& job, const Fit
   EstimationProblem plain = at;
   plain.model.structure.accelerometer = other;
   const std::optional<EstimationProblem> without = WithoutFittedDelayOfA(plain);
-  // The refits that depend on none of the others, side by side (each
-  // evaluates on the job's own threads, so that each ends as it would
-  // alone): both conventions with the added delays and, with kBestBic, the
-  // other as the job stands, with and without its delay on `a`.
-  const bool best_bic = rule == SamplingRule::kBestBic;
-  FitResult other_fit, plain_fit;
-  std::array<double, 4> chi2;
-  chi2.fill(std::numeric_limits<double>::quiet_NaN());
-  const size_t refits = best_bic ? (without ? 4 : 3) : 2;
-  ForEachConcurrently(refits, job.solver.threads, [&](size_t k) {
-    if (k == 0) chi2[0] = AlignedRefitChi2(declared_job, nullptr);
-    if (k == 1) chi2[1] = AlignedRefitChi2(other_job, &other_fit);
-    if (k == 2) chi2[2] = WarmRefitChi2(plain, &plain_fit);
-    if (k == 3) chi2[3] = WarmRefitChi2(*without, nullptr);
+  // The refits that depend on none of the others, two at a time (each
+  // evaluating on the job's own threads, so that each ends as it would
+  // alone): both conventions with the added delays; then, with kBestBic and
+  // both of those finite, the other convention as the job stands, with and
+  // without its delay on `a`.
+  FitResult other_fit;
+  ForEachConcurrently(2, job.solver.threads, [&](size_t k) {
+    if (k == 0) check.chi2_declared_delay = AlignedRefitChi2(declared_job, nullptr);
+    if (k == 1) check.chi2_other_delay = AlignedRefitChi2(other_job, &other_fit);
   });
-  check.chi2_declared_delay = chi2[0];
-  check.chi2_other_delay = chi2[1];
   check.dof = static_cast<int>(result.residual_dof) - added;  // the refits' own
   if (!std::isfinite(check.chi2_other_delay) || !std::isfinite(check.chi2_declared_delay)) {
     return check;
   }
   const double residuals = result.num_residuals;
   const double fitted = result.num_residuals - result.residual_dof;
-  if (best_bic) {
-    check.chi2_other = chi2[2];
-    check.refit = std::move(plain_fit);
-    if (without) check.chi2_other_without_delay_a = chi2[3];
+  if (rule == SamplingRule::kBestBic) {
+    ForEachConcurrently(without ? 2 : 1, job.solver.threads, [&](size_t k) {
+      if (k == 0) check.chi2_other = WarmRefitChi2(plain, &check.refit);
+      if (k == 1) check.chi2_other_without_delay_a = WarmRefitChi2(*without, nullptr);
+    });
   }
   if (!Decides(residuals, fitted, added, &check)) return check;
   // The other convention's gain may be a lower minimum of a model far off,

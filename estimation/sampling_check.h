@@ -120,7 +120,12 @@ struct SamplingCheck {
 // convention wins refits the job as it stands under it (`refit`; with
 // kBestBic before deciding). `ran` is false when no fitted experiment fits
 // `a`; a refit that ends without a finite cost leaves no note. `result`
-// must be a fit of `job`. Throws std::runtime_error if the model does not
+// must be a fit of `job`. The two conventions' refits with the delays run
+// side by side, then (kBestBic) the other convention's refits as the job
+// stands, two at a time (common/concurrency.h ForEachConcurrently on
+// job.solver.threads threads, each refit evaluating on that many too, so
+// that it ends as it would alone); an exception comes after both refits
+// of its pair have ended. Throws std::runtime_error if the model does not
 // simulate at the estimate.
 SamplingCheck CheckAccelerometerSampling(const EstimationProblem& job, const FitResult& result,
                                          SamplingRule rule = SamplingRule::kMisfit);

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "estimation/experiment_cost.h"
+#include "estimation/stacked_jacobian.h"
 #include "run/fit_job.h"
 #include "run/load_fit_job.h"
 #include "tests/cost_checks.h"
@@ -191,6 +192,38 @@ TEST(ExperimentCostTest, SensorColumnsMatchCentralDifferences) {
         << job.problem.free[k].name << ": " << checks[k].error_norm << " of "
         << checks[k].difference_norm;
   }
+}
+
+// The stacked Jacobian simulates the records side by side on
+// job.solver.threads threads, each into its own rows: on one thread and on
+// two it is the same, bit for bit, and its rows are each record's own
+// Jacobian (the job alone with that record) in record order.
+TEST(StackedJacobianTest, SideBySideIsTheSameAsOneAfterTheOther) {
+  FitJob job = FrontEndJob();
+  ASSERT_GE(job.problem.experiments.size(), 2u);
+  job.problem.solver.threads = 1;
+  Eigen::VectorXd r1, r2;
+  Eigen::MatrixXd j1, j2;
+  StackedJacobian(job.problem, &r1, &j1);
+  job.problem.solver.threads = 2;
+  StackedJacobian(job.problem, &r2, &j2);
+  ASSERT_EQ(r1.size(), r2.size());
+  ASSERT_EQ(j1.rows(), j2.rows());
+  ASSERT_EQ(j1.cols(), j2.cols());
+  EXPECT_TRUE((r1.array() == r2.array()).all());
+  EXPECT_TRUE((j1.array() == j2.array()).all());
+  Eigen::Index row = 0;
+  for (const FitExperiment& e : job.problem.experiments) {
+    EstimationProblem alone = job.problem;
+    alone.experiments = {e};
+    Eigen::VectorXd r;
+    Eigen::MatrixXd j;
+    StackedJacobian(alone, &r, &j);
+    EXPECT_TRUE((r.array() == r2.segment(row, r.size()).array()).all()) << e.name;
+    EXPECT_TRUE((j.array() == j2.middleRows(row, j.rows()).array()).all()) << e.name;
+    row += r.size();
+  }
+  EXPECT_EQ(row, r2.size());
 }
 
 }  // namespace

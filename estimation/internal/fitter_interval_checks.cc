@@ -90,8 +90,9 @@ void Fitter::MisspecificationCheck() {
     ceres::CRSMatrix crs;
     double cost = 0.0;
     std::vector<double> residuals;
-    if (!full_problem_->Evaluate(ceres::Problem::EvaluateOptions(), &cost, &residuals, nullptr,
-                                 &crs)) {
+    ceres::Problem::EvaluateOptions options;
+    options.num_threads = std::max(1, job_.solver.threads);
+    if (!full_problem_->Evaluate(options, &cost, &residuals, nullptr, &crs)) {
       return;
     }
     j = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
