@@ -548,8 +548,8 @@ void ExperimentDesigner::ScoreCandidate(size_t k) {
   } else {
     c.criterion = LogDet(f);
   }
-  const std::lock_guard<std::mutex> lock(best_mutex_);
   if (!std::isfinite(c.criterion)) return;
+  const std::lock_guard<std::mutex> lock(best_mutex_);
   if (best_ == family_.size() || c.criterion > family_[best_].criterion ||
       (c.criterion == family_[best_].criterion && k < best_)) {
     best_ = k;

@@ -10,13 +10,17 @@ double CostAt(ceres::Problem* problem, const std::vector<double>& point, int thr
               std::vector<double>* theta) {
   std::copy(point.begin(), point.end(), theta->begin());
   double cost = 0.0;
-  ceres::Problem::EvaluateOptions options;
-  options.num_threads = std::max(1, threads);
-  if (!problem->Evaluate(options, &cost, nullptr, nullptr, nullptr) ||
+  if (!problem->Evaluate(EvaluateOn(threads), &cost, nullptr, nullptr, nullptr) ||
       !std::isfinite(cost)) {
     return std::numeric_limits<double>::infinity();
   }
   return cost;
+}
+
+ceres::Problem::EvaluateOptions EvaluateOn(int threads) {
+  ceres::Problem::EvaluateOptions options;
+  options.num_threads = std::max(1, threads);
+  return options;
 }
 
 }  // namespace axis

@@ -18,6 +18,13 @@ namespace axis {
 double CostAt(ceres::Problem* problem, const std::vector<double>& point, int threads,
               std::vector<double>* theta);
 
+// ceres::Problem::Evaluate's options for an evaluation of the residual
+// blocks on up to `threads` threads (< 1 counts as 1): CostAt's, and those
+// of the dense Jacobians and residuals taken outside the solver
+// (estimation/optimum_check.h EvaluateDenseJacobian, the misspecification
+// and smooth-scale checks). Never throws.
+ceres::Problem::EvaluateOptions EvaluateOn(int threads);
+
 }  // namespace axis
 
 #endif  // ESTIMATION_COST_AT_H_

@@ -6,17 +6,15 @@
 
 #include <Eigen/Dense>
 
-#include "estimation/experiment_cost.h"
 #include "estimation/cost_at.h"
+#include "estimation/experiment_cost.h"
 
 namespace axis {
 
 bool EvaluateDenseJacobian(ceres::Problem* problem, int n, int threads, DenseJacobian* j) {
   ceres::CRSMatrix crs;
   double cost = 0.0;
-  ceres::Problem::EvaluateOptions options;
-  options.num_threads = std::max(1, threads);
-  if (!problem->Evaluate(options, &cost, nullptr, nullptr, &crs)) {
+  if (!problem->Evaluate(EvaluateOn(threads), &cost, nullptr, nullptr, &crs)) {
     return false;
   }
   *j = DenseJacobian::Zero(crs.num_rows, n);

@@ -797,7 +797,8 @@ void Fitter::EstimateUncertainty() {
     {
       PhaseTimer timer("covariance", p_.counter, &result_);
       cov_theta_ = std::isfinite(best_cost_)
-                       ? CovarianceOfTheta(full_problem_, theta_size_, job_.solver.threads, &jtj_at_)
+                       ? CovarianceOfTheta(full_problem_, theta_size_, job_.solver.threads,
+                                           &jtj_at_)
                        : Eigen::MatrixXd::Constant(theta_size_, theta_size_, kNaN);
       jtj_point_ = p_.theta;
     }

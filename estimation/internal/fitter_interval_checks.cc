@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include "estimation/cost_at.h"
 #include "estimation/fit_notes.h"
 #include "estimation/internal/fitter.h"
 #include "estimation/optimum_check.h"
@@ -90,9 +91,8 @@ void Fitter::MisspecificationCheck() {
     ceres::CRSMatrix crs;
     double cost = 0.0;
     std::vector<double> residuals;
-    ceres::Problem::EvaluateOptions options;
-    options.num_threads = std::max(1, job_.solver.threads);
-    if (!full_problem_->Evaluate(options, &cost, &residuals, nullptr, &crs)) {
+    if (!full_problem_->Evaluate(EvaluateOn(job_.solver.threads), &cost, &residuals, nullptr,
+                                 &crs)) {
       return;
     }
     j = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);

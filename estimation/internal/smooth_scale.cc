@@ -5,6 +5,8 @@
 
 #include <Eigen/Dense>
 
+#include "estimation/cost_at.h"
+
 namespace axis {
 namespace {
 
@@ -36,9 +38,7 @@ bool ResidualsAt(ceres::Problem* problem, const std::vector<double>& point, int 
   std::copy(point.begin(), point.end(), theta->begin());
   double cost = 0.0;
   std::vector<double> residuals;
-  ceres::Problem::EvaluateOptions options;
-  options.num_threads = std::max(1, threads);
-  if (!problem->Evaluate(options, &cost, &residuals, nullptr, nullptr)) return false;
+  if (!problem->Evaluate(EvaluateOn(threads), &cost, &residuals, nullptr, nullptr)) return false;
   *r = Eigen::Map<const Eigen::VectorXd>(residuals.data(),
                                          static_cast<Eigen::Index>(residuals.size()));
   return r->allFinite();
