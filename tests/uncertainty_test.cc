@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
@@ -419,6 +420,33 @@ FitJob Job(const std::string& extra) {
 // so each parameter's bootstrap error must be within a factor [0.4, 2] of
 // the Gauss–Newton one, and the percentile interval must contain the
 // estimate.
+// The row-major SVD CovarianceOfTheta takes, which Debian's libceres.a also
+// instantiates: linked statically into a build for AVX2 (CMakeLists.txt,
+// AXIS_MARCH), the linker kept Ceres's baseline copy of part of it and this
+// executable crashed (cmake/ceres_shared.cmake). The SVD of a paper-sized
+// Jacobian (1204 × 5, singular values within a factor 10) against the square
+// roots of JᵀJ's eigenvalues; both routes round at about 1e-14 of the
+// largest, so 1e-10 of it is far above their difference.
+TEST(EigenWithCeresTest, RowMajorSvdOfAJacobianAgreesWithTheNormalEquations) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajor j(1204, 5);
+  for (int r = 0; r < j.rows(); ++r) {
+    for (int c = 0; c < j.cols(); ++c) {
+      j(r, c) = (c + 1.0) * std::sin(0.013 * (r + 1) * (c + 1)) + (r % 5 == c ? 1.0 : 0.0);
+    }
+  }
+  const Eigen::BDCSVD<RowMajor> svd(j, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::MatrixXd jtj = j.transpose() * j;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
+  const double largest = svd.singularValues()[0];
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_NEAR(svd.singularValues()[k], std::sqrt(eig.eigenvalues()[4 - k]), 1e-10 * largest);
+  }
+  const RowMajor back =
+      svd.matrixU() * svd.singularValues().asDiagonal() * svd.matrixV().transpose();
+  EXPECT_LT((back - j).norm(), 1e-10 * j.norm());
+}
+
 TEST(BootstrapTest, PaperStepRecordsAgreeWithGaussNewton) {
   FitJob job =
       Job("uncertainty: {method: likelihood_ratio, bootstrap: 8, block: 1, seed: 3}\n");
