@@ -413,13 +413,6 @@ FitJob Job(const std::string& extra) {
   return ParseFitJob(YAML::Load(PaperJobYaml(extra)), "job.yaml", kRoot);
 }
 
-// Residual bootstrap on the paper's step records (noisy, white residuals,
-// first 0.3 s): 8 refits. The bootstrap standard deviation estimates the
-// same spread as Gauss–Newton on this smooth record; with 8 replicates its
-// ratio to the truth lies in [0.45, 1.5] with 98 % probability (√(χ²₇/7)),
-// so each parameter's bootstrap error must be within a factor [0.4, 2] of
-// the Gauss–Newton one, and the percentile interval must contain the
-// estimate.
 // The row-major SVD CovarianceOfTheta takes, which Debian's libceres.a also
 // instantiates: linked statically into a build for AVX2 (CMakeLists.txt,
 // AXIS_MARCH), the linker kept Ceres's baseline copy of part of it and this
@@ -447,6 +440,13 @@ TEST(EigenWithCeresTest, RowMajorSvdOfAJacobianAgreesWithTheNormalEquations) {
   EXPECT_LT((back - j).norm(), 1e-10 * j.norm());
 }
 
+// Residual bootstrap on the paper's step records (noisy, white residuals,
+// first 0.3 s): 8 refits. The bootstrap standard deviation estimates the
+// same spread as Gauss–Newton on this smooth record; with 8 replicates its
+// ratio to the truth lies in [0.45, 1.5] with 98 % probability (√(χ²₇/7)),
+// so each parameter's bootstrap error must be within a factor [0.4, 2] of
+// the Gauss–Newton one, and the percentile interval must contain the
+// estimate.
 TEST(BootstrapTest, PaperStepRecordsAgreeWithGaussNewton) {
   FitJob job =
       Job("uncertainty: {method: likelihood_ratio, bootstrap: 8, block: 1, seed: 3}\n");
