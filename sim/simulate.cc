@@ -67,4 +67,8 @@ std::shared_ptr<const StageInputs> MakeStageInputs(const Drive& drive,
   return out;
 }
 
+// The instances sim/simulate.h declares extern.
+AXIS_SIMULATE_INSTANCES(, double)
+AXIS_SIMULATE_INSTANCES(, EventTimeJet)
+
 }  // namespace axis
