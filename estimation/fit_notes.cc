@@ -35,6 +35,11 @@ std::string IntegrationNote(const EstimationProblem& job) {
                 ? "quasi_steady (its fast limit, the voltage limit kept: "
                   "sim/axis_params.h CurrentLoop)"
                 : "full (eq. 3)");
+  } else if (job.model.structure.amplifier == Amplifier::kVoltageDrive) {
+    out << (job.model.structure.inductance
+                ? "; armature inductance L = " + FormatNumber(job.model.params.L, 3) +
+                      " H (the winding current a state, MODEL.md section 4)"
+                : std::string("; armature inductance neglected (MODEL.md section 4)"));
   }
   return out.str();
 }

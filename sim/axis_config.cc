@@ -68,6 +68,7 @@ std::vector<std::string> RequiredParams(const AxisStructure& s) {
     out.push_back("g_F");
   } else if (s.amplifier == Amplifier::kVoltageDrive) {
     for (const char* n : {"r_g", "J_m", "B_m", "K_tau", "K_e", "R"}) out.push_back(n);
+    if (s.inductance) out.push_back("L");
   } else {
     for (const char* n : {"r_g", "J_m", "B_m", "K_tau", "K_t", "T_z", "T_p",
                           "T_r", "K1", "K2", "K_i", "V_L"}) {
@@ -315,6 +316,12 @@ void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
                                         "vertical axis lifting m_g; a rotary joint under gravity "
                                         "is load: pendulum), got motion: rotary");
   }
+  if (s.inductance && s.amplifier != Amplifier::kVoltageDrive) {
+    throw std::invalid_argument(
+        where + ": key 'inductance': expected false with an amplifier other than voltage_drive "
+                "(the analog velocity loop's current is its own state y6, a current or force "
+                "source has none), got true");
+  }
   if (config.structure.current_loop == CurrentLoop::kQuasiSteady &&
       config.structure.amplifier != Amplifier::kAnalogVelocityLoop) {
     throw std::invalid_argument(
@@ -338,6 +345,7 @@ AxisConfig ParseAxisConfig(const YAML::Node& document, const std::string& path) 
   config.structure.coupling = ParseCoupling(root.Choice("coupling", kCouplings));
   config.structure.current_loop =
       ParseCurrentLoop(root.Choice("current_loop", kCurrentLoops, "full"));
+  config.structure.inductance = root.Choice("inductance", {"true", "false"}, "false") == "true";
   if (root.Has("accelerometer")) config.declared.insert("accelerometer");
   config.structure.accelerometer =
       ParseAccelerometer(root.Choice("accelerometer", kAccelerometer, "period_mean"));
@@ -420,6 +428,9 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
     if (map.Has("load")) model->structure.load = ParseLoad(map.Choice("load", kLoads));
     if (map.Has("current_loop")) {
       model->structure.current_loop = ParseCurrentLoop(map.Choice("current_loop", kCurrentLoops));
+    }
+    if (map.Has("inductance")) {
+      model->structure.inductance = map.Choice("inductance", {"true", "false"}) == "true";
     }
     if (map.Has("accelerometer")) {
       model->declared.insert("accelerometer");

@@ -41,8 +41,9 @@ struct AxisConfig {
 
 // Loads a model config. Throws std::invalid_argument as described above,
 // including for non-positive M, J_m, L, T_p, T_r, r_g, K_i, a voltage drive
-// with R ≤ 0, a pendulum on a linear axis or gravity on a rotary one, and
-// for amplifier: force_source without coupling: rigid.
+// with R ≤ 0, a pendulum on a linear axis or gravity on a rotary one,
+// `inductance: true` with an amplifier other than voltage_drive, and for
+// amplifier: force_source without coupling: rigid.
 AxisConfig LoadAxisConfig(const std::string& path);
 
 // As LoadAxisConfig, from a parsed YAML document; `path` names it in
@@ -86,8 +87,8 @@ void SetParam(AxisConfig* config, const std::string& name, double value,
 void ApplySetArgument(AxisConfig* config, const std::string& assignment);
 
 // The model overrides an experiment or job may declare next to `model:`:
-// `configuration:` (amplifier, coupling, current_loop, accelerometer,
-// instant_window, motion, load), `effects:` (as in a model config)
+// `configuration:` (amplifier, coupling, current_loop, inductance,
+// accelerometer, instant_window, motion, load), `effects:` (as in a model config)
 // and `set:` (parameter values by MODEL.md name). Re-validates the model.
 // Throws std::invalid_argument naming the file, line and key.
 void ParseModelOverrides(YamlMap& root, AxisConfig* model);

@@ -131,6 +131,8 @@ std::string AxisConfigToYaml(const AxisConfig& config) {
       << (config.structure.coupling == Coupling::kRigid ? "rigid" : "gear");
   out << YAML::Key << "current_loop" << YAML::Value
       << kCurrentLoops[static_cast<int>(config.structure.current_loop)];
+  out << YAML::Key << "inductance" << YAML::Value
+      << (config.structure.inductance ? "true" : "false");
   out << YAML::Key << "accelerometer" << YAML::Value
       << (config.structure.accelerometer == AccelerometerSampling::kInstant
               ? "instant"

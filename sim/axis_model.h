@@ -370,15 +370,19 @@ AmplifierSignals<T> AmplifierDerivative(const AxisStructure& structure,
     return out;
   }
   if (structure.amplifier == Amplifier::kVoltageDrive) {
-    // U on the terminals: i = (U − K_e·ω)/R. Off, the bridge is open: no
-    // current, and the terminals show the back-EMF.
+    // U on the terminals: i = (U − K_e·ω)/R, or with the inductance
+    // L·y6' = U − R·y6 − K_e·ω. Off, the bridge is open: no current, and
+    // the terminals show the back-EMF; an inductive winding's state then
+    // returns to 0 at its own rate R/L (MODEL.md §4).
     (*dy)[4] = (*dy)[5] = (*dy)[6] = T(0.0);
     out.vc = u;
-    if (drive_on) {
-      out.vm = u;
+    out.vm = drive_on ? u : T(p.K_e * omega);
+    if (structure.inductance) {
+      out.i = drive_on ? y[6] : T(0.0);
+      (*dy)[6] = drive_on ? T(c.inv_L * u - c.R_per_L * y[6] - c.K_e_per_L * omega)
+                          : T(-(c.R_per_L * y[6]));
+    } else if (drive_on) {
       out.i = c.inv_R * T(u - p.K_e * omega);
-    } else {
-      out.vm = p.K_e * omega;
     }
     return out;
   }

@@ -23,8 +23,10 @@ enum class Amplifier {
   kCurrentSource,       // y6 = K_i·V_c exactly; V_c clamped only if V_L finite
   kForceSource,         // F = g_F·U on the load; no motor or preamp states
   kVoltageDrive,        // U (V) on the motor's terminals (a PWM bridge from its
-                        // supply, no current loop): i = (U − K_e·ω)/R, the
-                        // armature inductance neglected; no preamp states
+                        // supply, no current loop): i = (U − K_e·ω)/R with the
+                        // armature inductance neglected (the default), or
+                        // L·y6' = U − R·y6 − K_e·ω with AxisStructure::inductance;
+                        // no preamp states
 };
 
 // Whether the load moves in a line or turns, MODEL.md §4: the units of the
@@ -134,6 +136,11 @@ enum class CurrentLoop {
 struct AxisStructure {
   Amplifier amplifier = Amplifier::kAnalogVelocityLoop;
   CurrentLoop current_loop = CurrentLoop::kFull;  // analog_velocity_loop only
+  // voltage_drive only (MODEL.md §4, model key `inductance`): the winding
+  // current is the state y6, L·y6' = U − R·y6 − K_e·ω, instead of its
+  // quasi-steady value (U − K_e·ω)/R. Its mode −R/L bounds the RK4 step
+  // (h ≤ 2.79·L/R; sim/auto_step.h takes it into account).
+  bool inductance = false;
   Coupling coupling = Coupling::kGear;
   Motion motion = Motion::kLinear;
   LoadTerm load = LoadTerm::kNone;

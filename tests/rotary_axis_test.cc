@@ -13,7 +13,9 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Dense>
 #include <ceres/jet.h>
+#include <unsupported/Eigen/MatrixFunctions>
 #include <gtest/gtest.h>
 
 #include "discovery/candidates.h"
@@ -26,6 +28,7 @@
 #include "sim/controller.h"
 #include "sim/drive_config.h"
 #include "sim/experiment_config.h"
+#include "sim/preflight.h"
 #include "sim/simulate.h"
 
 namespace axis {
@@ -102,6 +105,73 @@ TEST(VoltageDriveTest, SpeedFollowsTheMotorsFirstOrderStepResponse) {
     EXPECT_NEAR(trace[Channel::kI][j], (6.0 - p.K_e * omega) / p.R, 1e-9 * 6.0 / p.R);
     EXPECT_DOUBLE_EQ(trace[Channel::kVm][j], 6.0);
   }
+}
+
+// The armature circuit of an inductive winding (MODEL.md §4, `inductance:
+// true`) with K_e = 0: L·i' = U − R·i alone, so i(t) = U/R·(1 − e^{−Rt/L})
+// whatever the shaft does. L/R = 0.5 ms at a 10 µs step: RK4's global error
+// O((h·R/L)⁴/120) ≈ 1e-9 of U/R, so 1e-7 of it is far above it. The
+// stability limit's eigenvalue is the winding's −R/L exactly (the matrix is
+// triangular) and its bound 2.785/|λ| (Rk4StabilityLimitOf, sim/preflight.h).
+TEST(VoltageDriveTest, InductiveWindingsCurrentRisesWithItsTimeConstant) {
+  AxisStructure s = RotaryStructure(LoadTerm::kNone);
+  s.inductance = true;
+  AxisParams<double> p = RotaryParams();
+  p.K_e = 0.0;
+  p.L = 2.0e-3;
+  Drive drive;
+  drive.input = Constant(6.0);
+  const Trace<double> trace =
+      Simulated(s, p, AxisState<double>::Zero(), drive, 5e-3, 1e-5, 1e-4, {Channel::kI});
+  ASSERT_TRUE(trace.finite);
+  const double i_ss = 6.0 / p.R;
+  for (size_t j = 0; j < trace.t.size(); ++j) {
+    const double t = trace.t[j];
+    EXPECT_NEAR(trace[Channel::kI][j], i_ss * (1.0 - std::exp(-p.R * t / p.L)), 1e-7 * i_ss)
+        << "t = " << t;
+  }
+  const Rk4StabilityLimit limit = Rk4StabilityLimitOf(s, p);
+  EXPECT_NEAR(limit.eigenvalue.real(), -p.R / p.L, 1e-9 * p.R / p.L);
+  EXPECT_NEAR(limit.max_step * p.R / p.L, 2.7853, 1e-3);
+  // Without the inductance the current is at (U − K_e·ω)/R at once and the
+  // winding sets no step limit.
+  s.inductance = false;
+  EXPECT_GT(Rk4StabilityLimitOf(s, p).max_step, 100.0 * p.L / p.R);
+}
+
+// The inductive DC motor is linear in x = (ω, i): J·ω' = K_τ·i − B·ω,
+// L·i' = U − R·i − K_e·ω, so x(t) = x_ss + e^{At}·(x(0) − x_ss), against
+// Eigen's matrix exponential (unsupported/MatrixFunctions, Padé with
+// scaling and squaring: an independent route). L/R = 12.5 ms beside a
+// mechanical 56 ms: the current overshoots its steady value (U − K_e·ω_ss)/R,
+// which is the neglected form's. RK4 at 0.1 ms: error O((h/τ)⁴) ≈ 1e-9 of
+// the scales, so 1e-7 of ω_ss and of U/R.
+TEST(VoltageDriveTest, InductiveMotorFollowsTheMatrixExponential) {
+  AxisStructure s = RotaryStructure(LoadTerm::kNone);
+  s.inductance = true;
+  AxisParams<double> p = RotaryParams();
+  p.L = 0.05;
+  Drive drive;
+  drive.input = Constant(6.0);
+  const Trace<double> trace = Simulated(s, p, AxisState<double>::Zero(), drive, 0.4, 1e-4, 1e-3,
+                                        {Channel::kV, Channel::kI});
+  ASSERT_TRUE(trace.finite);
+  const double J = p.J_m + p.M;
+  const double B = p.B_m + p.B_a;
+  Eigen::Matrix2d a;
+  a << -B / J, p.K_tau / J, -p.K_e / p.L, -p.R / p.L;
+  const Eigen::Vector2d b(0.0, 6.0 / p.L);
+  const Eigen::Vector2d x_ss = -a.partialPivLu().solve(b);
+  EXPECT_NEAR(x_ss[1], (6.0 - p.K_e * x_ss[0]) / p.R, 1e-12);
+  double peak = 0.0;
+  for (size_t j = 0; j < trace.t.size(); ++j) {
+    const Eigen::Matrix2d e = (a * trace.t[j]).exp();
+    const Eigen::Vector2d x = x_ss - e * x_ss;
+    EXPECT_NEAR(trace[Channel::kV][j], x[0], 1e-7 * x_ss[0]) << "t = " << trace.t[j];
+    EXPECT_NEAR(trace[Channel::kI][j], x[1], 1e-7 * 6.0 / p.R) << "t = " << trace.t[j];
+    peak = std::max(peak, trace[Channel::kI][j]);
+  }
+  EXPECT_GT(peak, 1.5 * x_ss[1]);  // the winding's lag shows: not a first-order rise
 }
 
 // Drive off: a pendulum with no friction swings about x = −θ_p with period
@@ -372,6 +442,28 @@ TEST(RotaryConfigTest, APendulumNeedsARotaryAxisAndItsMassAndLength) {
   no_resistance.replace(no_resistance.find("R: 4"), 4, "R: 0");
   EXPECT_NE(ConfigError(no_resistance)
                 .find("parameter 'R': expected a winding resistance > 0"),
+            std::string::npos);
+}
+
+// `inductance: true` makes L a parameter the config must give, survives
+// the round trip, and is refused beside any amplifier but the voltage drive.
+TEST(RotaryConfigTest, AnInductiveWindingNeedsItsInductanceAndAVoltageDrive) {
+  const std::string inductive = std::string(kPendulumConfig) + "inductance: true\n";
+  EXPECT_NE(ConfigError(inductive).find("parameters.L': expected a value"), std::string::npos);
+  std::string with_l = inductive;
+  with_l.replace(with_l.find("R: 4"), 4, "R: 4, L: 0.002");
+  const AxisConfig c = ParseAxisConfig(YAML::Load(with_l), "t.yaml");
+  EXPECT_TRUE(c.structure.inductance);
+  EXPECT_EQ(c.params.L, 0.002);
+  EXPECT_FALSE(ParseAxisConfig(YAML::Load(kPendulumConfig), "t.yaml").structure.inductance);
+  const AxisConfig back = ParseAxisConfig(YAML::Load(AxisConfigToYaml(c)), "back.yaml");
+  EXPECT_TRUE(back.structure.inductance);
+  EXPECT_EQ(back.params.L, 0.002);
+  AxisConfig source = c;
+  YamlMap root(YAML::Load("{configuration: {amplifier: force_source}}"), "j.yaml", "");
+  EXPECT_NE(ErrorOf([&] { ParseModelOverrides(root, &source); })
+                .find("key 'inductance': expected false with an amplifier other than "
+                      "voltage_drive"),
             std::string::npos);
 }
 
