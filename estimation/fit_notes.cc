@@ -37,9 +37,9 @@ std::string IntegrationNote(const EstimationProblem& job) {
                 : "full (eq. 3)");
   } else if (job.model.structure.amplifier == Amplifier::kVoltageDrive) {
     out << (job.model.structure.inductance
-                ? "; armature inductance L = " + FormatNumber(job.model.params.L, 3) +
-                      " H (the winding current a state, MODEL.md section 4)"
-                : std::string("; armature inductance neglected (MODEL.md section 4)"));
+                ? "; armature inductance L kept (the winding current a state, MODEL.md "
+                  "section 4)"
+                : "; armature inductance neglected (MODEL.md section 4)");
   }
   return out.str();
 }

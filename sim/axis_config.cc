@@ -416,6 +416,9 @@ AxisState<double> ConsistentInitialState(const AxisConfig& config,
 
 void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
   const std::string& path = root.file();
+  const bool inductive_before = model->structure.inductance;
+  YAML::Node inductance_node;  // where `configuration: {inductance: …}` is, if given
+  bool sets_inductance_value = false;
   if (const YAML::Node node = root.Optional("configuration")) {
     YamlMap map(node, path, "configuration.");
     if (map.Has("amplifier")) {
@@ -430,6 +433,7 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
       model->structure.current_loop = ParseCurrentLoop(map.Choice("current_loop", kCurrentLoops));
     }
     if (map.Has("inductance")) {
+      inductance_node = node;
       model->structure.inductance = map.Choice("inductance", {"true", "false"}) == "true";
     }
     if (map.Has("accelerometer")) {
@@ -451,6 +455,7 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
     YamlMap map(node, path, "set.");
     for (const auto& entry : node) {
       const std::string name = entry.first.Scalar();
+      if (name == "L") sets_inductance_value = true;
       if (FindParam(&model->params, name) == nullptr) {
         ThrowConfigError(path, entry.first, "set." + name,
                          "a parameter name of the model (MODEL.md sections 2 "
@@ -464,6 +469,15 @@ void ParseModelOverrides(YamlMap& root, AxisConfig* model) {
           map.Number(name, range == Range::kPositiveOrInfinite ? range : Range::kAny);
     }
     map.Finish();
+  }
+  // Switched on here, the inductance needs its value here too: the model
+  // config that left it off was not asked for L (RequiredParams), and L's
+  // default is the X axis motor's.
+  if (!inductive_before && model->structure.inductance && !sets_inductance_value) {
+    ThrowConfigError(path, inductance_node, root.KeyPath("configuration.inductance"),
+                     "set: {L: <armature inductance, H>} beside it (the model config "
+                     "switches the inductance off and need not give L)",
+                     "true without set.L");
   }
   ValidateAxisConfig(*model, path);
 }

@@ -90,7 +90,8 @@ void ApplySetArgument(AxisConfig* config, const std::string& assignment);
 // `configuration:` (amplifier, coupling, current_loop, inductance,
 // accelerometer, instant_window, motion, load), `effects:` (as in a model config)
 // and `set:` (parameter values by MODEL.md name). Re-validates the model.
-// Throws std::invalid_argument naming the file, line and key.
+// Throws std::invalid_argument naming the file, line and key, also where
+// `configuration:` switches the inductance on without `set: {L: …}`.
 void ParseModelOverrides(YamlMap& root, AxisConfig* model);
 
 // The initial state made consistent with the coupling: in rigid coupling

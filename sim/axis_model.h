@@ -354,11 +354,13 @@ struct AmplifierSignals {
 };
 
 // The amplifier (eq. 2, y4–y5; eq. 3, y6 under the full current loop; the
-// voltage drive of §4): writes dy[4..6] (dy[6] = 0 under the quasi-steady
-// loop, QuasiSteadyCurrent sets it after ω') and *preamp where it is
-// kFromState. With the drive off (`drive_on` false, §4 drive enable) a
-// voltage drive or a current source passes no current; the analog loop
-// ignores it (the loaders refuse an enable channel there).
+// voltage drive of §4, y6 its winding current with structure.inductance):
+// writes dy[4..6] (dy[6] = 0 under the quasi-steady loop,
+// QuasiSteadyCurrent sets it after ω') and *preamp where it is kFromState.
+// With the drive off (`drive_on` false, §4 drive enable) a voltage drive or
+// a current source passes no current (an inductive winding's y6 then
+// returns to 0 at R/L); the analog loop ignores it (the loaders refuse an
+// enable channel there).
 template <typename T>
 AmplifierSignals<T> AmplifierDerivative(const AxisStructure& structure,
                                         const AxisParams<T>& p, const AxisCoefficients<T>& c,

@@ -138,8 +138,9 @@ struct AxisStructure {
   CurrentLoop current_loop = CurrentLoop::kFull;  // analog_velocity_loop only
   // voltage_drive only (MODEL.md §4, model key `inductance`): the winding
   // current is the state y6, L·y6' = U − R·y6 − K_e·ω, instead of its
-  // quasi-steady value (U − K_e·ω)/R. Its mode −R/L bounds the RK4 step
-  // (h ≤ 2.79·L/R; sim/auto_step.h takes it into account).
+  // quasi-steady value (U − K_e·ω)/R. Its fast mode (about −R/L where L/R is
+  // far below the mechanics') bounds the RK4 step (about 2.785·L/R;
+  // sim/auto_step.h takes it into account).
   bool inductance = false;
   Coupling coupling = Coupling::kGear;
   Motion motion = Motion::kLinear;
