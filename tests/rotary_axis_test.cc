@@ -63,6 +63,11 @@ AxisParams<double> RotaryParams() {
   return p;
 }
 
+// The one shaft's inertia and viscous damping without a pendulum (r_g = 1,
+// MODEL.md §4 rigid: J = J_m + r_g²·M, B = B_m + r_g²·B_a).
+double ShaftInertia(const AxisParams<double>& p) { return p.J_m + p.M; }
+double ShaftDamping(const AxisParams<double>& p) { return p.B_m + p.B_a; }
+
 Trace<double> Simulated(const AxisStructure& s, const AxisParams<double>& p, const AxisState<double>& y0,
                         const Drive& drive, double duration, double step, double output_period,
                         std::vector<Channel> channels) {
@@ -92,8 +97,8 @@ TEST(VoltageDriveTest, SpeedFollowsTheMotorsFirstOrderStepResponse) {
   drive.input = Constant(6.0);
   const Trace<double> trace = Simulated(s, p, AxisState<double>::Zero(), drive, 0.5, 1e-4, 1e-3,
                                   {Channel::kV, Channel::kI, Channel::kVm});
-  const double J = p.J_m + p.M;
-  const double B = p.B_m + p.B_a;
+  const double J = ShaftInertia(p);
+  const double B = ShaftDamping(p);
   const double k = p.K_tau * p.K_e + p.R * B;
   const double omega_ss = p.K_tau * 6.0 / k;
   const double tau = J * p.R / k;
@@ -137,8 +142,8 @@ TEST(VoltageDriveTest, InductiveWindingsCurrentRisesWithItsTimeConstant) {
                                         {Channel::kI, Channel::kV});
   ASSERT_TRUE(trace.finite);
   const double i_ss = 6.0 / p.R;
-  const double J = p.J_m + p.M;
-  const double B = p.B_m + p.B_a;
+  const double J = ShaftInertia(p);
+  const double B = ShaftDamping(p);
   double omega_off = 0.0;
   for (size_t j = 0; j < trace.t.size(); ++j) {
     const double t = trace.t[j];
@@ -181,8 +186,8 @@ TEST(VoltageDriveTest, InductiveMotorFollowsTheMatrixExponential) {
   const Trace<double> trace = Simulated(s, p, AxisState<double>::Zero(), drive, 0.4, 1e-4, 1e-3,
                                         {Channel::kV, Channel::kI});
   ASSERT_TRUE(trace.finite);
-  const double J = p.J_m + p.M;
-  const double B = p.B_m + p.B_a;
+  const double J = ShaftInertia(p);
+  const double B = ShaftDamping(p);
   Eigen::Matrix2d a;
   a << -B / J, p.K_tau / J, -p.K_e / p.L, -p.R / p.L;
   const Eigen::Vector2d b(0.0, 6.0 / p.L);
@@ -399,7 +404,7 @@ TEST(LoadFrictionTest, EachDirectionHasItsCoefficient) {
   without.effects.load_friction = false;
   AxisDerivative(without, p, y, 5.0, &off);
   const double i_now = (5.0 - p.K_e * 0.1) / p.R;
-  const double J = p.J_m + p.M;
+  const double J = ShaftInertia(p);
   EXPECT_NEAR(on[1] - off[1], -0.2 * p.K_tau * i_now / J, 1e-12);
 }
 
