@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/concurrency.h"
 #include "common/gnuplot.h"
 #include "common/statistics.h"
 #include "estimation/evaluate_experiment.h"
@@ -196,16 +197,22 @@ std::string DiagnosticsPlotScript(const ChannelDiagnostics& d, const std::string
 void WriteDiagnostics(const std::string& dir,
                       const std::vector<ChannelDiagnostics>& diags,
                       std::vector<std::string>* warnings) {
-  for (const ChannelDiagnostics& d : diags) {
+  // Several gnuplot runs at once (ProcessThreads), the warnings in order.
+  std::vector<std::string> failed(diags.size());
+  ForEachConcurrently(diags.size(), ProcessThreads(), [&](size_t k) {
+    const ChannelDiagnostics& d = diags[k];
     const std::string stem = dir + "/diag_" + d.experiment + "_" + d.channel;
     WriteDiagnosticsCsv(stem + ".csv", d);
-    std::string warning;
     const auto script = [&](const std::string& png) {
       return DiagnosticsPlotScript(d, stem + ".csv", png, false);
     };
+    std::string warning;
     if (!RenderGnuplotPng(stem + ".png", script, d.experiment + " " + d.channel, &warning)) {
-      if (warnings) warnings->push_back(warning);
+      failed[k] = warning;
     }
+  });
+  for (const std::string& warning : failed) {
+    if (warnings != nullptr && !warning.empty()) warnings->push_back(warning);
   }
 }
 

@@ -87,6 +87,10 @@ CurrentLoopCheck CheckCurrentLoop(const EstimationProblem& job, const FitResult&
       }
     }
     AsWarmRefit(&refit);
+    // The refit's minimum lies a shift of about a standard error from the
+    // estimate it starts at: Gauss–Newton steps from the start, as a local
+    // restart runs (EstimationProblem::start_near_minimum).
+    refit.start_near_minimum = true;
     refit.solver.progress = false;
     const FitResult moved = FitParameters(refit, nullptr);
     if (!std::isfinite(moved.final_cost)) {

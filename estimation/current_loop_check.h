@@ -73,7 +73,8 @@ EstimationProblem WithFullLoop(const EstimationProblem& job, double* step = null
 // simulates every fitted experiment with the full loop (WithFullLoop) at
 // the estimate `result`, refits the job's
 // quasi-steady model to those noise-free traces from the estimate (one
-// warm Levenberg–Marquardt run, estimation/fit.h AsWarmRefit) and reports how far
+// warm Levenberg–Marquardt run, estimation/fit.h AsWarmRefit, from Ceres'
+// default trust region: EstimationProblem::start_near_minimum) and reports how far
 // each free parameter moved: to first order the bias the approximation
 // puts into the estimate (the Gauss–Newton step (JᵀJ)⁻¹Jᵀe of the model
 // error e). `result` must be a fit of `job` with an estimate (its

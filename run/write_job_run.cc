@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "common/concurrency.h"
 #include "io/output_staging.h"
 #include "design/experiment_design.h"
 #include "discovery/diagnostics.h"
@@ -19,10 +20,10 @@
 namespace axis {
 namespace {
 
-// WriteJobRun's files, into the existing folder `dir` (no staging).
-void WriteJobRunFiles(const JobRun& run, const std::string& dir,
+// WriteJobRun's files other than WriteFitOutputs', into the existing
+// folder `dir`.
+void WriteReportFiles(const JobRun& run, const std::string& dir,
                       std::vector<std::string>* warnings) {
-  WriteFitOutputs(dir, run.result, run.job.title, warnings, run.sections);
   HtmlReportInput html;
   html.title = run.job.title;
   html.result = &run.result;
@@ -76,6 +77,28 @@ void WriteJobRunFiles(const JobRun& run, const std::string& dir,
                     "# effects the data asked for. Loadable by simulate-axis and\n"
                     "# fit-params as a model config.\n" +
                         AxisConfigToYaml(discovered));
+  }
+}
+
+// WriteJobRun's files, into the existing folder `dir` (no staging). The
+// experiments' PNGs (WriteFitOutputs) are drawn while the report's plots
+// are, two sets of gnuplot runs at once rather than one after the other
+// (each file is written by one of them; gnuplot's temporary names are
+// unique per process and call, common/gnuplot.h); the warnings in that
+// order.
+void WriteJobRunFiles(const JobRun& run, const std::string& dir,
+                      std::vector<std::string>* warnings) {
+  std::vector<std::string> fit_warnings, report_warnings;
+  ForEachConcurrently(2, 2, [&](size_t part) {
+    if (part == 0) {
+      WriteFitOutputs(dir, run.result, run.job.title, &fit_warnings, run.sections);
+    } else {
+      WriteReportFiles(run, dir, &report_warnings);
+    }
+  });
+  if (warnings == nullptr) return;
+  for (std::vector<std::string>* part : {&fit_warnings, &report_warnings}) {
+    warnings->insert(warnings->end(), part->begin(), part->end());
   }
 }
 

@@ -53,6 +53,12 @@ constexpr int kReweightPasses = 2;
 // restarts, the profile refits, a start_near_minimum problem): Ceres'
 // default, nearly Gauss–Newton steps.
 constexpr double kNearTrustRegionRadius = 1e4;
+// A local restart stops once a step lowers the cost by less than ½·δ²·s²,
+// what a Gauss–Newton step of δ = kRestartStepSe standard errors lowers it
+// by (the cost is ½Σ(r/σ)², s² = 2·cost/dof): it is then back at a
+// minimum to a small fraction of a standard error, and a lower one would
+// show as a cost lower by more than that.
+constexpr double kRestartStepSe = 0.05;
 
 }  // namespace
 
@@ -830,10 +836,17 @@ bool Fitter::LocalRestarts() {
   // describes: Ceres' default trust region (nearly Gauss–Newton steps)
   // instead of the job's damped start, which is for starts far from the
   // data (3 iterations instead of 8–9 on the paper job, the same estimate).
+  // The stop (kRestartStepSe) is Ceres' function tolerance, relative to
+  // the cost, which it tests before it evaluates the Jacobian at the
+  // accepted point (as the profile refits' stop, Intervals): ½δ²s²/cost* =
+  // δ²/dof. The callback holds it for restarts that end below cost*.
   ceres::Solver::Options o = near_options_;
   o.max_num_iterations = std::min(o.max_num_iterations, 50);
   o.initial_trust_region_radius = kNearTrustRegionRadius;
-  AbsoluteDecreaseStop stop(kLowerAbsolute);
+  o.function_tolerance =
+      std::max(o.function_tolerance, kRestartStepSe * kRestartStepSe / dof_);
+  AbsoluteDecreaseStop stop(std::max(
+      kLowerAbsolute, 0.5 * kRestartStepSe * kRestartStepSe * result_.residual_variance));
   o.callbacks.push_back(&stop);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov_theta_ * result_.residual_variance);
   if (status_ != nullptr) status_->BeginPhase("local restarts");
