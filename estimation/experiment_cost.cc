@@ -4,19 +4,22 @@
 #include <stdexcept>
 
 #include "estimation/estimation_problem.h"
+#include "estimation/internal/last_jacobian_memo.h"
 
 namespace axis {
 namespace {
 
 // A Ceres dynamic autodiff cost with derivative chunks of `Stride`: one pass
-// of the simulator per Jacobian when θ has at most Stride entries.
+// of the simulator per Jacobian when θ has at most Stride entries; its last
+// Jacobian remembered (internal/last_jacobian_memo.h).
 template <int Stride>
-ceres::CostFunction* MakeDynamic(ExperimentCost* functor, int theta_size) {
+ceres::CostFunction* MakeDynamic(ExperimentCost* functor, int theta_size,
+                                 const SampleSigmas* sample_sigma) {
   auto* cost = new ceres::DynamicAutoDiffCostFunction<ExperimentCost, Stride>(
       functor);
   cost->AddParameterBlock(theta_size);
   cost->SetNumResiduals(functor->num_residuals());
-  return cost;
+  return new LastJacobianMemo(cost, sample_sigma);
 }
 
 }  // namespace
@@ -82,11 +85,11 @@ ceres::CostFunction* ExperimentCost::Create(const AxisStructure& structure,
   // Strides instantiated: each is a full Jet instantiation of the simulator
   // (the plant's narrower Jets in SimulateAt, experiment_cost.h, use the same
   // widths: keep the two lists alike).
-  if (theta_size <= 4) return MakeDynamic<4>(functor, theta_size);
-  if (theta_size <= 5) return MakeDynamic<5>(functor, theta_size);
-  if (theta_size <= 6) return MakeDynamic<6>(functor, theta_size);
-  if (theta_size <= 8) return MakeDynamic<8>(functor, theta_size);
-  return MakeDynamic<12>(functor, theta_size);
+  if (theta_size <= 4) return MakeDynamic<4>(functor, theta_size, sample_sigma);
+  if (theta_size <= 5) return MakeDynamic<5>(functor, theta_size, sample_sigma);
+  if (theta_size <= 6) return MakeDynamic<6>(functor, theta_size, sample_sigma);
+  if (theta_size <= 8) return MakeDynamic<8>(functor, theta_size, sample_sigma);
+  return MakeDynamic<12>(functor, theta_size, sample_sigma);
 }
 
 }  // namespace axis

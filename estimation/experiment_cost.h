@@ -101,7 +101,11 @@ class ExperimentCost {
   // is Σ over fitted channels of the sample count. `sample_sigma`, if not
   // null, holds the per-sample σ_k the residuals are divided by where it
   // has one per sample for a channel (read at each evaluation: the fit may
-  // change it between solves); it must outlive the cost.
+  // change it between solves); it must outlive the cost. An evaluation
+  // with a Jacobian at the point (and per-sample σ) of the last successful
+  // one answers from memory, bit for bit the same
+  // (estimation/internal/last_jacobian_memo.h): the covariance at a fit's
+  // end re-reads the solver's last Jacobian.
   static ceres::CostFunction* Create(const AxisStructure& structure,
                                      const ParameterMap& map,
                                      const FitExperiment& experiment,

@@ -194,6 +194,66 @@ TEST(ExperimentCostTest, SensorColumnsMatchCentralDifferences) {
   }
 }
 
+// The cost remembers its last Jacobian (estimation/internal/last_jacobian_memo.h):
+// a second evaluation at the same θ and σ simulates nothing and returns the
+// same numbers bit for bit; another θ, or a per-sample σ changed in place,
+// simulates again, and the residuals then follow the new σ; residual-only
+// evaluations always simulate.
+TEST(ExperimentCostTest, RepeatedJacobianAtTheSamePointComesFromMemory) {
+  const FitJob job = FrontEndJob();
+  const ParameterMap map(job.problem.model.params, job.problem.free);
+  const FitExperiment& e = job.problem.experiments[0];
+  std::vector<double> theta = InitialTheta(job);
+  const int n = static_cast<int>(theta.size());
+  SampleSigmas sigma(e.fitted.size());
+  EvaluationCounter counter;
+  std::unique_ptr<ceres::CostFunction> cost(ExperimentCost::Create(
+      job.problem.model.structure, map, e, n, -1, &counter, &sigma));
+  const size_t m = static_cast<size_t>(cost->num_residuals());
+  const auto evaluate = [&](std::vector<double>* r, std::vector<double>* jac) {
+    r->assign(m, 0.0);
+    jac->assign(m * n, 0.0);
+    const double* params[] = {theta.data()};
+    double* jacobians[] = {jac->data()};
+    return cost->Evaluate(params, r->data(), jacobians);
+  };
+  std::vector<double> r1, j1, r2, j2;
+  ASSERT_TRUE(evaluate(&r1, &j1));
+  EXPECT_EQ(counter.jacobians.load(), 1);
+  ASSERT_TRUE(evaluate(&r2, &j2));
+  EXPECT_EQ(counter.jacobians.load(), 1);
+  EXPECT_EQ(r1, r2);
+  EXPECT_EQ(j1, j2);
+  // Residual-only: simulated (the guard's one-direction Jet), the memory kept.
+  std::vector<double> r_only(m);
+  const double* params[] = {theta.data()};
+  ASSERT_TRUE(cost->Evaluate(params, r_only.data(), nullptr));
+  EXPECT_EQ(counter.simulations.load(), 1);
+  ASSERT_TRUE(evaluate(&r2, &j2));
+  EXPECT_EQ(counter.jacobians.load(), 1);
+  // Another point.
+  theta[0] += 1e-3;
+  ASSERT_TRUE(evaluate(&r2, &j2));
+  EXPECT_EQ(counter.jacobians.load(), 2);
+  EXPECT_NE(r1, r2);
+  theta[0] -= 1e-3;
+  ASSERT_TRUE(evaluate(&r2, &j2));
+  EXPECT_EQ(counter.jacobians.load(), 3);
+  EXPECT_EQ(r1, r2);
+  // The first channel's σ doubled in place for every sample: evaluated
+  // again, its residuals and their rows halved (the weights are 1/σ_k).
+  const FittedChannel& first = e.fitted[0];
+  const size_t rows = e.Measured(first.channel).size();
+  sigma[0].assign(rows, 2.0 * first.sigma);
+  ASSERT_TRUE(evaluate(&r2, &j2));
+  EXPECT_EQ(counter.jacobians.load(), 4);
+  for (size_t k = 0; k < rows; k += 97) {
+    EXPECT_DOUBLE_EQ(r2[k], 0.5 * r1[k]) << k;
+    EXPECT_DOUBLE_EQ(j2[k * n], 0.5 * j1[k * n]) << k;
+  }
+  EXPECT_EQ(r2[rows], r1[rows]);  // the next channel's unchanged
+}
+
 // The stacked Jacobian simulates the records side by side on
 // job.solver.threads threads, each into its own rows: on one thread and on
 // two it is the same, bit for bit, and its rows are each record's own

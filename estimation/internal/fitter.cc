@@ -183,7 +183,8 @@ void Fitter::SetSolverOptions() {
   // interpolation evaluates the gradient, i.e. the whole Jacobian, at the
   // full step before the candidate's cost is evaluated there again: an
   // iteration costs two Jacobians and one simulation instead of one of
-  // each. Without it the step is still projected onto the bounds (the box's
+  // each (the second is answered from memory where the full step is
+  // accepted, estimation/internal/last_jacobian_memo.h). Without it the step is still projected onto the bounds (the box's
   // Plus) and judged by the trust-region ratio, as without bounds. The
   // starts keep it: from random starts far from the data it helps (without
   // it FitTest.MultiStartReachesTheTruthFromRandomStarts reached the truth
