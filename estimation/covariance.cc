@@ -27,22 +27,38 @@ Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, int threads,
   // axis chirp at 500 Hz): no covariance then.
   if (!evaluated || !jtj.allFinite() || !j.allFinite()) return out;
   // ceres::Covariance's DENSE_SVD (covariance_impl.cc
-  // ComputeCovarianceValuesUsingDenseSVD): J = U·S·Vᵀ by Eigen's BDCSVD,
-  // the covariance V·S⁻²·Vᵀ; with a singular value below
-  // √kMinReciprocalCondition of the largest, the pseudo-inverse over the
-  // singular values above it (Ceres: null_space_rank −1 after 0 failed).
-  Eigen::BDCSVD<DenseJacobian> svd(j, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  // ComputeCovarianceValuesUsingDenseSVD): the covariance V·S⁻²·Vᵀ from
+  // J = U·S·Vᵀ; with a singular value below √kMinReciprocalCondition of the
+  // largest, the pseudo-inverse over the singular values above it (Ceres:
+  // null_space_rank −1 after 0 failed).
+  return CovarianceOfJacobian(j);
+}
+
+Eigen::MatrixXd CovarianceOfJacobian(const Eigen::MatrixXd& j) {
+  const Eigen::Index n = j.cols();
+  Eigen::MatrixXd out =
+      Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::quiet_NaN());
+  if (n == 0 || j.rows() == 0) return out;
+  // The R-SVD: J = Q·R, then R = U_R·S·Vᵀ. Eigen's BDCSVD of the whole
+  // row-major J took 36 s to compile in this file alone; a Jacobi SVD of
+  // the small R is as accurate (it is Eigen's choice for small matrices).
+  Eigen::MatrixXd small;
+  if (j.rows() >= n) {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(j);
+    small = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
+  } else {
+    small = j;
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(small, Eigen::ComputeFullV);
   const Eigen::VectorXd singular = svd.singularValues();
   if (singular.size() == 0 || !(singular[0] > 0.0)) return out;
   const double min_ratio = std::sqrt(kMinReciprocalCondition);
-  Eigen::VectorXd inverse_squared = Eigen::VectorXd::Zero(singular.size());
+  Eigen::VectorXd inverse_squared = Eigen::VectorXd::Zero(n);
   for (Eigen::Index i = 0; i < singular.size(); ++i) {
     if (singular[i] / singular[0] < min_ratio) break;
     inverse_squared[i] = 1.0 / (singular[i] * singular[i]);
   }
-  const DenseJacobian c =  // row-major, as Ceres forms it
-      svd.matrixV() * inverse_squared.asDiagonal() * svd.matrixV().transpose();
-  out = c;
+  out = svd.matrixV() * inverse_squared.asDiagonal() * svd.matrixV().transpose();
   return out;
 }
 

@@ -29,6 +29,16 @@ constexpr double kMinReciprocalCondition = 1e-14;
 Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, int threads,
                                   Eigen::MatrixXd* jtj_out);
 
+// (JᵀJ)⁻¹ from the m × n Jacobian `j` (any m ≥ 1, n ≥ 1) as ceres::Covariance's
+// DENSE_SVD forms it: V·S⁻²·Vᵀ over the singular values above
+// √kMinReciprocalCondition of the largest (the pseudo-inverse where JᵀJ is
+// rank deficient), n × n; NaN if `j` has no positive singular value. The
+// SVD is taken of R in J = Q·R (Householder QR, R n × n) where m ≥ n, which
+// has J's singular values and right singular vectors (Q's columns are
+// orthonormal; Golub & Van Loan, "Matrix Computations", 4th ed., §8.6.3,
+// R-SVD), by Eigen's two-sided Jacobi SVD. Never throws but std::bad_alloc.
+Eigen::MatrixXd CovarianceOfJacobian(const Eigen::MatrixXd& j);
+
 // Free parameters (the first n_free of θ) that lie in the numerical null
 // space of the weighted Jacobian whose JᵀJ over them is `jtj` (n_free ×
 // n_free): the columns are scaled to unit norm (so units do not matter),

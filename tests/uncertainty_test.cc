@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "common/statistics.h"
+#include "estimation/covariance.h"
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
 #include "estimation/uncertainty.h"
@@ -413,31 +414,59 @@ FitJob Job(const std::string& extra) {
   return ParseFitJob(YAML::Load(PaperJobYaml(extra)), "job.yaml", kRoot);
 }
 
-// The row-major SVD CovarianceOfTheta takes, which Debian's libceres.a also
-// instantiates: linked statically into a build for AVX2 (CMakeLists.txt,
-// AXIS_MARCH), the linker kept Ceres's baseline copy of part of it and this
-// executable crashed (cmake/ceres_shared.cmake). The SVD of a paper-sized
-// Jacobian (1204 × 5, singular values within a factor 10) against the square
-// roots of JᵀJ's eigenvalues; both routes round at about 1e-14 of the
-// largest, so 1e-10 of it is far above their difference.
-TEST(EigenWithCeresTest, RowMajorSvdOfAJacobianAgreesWithTheNormalEquations) {
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  RowMajor j(1204, 5);
-  for (int r = 0; r < j.rows(); ++r) {
-    for (int c = 0; c < j.cols(); ++c) {
-      j(r, c) = (c + 1.0) * std::sin(0.013 * (r + 1) * (c + 1)) + (r % 5 == c ? 1.0 : 0.0);
+// CovarianceOfJacobian (the R-SVD) against the normal equations solved
+// independently: on a paper-sized Jacobian (1204 × 5, singular values
+// within a factor of about 10) (JᵀJ)⁻¹ by Cholesky (LDLT); both round at
+// about κ(JᵀJ)·1e-16 ≈ 1e-14 of the largest entry, so 1e-10 of it is far
+// above their difference. With a column repeated (rank 5 of 6) the
+// pseudo-inverse over JᵀJ's non-zero eigenvalues (SelfAdjointEigenSolver):
+// a plain inverse would be far off or not finite there. And a Jacobian
+// with fewer rows than columns takes the SVD of J itself.
+Eigen::MatrixXd SmoothJacobian(int rows, int cols) {
+  Eigen::MatrixXd j(rows, cols);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      j(r, c) = (c + 1.0) * std::sin(0.013 * (r + 1) * (c + 1)) + (r % cols == c ? 1.0 : 0.0);
     }
   }
-  const Eigen::BDCSVD<RowMajor> svd(j, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::MatrixXd jtj = j.transpose() * j;
+  return j;
+}
+
+Eigen::MatrixXd PseudoInverseOf(const Eigen::MatrixXd& jtj) {
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
-  const double largest = svd.singularValues()[0];
-  for (int k = 0; k < 5; ++k) {
-    EXPECT_NEAR(svd.singularValues()[k], std::sqrt(eig.eigenvalues()[4 - k]), 1e-10 * largest);
+  const double largest = eig.eigenvalues().maxCoeff();
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(jtj.rows());
+  for (Eigen::Index i = 0; i < jtj.rows(); ++i) {
+    if (eig.eigenvalues()[i] > 1e-12 * largest) inverse[i] = 1.0 / eig.eigenvalues()[i];
   }
-  const RowMajor back =
-      svd.matrixU() * svd.singularValues().asDiagonal() * svd.matrixV().transpose();
-  EXPECT_LT((back - j).norm(), 1e-10 * j.norm());
+  return eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+TEST(CovarianceTest, RSvdAgreesWithTheNormalEquations) {
+  const Eigen::MatrixXd j = SmoothJacobian(1204, 5);
+  const Eigen::MatrixXd jtj = j.transpose() * j;
+  const Eigen::MatrixXd expected = jtj.ldlt().solve(Eigen::MatrixXd::Identity(5, 5));
+  const Eigen::MatrixXd got = CovarianceOfJacobian(j);
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-10 * expected.cwiseAbs().maxCoeff());
+}
+
+TEST(CovarianceTest, RankDeficientJacobianGivesThePseudoInverse) {
+  Eigen::MatrixXd j(1204, 6);
+  j << SmoothJacobian(1204, 5), SmoothJacobian(1204, 5).col(2);
+  const Eigen::MatrixXd expected = PseudoInverseOf(j.transpose() * j);
+  const Eigen::MatrixXd got = CovarianceOfJacobian(j);
+  ASSERT_TRUE(got.allFinite());
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-8 * expected.cwiseAbs().maxCoeff());
+  // The repeated pair shares its variance: columns 2 and 5 alike.
+  EXPECT_NEAR(got(2, 2), got(5, 5), 1e-8 * expected.cwiseAbs().maxCoeff());
+}
+
+TEST(CovarianceTest, WideJacobianAndZeroJacobian) {
+  const Eigen::MatrixXd j = SmoothJacobian(3, 5);  // rank 3 of 5
+  const Eigen::MatrixXd expected = PseudoInverseOf(j.transpose() * j);
+  const Eigen::MatrixXd got = CovarianceOfJacobian(j);
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-8 * expected.cwiseAbs().maxCoeff());
+  EXPECT_FALSE(CovarianceOfJacobian(Eigen::MatrixXd::Zero(10, 2)).allFinite());
 }
 
 // Residual bootstrap on the paper's step records (noisy, white residuals,
