@@ -38,16 +38,20 @@ Eigen::MatrixXd CovarianceOfJacobian(const Eigen::MatrixXd& j) {
   const Eigen::Index n = j.cols();
   Eigen::MatrixXd out =
       Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::quiet_NaN());
-  if (n == 0 || j.rows() == 0) return out;
+  if (n == 0 || j.rows() == 0 || !j.allFinite()) return out;
+  // Scaled to a largest entry of 1 (as Eigen's JacobiSVD does): no
+  // underflow in the Householder norms of a uniformly tiny J.
+  const double scale = j.cwiseAbs().maxCoeff();
+  if (!(scale > 0.0)) return out;
   // The R-SVD: J = Q·R, then R = U_R·S·Vᵀ. Eigen's BDCSVD of the whole
   // row-major J took 36 s to compile in this file alone; a Jacobi SVD of
   // the small R is as accurate (it is Eigen's choice for small matrices).
   Eigen::MatrixXd small;
   if (j.rows() >= n) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(j);
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(j / scale);
     small = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
   } else {
-    small = j;
+    small = j / scale;
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(small, Eigen::ComputeFullV);
   const Eigen::VectorXd singular = svd.singularValues();
@@ -58,7 +62,8 @@ Eigen::MatrixXd CovarianceOfJacobian(const Eigen::MatrixXd& j) {
     if (singular[i] / singular[0] < min_ratio) break;
     inverse_squared[i] = 1.0 / (singular[i] * singular[i]);
   }
-  out = svd.matrixV() * inverse_squared.asDiagonal() * svd.matrixV().transpose();
+  out = svd.matrixV() * inverse_squared.asDiagonal() * svd.matrixV().transpose() /
+        (scale * scale);
   return out;
 }
 

@@ -32,7 +32,8 @@ Eigen::MatrixXd CovarianceOfTheta(ceres::Problem* problem, int n, int threads,
 // (JᵀJ)⁻¹ from the m × n Jacobian `j` (any m ≥ 1, n ≥ 1) as ceres::Covariance's
 // DENSE_SVD forms it: V·S⁻²·Vᵀ over the singular values above
 // √kMinReciprocalCondition of the largest (the pseudo-inverse where JᵀJ is
-// rank deficient), n × n; NaN if `j` has no positive singular value. The
+// rank deficient), n × n; NaN if `j` has no positive singular value or a
+// non-finite entry. The
 // SVD is taken of R in J = Q·R (Householder QR, R n × n) where m ≥ n, which
 // has J's singular values and right singular vectors (Q's columns are
 // orthonormal; Golub & Van Loan, "Matrix Computations", 4th ed., §8.6.3,

@@ -93,7 +93,9 @@ class ExperimentCost {
   // Creates the Ceres cost of `experiment` over a parameter block of
   // `theta_size` entries; `state_index` is the position of the experiment's
   // (y0, y1) in θ, or -1 to start from experiment.initial_state. The model,
-  // map, experiment and counter must outlive the cost. Where the
+  // map, experiment and counter must outlive the cost, and the structure,
+  // map and experiment must not change while it lives (its last Jacobian
+  // is remembered, below). Where the
   // experiment's drive carries no stage inputs covering the grid
   // (StageInputsCover), the cost copies the drive at creation with its
   // input sampled at the grid's stage times (MakeStageInputs), and later
@@ -105,7 +107,8 @@ class ExperimentCost {
   // with a Jacobian at the point (and per-sample σ) of the last successful
   // one answers from memory, bit for bit the same
   // (estimation/internal/last_jacobian_memo.h): the covariance at a fit's
-  // end re-reads the solver's last Jacobian.
+  // end re-reads the solver's last Jacobian. Memory: one Jacobian
+  // (residuals × θ size doubles) per cost while it lives.
   static ceres::CostFunction* Create(const AxisStructure& structure,
                                      const ParameterMap& map,
                                      const FitExperiment& experiment,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -461,12 +462,41 @@ TEST(CovarianceTest, RankDeficientJacobianGivesThePseudoInverse) {
   EXPECT_NEAR(got(2, 2), got(5, 5), 1e-8 * expected.cwiseAbs().maxCoeff());
 }
 
+// The threshold itself: J = U·diag(s)·Vᵀ with U, V orthonormal (QR of
+// fixed pseudo-random matrices) and s = (1, 0.5, 0.1, 3e-7, 5e-8). The
+// singular value 3e-7 lies above √kMinReciprocalCondition = 1e-7 of the
+// largest and counts (1/s² ≈ 1.1e13), 5e-8 lies below and is dropped (it
+// would add 4e14). Rounding moves each singular value by about 1e-16, so
+// 3e-7's 1/s² by about 1e-9 relative: 1e-6 of the largest entry holds.
+TEST(CovarianceTest, SingularValuesBelowTheThresholdAreDropped) {
+  const auto orthonormal = [](int rows, int cols, double seed) {
+    Eigen::MatrixXd a(rows, cols);
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) a(r, c) = std::sin(seed * (r + 1) + 1.7 * (c + 1) * (r + 3));
+    }
+    return Eigen::MatrixXd(Eigen::HouseholderQR<Eigen::MatrixXd>(a).householderQ() *
+                           Eigen::MatrixXd::Identity(rows, cols));
+  };
+  const Eigen::MatrixXd u = orthonormal(300, 5, 0.37);
+  const Eigen::MatrixXd v = orthonormal(5, 5, 1.13);
+  Eigen::VectorXd s(5);
+  s << 1.0, 0.5, 0.1, 3e-7, 5e-8;
+  const Eigen::MatrixXd j = u * s.asDiagonal() * v.transpose();
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(5, 5);
+  for (int i = 0; i < 4; ++i) expected += v.col(i) * v.col(i).transpose() / (s[i] * s[i]);
+  const Eigen::MatrixXd got = CovarianceOfJacobian(j);
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
+}
+
 TEST(CovarianceTest, WideJacobianAndZeroJacobian) {
   const Eigen::MatrixXd j = SmoothJacobian(3, 5);  // rank 3 of 5
   const Eigen::MatrixXd expected = PseudoInverseOf(j.transpose() * j);
   const Eigen::MatrixXd got = CovarianceOfJacobian(j);
   EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-8 * expected.cwiseAbs().maxCoeff());
   EXPECT_FALSE(CovarianceOfJacobian(Eigen::MatrixXd::Zero(10, 2)).allFinite());
+  Eigen::MatrixXd not_finite = SmoothJacobian(20, 3);
+  not_finite(7, 1) = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(CovarianceOfJacobian(not_finite).allFinite());
 }
 
 // Residual bootstrap on the paper's step records (noisy, white residuals,

@@ -837,15 +837,13 @@ bool Fitter::LocalRestarts() {
   // describes: Ceres' default trust region (nearly Gauss–Newton steps)
   // instead of the job's damped start, which is for starts far from the
   // data (3 iterations instead of 8–9 on the paper job, the same estimate).
-  // The stop (kRestartStepSe) is Ceres' function tolerance, relative to
-  // the cost, which it tests before it evaluates the Jacobian at the
-  // accepted point (as the profile refits' stop, Intervals): ½δ²s²/cost* =
-  // δ²/dof. The callback holds it for restarts that end below cost*.
+  // The stop (kRestartStepSe) is a callback, which sees successful steps
+  // only: Ceres' function tolerance would also end a restart after a
+  // rejected or heavily damped step that changed the cost little, on the
+  // kinked costs the restarts are for.
   ceres::Solver::Options o = near_options_;
   o.max_num_iterations = std::min(o.max_num_iterations, 50);
   o.initial_trust_region_radius = kNearTrustRegionRadius;
-  o.function_tolerance =
-      std::max(o.function_tolerance, kRestartStepSe * kRestartStepSe / dof_);
   AbsoluteDecreaseStop stop(std::max(
       kLowerAbsolute, 0.5 * kRestartStepSe * kRestartStepSe * result_.residual_variance));
   o.callbacks.push_back(&stop);
