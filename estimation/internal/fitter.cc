@@ -53,11 +53,11 @@ constexpr int kReweightPasses = 2;
 // restarts, the profile refits, a start_near_minimum problem): Ceres'
 // default, nearly Gauss–Newton steps.
 constexpr double kNearTrustRegionRadius = 1e4;
-// A local restart stops once a step lowers the cost by less than ½·δ²·s²,
-// what a Gauss–Newton step of δ = kRestartStepSe standard errors lowers it
-// by (the cost is ½Σ(r/σ)², s² = 2·cost/dof): it is then back at a
-// minimum to a small fraction of a standard error, and a lower one would
-// show as a cost lower by more than that.
+// A local restart stops once a successful step lowers the cost by less
+// than ½·δ²·s², what a Gauss–Newton step of δ = kRestartStepSe standard
+// errors lowers it by (the cost is ½Σ(r/σ)², s² = 2·cost/dof): it is then
+// back at a minimum to a small fraction of a standard error, and a lower
+// one would show as a cost lower by more than that.
 constexpr double kRestartStepSe = 0.05;
 
 }  // namespace
@@ -184,8 +184,9 @@ void Fitter::SetSolverOptions() {
   // full step before the candidate's cost is evaluated there again: an
   // iteration costs two Jacobians and one simulation instead of one of
   // each (the second is answered from memory where the full step is
-  // accepted, estimation/internal/last_jacobian_memo.h). Without it the step is still projected onto the bounds (the box's
-  // Plus) and judged by the trust-region ratio, as without bounds. The
+  // accepted, estimation/internal/last_jacobian_memo.h). Without it the
+  // step is still projected onto the bounds (the box's Plus) and judged by
+  // the trust-region ratio, as without bounds. The
   // starts keep it: from random starts far from the data it helps (without
   // it FitTest.MultiStartReachesTheTruthFromRandomStarts reached the truth
   // in 4 of its 5 seeds instead of 5). On the paper job it halves the local
