@@ -90,7 +90,8 @@ double WarmRefitChi2(EstimationProblem job, FitResult* fit) {
 
 // As WarmRefitChi2 for `job` with free delays, each then moved to where the
 // refit's own simulation lines up with the records while that is more than
-// half a period away (estimation/alignment_lag.h), and refitted, twice at
+// half a period away (estimation/alignment_lag.h) or the delay sits on an
+// end of its window (the window widened past it), and refitted, twice at
 // most, keeping each refit that lowers Σ(r/σ)²: a delay started from a
 // lag the declared fit suggested (bent toward it without the delay) can
 // stop a few samples off.
@@ -110,9 +111,16 @@ double AlignedRefitChi2(EstimationProblem job, FitResult* fit) {
       const std::optional<Channel> c = ParseChannel(channel);
       const double period = c ? FittedPeriod(job, *c) : 0.0;
       const double lag = AlignmentLag(r, channel, 0.25 * longest);
-      if (!std::isfinite(lag) || !(std::abs(lag) > 0.5 * period)) continue;
+      // A delay on an end of its window: the window missed it (the other
+      // parameters then bend toward the rest of the delay and the lag left
+      // can be under half a period: a record 5 ms early at 1 kHz, its
+      // window ending at 3.8 ms, 0.45 ms left). The window moves out
+      // beyond it all the same.
+      const bool on_end = f.initial <= f.lower || f.initial >= f.upper;
+      const bool far = std::isfinite(lag) && std::abs(lag) > 0.5 * period;
+      if (!far && !on_end) continue;
       const double width = f.upper - f.lower;
-      f.initial += lag;
+      if (std::isfinite(lag)) f.initial += lag;
       f.lower = std::min(f.lower, f.initial - 0.5 * width);
       f.upper = std::max(f.upper, f.initial + 0.5 * width);
       *FindParam(&moved.model.params, f.name) = f.initial;

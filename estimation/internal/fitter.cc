@@ -18,6 +18,7 @@
 #include "estimation/covariance.h"
 #include "estimation/evaluate_experiment.h"
 #include "estimation/experiment_cost.h"
+#include "estimation/internal/active_bounds.h"
 #include "estimation/internal/fit_callbacks.h"
 #include "estimation/fit_control.h"
 #include "estimation/internal/fit_estimates.h"
@@ -394,12 +395,12 @@ void Fitter::RunStage(size_t s, size_t i, StartRun* run) {
     o.parameter_tolerance = std::max(o.parameter_tolerance, kStageParameterTolerance);
     o.max_num_iterations = std::min(o.max_num_iterations, 30);
   }
-  ceres::Solve(o, stage.problem.get(), &run->summary);
+  SolveWithinBounds(o, stage.problem.get(), p_.theta.data(), p_.lower, p_.upper, &run->summary);
   if (!run->summary.IsSolutionUsable() && i > 0 && run->previous_start != stage_start) {
     ReportStageFailure(job_, *p_.map, p_.theta, s, stage.horizon, run->summary.message,
                        "retrying from the previous stage's start", progress_);
     std::copy(run->previous_start.begin(), run->previous_start.end(), p_.theta.begin());
-    ceres::Solve(o, stage.problem.get(), &run->summary);
+    SolveWithinBounds(o, stage.problem.get(), p_.theta.data(), p_.lower, p_.upper, &run->summary);
   }
   if (!run->summary.IsSolutionUsable()) {
     ReportStageFailure(job_, *p_.map, p_.theta, s, stage.horizon, run->summary.message,
@@ -643,7 +644,8 @@ void Fitter::RestartFrom(const std::vector<double>& point, double point_cost, bo
   const std::vector<double> from = best_;
   std::copy(point.begin(), point.end(), p_.theta.begin());
   ceres::Solver::Summary summary;
-  ceres::Solve(near ? near_options_ : options_, full_problem_, &summary);
+  SolveWithinBounds(near ? near_options_ : options_, full_problem_, p_.theta.data(), p_.lower,
+                    p_.upper, &summary);
   if (summary.IsSolutionUsable() && summary.final_cost <= point_cost) {
     best_cost_ = summary.final_cost;
     best_summary_ = summary;
@@ -867,7 +869,7 @@ bool Fitter::LocalRestarts() {
             p_.lower[k], p_.upper[k]);
       }
       ceres::Solver::Summary summary;
-      ceres::Solve(o, full_problem_, &summary);
+      SolveWithinBounds(o, full_problem_, p_.theta.data(), p_.lower, p_.upper, &summary);
       ++result_.local_starts;
       if (summary.IsSolutionUsable() && summary.final_cost < lowest) {
         lowest = summary.final_cost;
