@@ -73,6 +73,7 @@ RatioInterval ProfileLikelihood::Parameter(int k) {
   }
   k_ = k;
   sd_ = sd;
+  refits_.clear();
   slope_ = cov_theta_.col(k) / cov_theta_(k, k);  // dθ/dθ_k
   // With θ_k the only entry there is nothing to refit: P is the cost.
   refit_ = n_ > 1;
@@ -200,13 +201,22 @@ double ProfileLikelihood::RiseAt(double x, double from_x, const std::vector<doub
 }
 
 double ProfileLikelihood::Refit(const std::vector<double>& start) {
+  for (const RefitMemory& m : refits_) {
+    if (m.start == start) {
+      *theta_ = m.end;
+      ++scan_.repeated;
+      return m.cost;
+    }
+  }
   std::copy(start.begin(), start.end(), theta_->begin());
   ceres::Solver::Summary summary;
   ceres::Solve(options_, problem_, &summary);
   ++scan_.solves;
   scan_.iterations += static_cast<int>(summary.iterations.size()) - 1;
-  return summary.IsSolutionUsable() ? summary.final_cost
-                                    : std::numeric_limits<double>::infinity();
+  const double cost = summary.IsSolutionUsable() ? summary.final_cost
+                                                 : std::numeric_limits<double>::infinity();
+  refits_.push_back({start, cost, *theta_});
+  return cost;
 }
 
 // P at x refitted from solved point `warm`; where that ends near the
