@@ -140,7 +140,7 @@ class ProfileLikelihood {
   // can be one already refitted (where the refits end where they began,
   // every solved point lies on the Gauss–Newton profile line, and the
   // retries from the estimate and from the outer point start at the same
-  // point as the warm refit: on the paper job 13 of 58 refits).
+  // point as the warm refit: on the paper job 8 of 58 refits).
   double Refit(const std::vector<double>& start);
   // P at x from solved point `warm`, retried from the estimate and from
   // solved point `outer` (−1: none), as ProfileLikelihoodIntervals says; the
