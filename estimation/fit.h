@@ -1,7 +1,9 @@
 // Estimating the free parameters of a problem (estimation/estimation_problem.h) with Ceres Solver:
 // Levenberg–Marquardt on the σ-weighted output error of all experiments,
-// multi-start, covariance from ceres::Covariance (DENSE_SVD) scaled by the
-// residual variance, and goodness of fit per channel.
+// multi-start, within the parameters' bounds by an active set
+// (internal/active_bounds.h), covariance as ceres::Covariance's DENSE_SVD
+// forms it (estimation/covariance.h) scaled by the residual variance, and
+// goodness of fit per channel.
 #ifndef ESTIMATION_FIT_H_
 #define ESTIMATION_FIT_H_
 
