@@ -126,8 +126,13 @@ void SolveWithinBounds(const ceres::Solver::Options& options, ceres::Problem* pr
     o.max_num_iterations = std::max(0, options.max_num_iterations - used);
     BoundCrawl crawl(theta, held, lower, upper);
     if (watch) o.callbacks.push_back(&crawl);
+    // Ceres leaves the parameters at the run's start when the run is not
+    // usable; with the state written every iteration they would hold its
+    // last iterate instead.
+    const std::vector<double> start(theta, theta + n);
     ceres::Solver::Summary run;
     ceres::Solve(o, problem, &run);
+    if (!run.IsSolutionUsable()) std::copy(start.begin(), start.end(), theta);
     if (!held.empty()) problem->SetManifold(theta, nullptr);
     AppendRun(run, round == 0, summary);
     used += static_cast<int>(run.iterations.size()) - 1;
