@@ -134,7 +134,17 @@ void SolveWithinBounds(const ceres::Solver::Options& options, ceres::Problem* pr
     ceres::Solve(o, problem, &run);
     if (!run.IsSolutionUsable()) std::copy(start.begin(), start.end(), theta);
     if (!held.empty()) problem->SetManifold(theta, nullptr);
+    // A later round that fails leaves the earlier rounds' end standing
+    // (θ is back there): its cost and termination are the summary's.
+    const ceres::Solver::Summary before =
+        round > 0 && !run.IsSolutionUsable() ? *summary : ceres::Solver::Summary();
     AppendRun(run, round == 0, summary);
+    if (round > 0 && !run.IsSolutionUsable()) {
+      summary->final_cost = before.final_cost;
+      summary->termination_type = before.termination_type;
+      summary->message = before.message;
+      return;
+    }
     used += static_cast<int>(run.iterations.size()) - 1;
     if (!run.IsSolutionUsable() || round + 1 >= kMaxRounds ||
         used >= options.max_num_iterations) {

@@ -40,7 +40,8 @@ namespace axis {
 // starts to 1306 Jacobians instead of 150). The rounds share
 // options.max_num_iterations. `summary` starts at the first round's
 // initial cost, sums the rounds' steps, evaluations and times, and ends
-// with the last round's cost and termination. The gradient at a run's end
+// with the last round's cost and termination (a later round that fails
+// leaves θ, cost and termination at the round before it). The gradient at a run's end
 // is the Jacobian the run evaluated last, which an ExperimentCost remembers
 // (estimation/internal/last_jacobian_memo.h). Leaves the problem without a
 // manifold on `theta`.

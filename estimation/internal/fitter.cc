@@ -565,8 +565,9 @@ void Fitter::RunFinalists() {
     // alone. A warm refit of the discovery loop ends its chain next to its
     // estimate; under σ alone the weights moved at its end and its two
     // re-solves took 2.4 of its 6 s (independent square + sweep records).
-    // Several starts keep σ alone, under which their costs compare.
-    if (starts_.size() == 1) SetInstantSampleSigmas(p_.theta);
+    // Several starts keep σ alone, under which their costs compare. A fit
+    // of the whole record alone set them at its start already (Run).
+    if (starts_.size() == 1 && last_ > 0) SetInstantSampleSigmas(p_.theta);
     RunStage(s, last_, &run);
     ++finals_done_;
     const double cost = run.usable ? run.summary.final_cost : kInf;
