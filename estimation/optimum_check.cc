@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <utility>
 
 #include <Eigen/Dense>
@@ -52,19 +53,18 @@ double LowerThan(double cost, double relative) {
   return cost - CostResolution(cost, relative);
 }
 
-void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
-                const std::vector<double>& upper,
-                const std::vector<double>& last_step, double cost,
-                EvaluationCounter* counter, int threads,
-                std::vector<double>* theta, std::vector<double>* best,
-                double* best_cost, int* probes, double* lowest_scale) {
+ProbeRoundResult ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
+                            const std::vector<double>& upper,
+                            const std::vector<double>& last_step, double cost,
+                            EvaluationCounter* counter, int threads,
+                            std::vector<double>* theta) {
   const int n = static_cast<int>(theta->size());
   const std::vector<double> centre = *theta;
-  *best = centre;
-  *best_cost = cost;
-  if (lowest_scale != nullptr) *lowest_scale = 0.0;
+  ProbeRoundResult result;
+  result.best = centre;
+  result.best_cost = cost;
   Eigen::MatrixXd jtj;
-  if (!GaussNewtonMatrix(problem, n, threads, &jtj)) return;
+  if (!GaussNewtonMatrix(problem, n, threads, &jtj)) return result;
   std::vector<Eigen::VectorXd> directions;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
   const double largest = eig.eigenvalues().maxCoeff();
@@ -79,10 +79,12 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
     d[k] = std::sqrt(cov(k, k));
     directions.push_back(d);
   }
+  const size_t first_principal = directions.size();
   for (int e = 0; e < n; ++e) {
     const double l = eig.eigenvalues()[e];
     if (l > 1e-14 * largest) directions.push_back(eig.eigenvectors().col(e) / std::sqrt(l));
   }
+  const size_t end_principal = directions.size();
   Eigen::VectorXd step = Eigen::Map<const Eigen::VectorXd>(last_step.data(), n);
   const double curvature = step.dot(jtj * step);
   if (curvature > 0.0) directions.push_back(step / std::sqrt(curvature));
@@ -92,17 +94,32 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
     std::vector<double> point;
   };
   std::vector<LowerPoint> lower_points;
+  // The largest scale (from 1 up) at which every principal-axis probe so far
+  // agreed with the quadratic; the scales are visited in increasing order.
+  constexpr double kScales[] = {0.01, 0.3, 1.0, 3.0, 10.0};
+  double reach = kScales[std::size(kScales) - 1];
   counter->guard = false;
-  for (const Eigen::VectorXd& d : directions) {
-    for (double s : {0.01, 0.3, 1.0, 3.0, 10.0}) {
+  for (size_t i = 0; i < directions.size(); ++i) {
+    const Eigen::VectorXd& d = directions[i];
+    const bool principal = i >= first_principal && i < end_principal;
+    for (size_t j = 0; j < std::size(kScales); ++j) {
+      const double s = kScales[j];
       for (double sign : {-1.0, 1.0}) {
         std::vector<double> point = centre;
+        bool clipped = false;
         for (int k = 0; k < n; ++k) {
-          point[k] = std::clamp(centre[k] + sign * s * d[k], lower[k], upper[k]);
+          const double x = centre[k] + sign * s * d[k];
+          point[k] = std::clamp(x, lower[k], upper[k]);
+          clipped = clipped || point[k] != x;
         }
         const double c = CostAt(problem, point, threads, theta);
-        ++*probes;
+        ++result.probes;
         if (c < cost) lower_points.push_back({c, s, point});
+        const double expected = 0.5 * s * s;
+        if (principal && s >= 1.0 && s <= reach &&
+            (clipped || !(std::abs(c - cost - expected) <= kQuadraticAgreement * expected))) {
+          reach = j > 0 && kScales[j - 1] >= 1.0 ? kScales[j - 1] : 0.0;
+        }
       }
     }
   }
@@ -117,13 +134,15 @@ void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
             });
   for (const LowerPoint& p : lower_points) {
     if (std::isfinite(CostAt(problem, p.point, threads, theta))) {
-      *best_cost = p.cost;
-      *best = p.point;
-      if (lowest_scale != nullptr) *lowest_scale = p.scale;
+      result.best_cost = p.cost;
+      result.best = p.point;
+      result.lowest_scale = p.scale;
       break;
     }
   }
+  result.quadratic_reach = end_principal > first_principal ? reach : 0.0;
   std::copy(centre.begin(), centre.end(), theta->begin());
+  return result;
 }
 
 }  // namespace axis

@@ -64,25 +64,46 @@ double CostResolution(double cost, double function_tolerance);
 // The cost a point must be below to count as lower than `cost` (see above).
 double LowerThan(double cost, double relative);
 
+// The relative tolerance of QuadraticReach: a probe along a principal axis
+// agrees with the quadratic the covariance describes if its rise is within
+// this fraction of ½s².
+constexpr double kQuadraticAgreement = 0.1;
+
+// What one round of the optimum check found (ProbeRound).
+struct ProbeRoundResult {
+  std::vector<double> best;  // the lowest point found (θ* if nothing is lower)
+  double best_cost = 0.0;    // its cost (`cost` if nothing is lower)
+  int probes = 0;            // cost evaluations made
+  // The s of the point in `best` (standard deviations; 0 if nothing is
+  // lower): lower points at 0.01 mean a cost rough below the standard-error
+  // scale.
+  double lowest_scale = 0.0;
+  // The largest probe scale s ≥ 1 such that along every principal axis, on
+  // both sides and at every probe scale from 1 up to s, the cost rose by
+  // ½s² within kQuadraticAgreement (a rise of ½ per standard deviation
+  // squared is what the covariance describes); 0 if none, if a probe was
+  // clipped to a bound, or if there is no principal axis. Out to that many
+  // standard deviations the cost is the quadratic bowl of its Gauss–Newton
+  // model along those lines, with no kink or second valley on them.
+  double quadratic_reach = 0.0;
+};
+
 // One round of the optimum check: the cost at θ* + s·d for the probe
 // directions d (every coordinate and every principal axis of (JᵀJ)⁻¹, scaled
 // to one standard deviation — a change of ½ in cost on a quadratic — and the
 // last step, scaled alike) and s = ±{0.01, 0.3, 1, 3, 10}, clipped to the
-// bounds. Returns the lowest point found and its cost in *best / *best_cost
-// (θ* and `cost` if nothing is lower). The probes simulate in double (the
-// guard of `counter` off); a point lower than θ* is kept only if it also
-// passes the sensitivity guard (ExperimentCost), as the solver will start
-// from it. The cost and JᵀJ are evaluated on `threads` threads (CostAt,
-// GaussNewtonMatrix). Leaves
-// *theta at θ*. *lowest_scale (if not null) receives the s of the point
-// returned in *best (standard deviations; 0 if nothing is lower): lower
-// points at 0.01 mean a cost rough below the standard-error scale.
-void ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
-                const std::vector<double>& upper,
-                const std::vector<double>& last_step, double cost,
-                EvaluationCounter* counter, int threads,
-                std::vector<double>* theta, std::vector<double>* best,
-                double* best_cost, int* probes, double* lowest_scale = nullptr);
+// bounds. The lowest point found is ProbeRoundResult::best. The probes
+// simulate in double (the guard of `counter` off); a point lower than θ* is
+// kept only if it also passes the sensitivity guard (ExperimentCost), as the
+// solver will start from it. The cost and JᵀJ are evaluated on `threads`
+// threads (CostAt, GaussNewtonMatrix). *theta holds θ* on entry (`cost` its
+// cost) and is left there. If JᵀJ cannot be evaluated, no probe is made
+// (best = θ*, quadratic_reach 0). Never throws but std::bad_alloc.
+ProbeRoundResult ProbeRound(ceres::Problem* problem, const std::vector<double>& lower,
+                            const std::vector<double>& upper,
+                            const std::vector<double>& last_step, double cost,
+                            EvaluationCounter* counter, int threads,
+                            std::vector<double>* theta);
 
 }  // namespace axis
 

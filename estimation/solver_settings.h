@@ -54,7 +54,9 @@ struct SolverSettings {
   // from the estimate ± this many standard deviations along every principal
   // axis of the covariance (2n runs, n = size of θ), repeated (at most 3
   // times) while one ends lower; 0 skips them. Need probe_rounds > 0;
-  // skipped when discovery is enabled (estimation/fit.cc).
+  // skipped when discovery is enabled, and where the probes showed the cost
+  // quadratic out to their distance (ProbeRoundResult::quadratic_reach,
+  // estimation/internal/fitter.cc LocalRestarts).
   double local_starts = 3.0;
   bool progress = true;         // print one line per iteration
 

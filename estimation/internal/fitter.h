@@ -219,6 +219,9 @@ class Fitter {
   bool discovering_ = false;
   int probe_rounds_ = 0;
   int probes_ = 0;
+  // The last verified probe round's ProbeRoundResult::quadratic_reach
+  // (standard deviations; 0 if none): LocalRestarts are not run within it.
+  double quadratic_reach_ = 0.0;
   double entry_cost_ = 0.0;
   double t975_ = 0.0;
   bool ratio_method_ = false;
