@@ -72,11 +72,13 @@ class ParameterMap {
 struct EvaluationCounter {
   std::atomic<int> simulations{0};  // residual-only evaluations
   std::atomic<int> jacobians{0};    // evaluations with derivatives
-  // True (the default, and always while Ceres solves): residual-only
-  // evaluations simulate a one-direction Jet and fail where the Jacobian
-  // would blow up (ExperimentCost::operator()). False: plain double
-  // simulations (1.5× faster, bench/), for cost probes whose points the
-  // solver never starts from unless re-checked with the guard on.
+  // True (the default): residual-only evaluations simulate a one-direction
+  // Jet and fail where the Jacobian would blow up (ExperimentCost::
+  // operator()). False: plain double simulations (about 2× faster,
+  // bench_rk4_step), for cost probes whose points the solver never starts
+  // from unless re-checked with the guard on, and for the trial points of
+  // the fit's solver runs, which run again with the guard if they fail
+  // (estimation/internal/optimistic_solve.h).
   std::atomic<bool> guard{true};
 };
 
@@ -133,7 +135,9 @@ class ExperimentCost {
   // Jacobian would blow up is rejected before Ceres accepts it: Ceres
   // evaluates the Jacobian only after accepting a step, and fails outright if
   // that evaluation fails. With counter->guard off they simulate in double
-  // and check only finiteness. Never throws.
+  // and check only finiteness: the fit's solver runs do so and run again
+  // with the guard only if they fail (estimation/internal/optimistic_solve.h).
+  // Never throws.
   template <typename T>
   bool operator()(T const* const* parameters, T* residuals) const {
     if constexpr (std::is_same<T, double>::value) {

@@ -8,6 +8,7 @@
 #include <ceres/manifold.h>
 
 #include "estimation/cost_at.h"
+#include "estimation/internal/optimistic_solve.h"
 
 namespace axis {
 namespace {
@@ -28,6 +29,7 @@ ProfileLikelihood::ProfileLikelihood(ceres::Problem* problem, const ProfileOptio
                                      std::vector<double>* theta)
     : problem_(problem),
       options_(options.solver),
+      counter_(options.counter),
       lower_(options.basis.lower),
       upper_(options.basis.upper),
       cov_theta_(options.basis.cov_theta),
@@ -210,7 +212,7 @@ double ProfileLikelihood::Refit(const std::vector<double>& start) {
   }
   std::copy(start.begin(), start.end(), theta_->begin());
   ceres::Solver::Summary summary;
-  ceres::Solve(options_, problem_, &summary);
+  SolveOptimistically(options_, problem_, theta_->data(), n_, counter_, &summary);
   ++scan_.solves;
   scan_.iterations += static_cast<int>(summary.iterations.size()) - 1;
   const double cost = summary.IsSolutionUsable() ? summary.final_cost

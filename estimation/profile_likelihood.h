@@ -19,6 +19,8 @@
 
 namespace axis {
 
+struct EvaluationCounter;  // estimation/experiment_cost.h
+
 // What ProfileLikelihoodIntervals found.
 struct ProfileScan {
   std::vector<RatioInterval> intervals;  // one per free parameter; empty on
@@ -39,6 +41,11 @@ struct ProfileOptions {
   IntervalBasis basis;
   // The refits: one Levenberg–Marquardt run each.
   ceres::Solver::Options solver;
+  // The counter of the problem's ExperimentCosts (estimation/experiment_cost.h),
+  // or null: each refit then evaluates its trial points in double and runs
+  // again with the sensitivity guard only if it fails
+  // (estimation/internal/optimistic_solve.h). Must outlive the search.
+  EvaluationCounter* counter = nullptr;
   // A refit ending below this cost means the estimate is not the optimum;
   // with stop_at_lower the search then stops at once (ProfileScan::
   // lowest_point, the caller restarts there).
@@ -156,6 +163,7 @@ class ProfileLikelihood {
 
   ceres::Problem* problem_;
   const ceres::Solver::Options& options_;
+  EvaluationCounter* const counter_;
   const std::vector<double>& lower_;
   const std::vector<double>& upper_;
   const Eigen::MatrixXd& cov_theta_;

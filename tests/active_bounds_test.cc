@@ -76,7 +76,7 @@ std::pair<ceres::Solver::Summary, ceres::Solver::Summary> BothWays(BoxProblem* p
   std::pair<ceres::Solver::Summary, ceres::Solver::Summary> out;
   ceres::Solve(LmOptions(), &plain->problem, &out.first);
   SolveWithinBounds(LmOptions(), &active->problem, active->theta.data(), active->lower,
-                    active->upper, &out.second);
+                    active->upper, nullptr, &out.second);
   return out;
 }
 
@@ -100,7 +100,8 @@ TEST(ActiveBoundsTest, ReachesTheBoundedMinimumOfLinearLeastSquares) {
   ASSERT_GT((a.transpose() * (a * expected - b))[0], 0.0);
   BoxProblem p(a, b, {0.0, -10.0, -10.0}, {10.0, 10.0, 10.0}, {3.0, 0.0, 0.0});
   ceres::Solver::Summary summary;
-  SolveWithinBounds(LmOptions(), &p.problem, p.theta.data(), p.lower, p.upper, &summary);
+  SolveWithinBounds(LmOptions(), &p.problem, p.theta.data(), p.lower, p.upper, nullptr,
+                    &summary);
   ASSERT_TRUE(summary.IsSolutionUsable()) << summary.message;
   EXPECT_EQ(p.theta[0], 0.0);
 
@@ -140,7 +141,8 @@ TEST(ActiveBoundsTest, AnInteriorMinimumIsReachedFromTheBound) {
   const Eigen::Vector3d b = a * truth;
   BoxProblem p(a, b, {0.0, -10.0, -10.0}, {10.0, 10.0, 10.0}, {0.0, -3.0, 3.0});
   ceres::Solver::Summary summary;
-  SolveWithinBounds(LmOptions(), &p.problem, p.theta.data(), p.lower, p.upper, &summary);
+  SolveWithinBounds(LmOptions(), &p.problem, p.theta.data(), p.lower, p.upper, nullptr,
+                    &summary);
   ASSERT_TRUE(summary.IsSolutionUsable()) << summary.message;
   // A zero-residual minimum: Levenberg–Marquardt converges quadratically
   // there, far below 1e-8 of these O(1) entries.

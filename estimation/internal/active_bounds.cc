@@ -6,6 +6,7 @@
 #include <ceres/manifold.h>
 
 #include "estimation/cost_at.h"
+#include "estimation/internal/optimistic_solve.h"
 
 namespace axis {
 namespace {
@@ -54,6 +55,10 @@ class BoundCrawl : public ceres::IterationCallback {
     return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
   }
   bool crawled() const { return crawled_; }
+  void Reset() {
+    slow_steps_ = 0;
+    crawled_ = false;
+  }
 
  private:
   const double* theta_;
@@ -114,7 +119,8 @@ std::vector<int> PressedBounds(const double* theta, const std::vector<double>& g
 
 void SolveWithinBounds(const ceres::Solver::Options& options, ceres::Problem* problem,
                        double* theta, const std::vector<double>& lower,
-                       const std::vector<double>& upper, ceres::Solver::Summary* summary) {
+                       const std::vector<double>& upper, EvaluationCounter* counter,
+                       ceres::Solver::Summary* summary) {
   const int n = static_cast<int>(lower.size());
   std::vector<int> held;
   bool watch = true;  // off after a crawl that no pressed bound explains
@@ -131,7 +137,7 @@ void SolveWithinBounds(const ceres::Solver::Options& options, ceres::Problem* pr
     // last iterate instead.
     const std::vector<double> start(theta, theta + n);
     ceres::Solver::Summary run;
-    ceres::Solve(o, problem, &run);
+    SolveOptimistically(o, problem, theta, n, counter, &run, [&crawl] { crawl.Reset(); });
     if (!run.IsSolutionUsable()) std::copy(start.begin(), start.end(), theta);
     if (!held.empty()) problem->SetManifold(theta, nullptr);
     // A later round that fails leaves the earlier rounds' end standing

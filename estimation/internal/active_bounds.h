@@ -20,6 +20,8 @@
 
 namespace axis {
 
+struct EvaluationCounter;
+
 // Runs `options` on `problem`, whose only varying parameter block is
 // `theta` (n = lower.size() entries, its bounds `lower` and `upper` as set
 // on the problem, no manifold), as Ceres would, until it crawls: three
@@ -43,11 +45,15 @@ namespace axis {
 // with the last round's cost and termination (a later round that fails
 // leaves θ, cost and termination at the round before it). The gradient at a run's end
 // is the Jacobian the run evaluated last, which an ExperimentCost remembers
-// (estimation/internal/last_jacobian_memo.h). Leaves the problem without a
-// manifold on `theta`.
+// (estimation/internal/last_jacobian_memo.h). Each run evaluates its trial
+// points with `counter`'s guard off and is repeated with it on if it fails
+// (SolveOptimistically, estimation/internal/optimistic_solve.h; `counter`
+// the problem's costs' counter, or null for plain runs). Leaves the problem
+// without a manifold on `theta`.
 void SolveWithinBounds(const ceres::Solver::Options& options, ceres::Problem* problem,
                        double* theta, const std::vector<double>& lower,
-                       const std::vector<double>& upper, ceres::Solver::Summary* summary);
+                       const std::vector<double>& upper, EvaluationCounter* counter,
+                       ceres::Solver::Summary* summary);
 
 // The entries of θ on a bound whose cost gradient `gradient` (∂cost/∂θ)
 // points out of the box: on the lower bound with ∂cost/∂θ_k > 0, on the

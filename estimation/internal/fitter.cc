@@ -395,12 +395,14 @@ void Fitter::RunStage(size_t s, size_t i, StartRun* run) {
     o.parameter_tolerance = std::max(o.parameter_tolerance, kStageParameterTolerance);
     o.max_num_iterations = std::min(o.max_num_iterations, 30);
   }
-  SolveWithinBounds(o, stage.problem.get(), p_.theta.data(), p_.lower, p_.upper, &run->summary);
+  SolveWithinBounds(o, stage.problem.get(), p_.theta.data(), p_.lower, p_.upper, &p_.counter,
+                    &run->summary);
   if (!run->summary.IsSolutionUsable() && i > 0 && run->previous_start != stage_start) {
     ReportStageFailure(job_, *p_.map, p_.theta, s, stage.horizon, run->summary.message,
                        "retrying from the previous stage's start", progress_);
     std::copy(run->previous_start.begin(), run->previous_start.end(), p_.theta.begin());
-    SolveWithinBounds(o, stage.problem.get(), p_.theta.data(), p_.lower, p_.upper, &run->summary);
+    SolveWithinBounds(o, stage.problem.get(), p_.theta.data(), p_.lower, p_.upper, &p_.counter,
+                    &run->summary);
   }
   if (!run->summary.IsSolutionUsable()) {
     ReportStageFailure(job_, *p_.map, p_.theta, s, stage.horizon, run->summary.message,
@@ -654,7 +656,7 @@ void Fitter::RestartFrom(const std::vector<double>& point, double point_cost, bo
   std::copy(point.begin(), point.end(), p_.theta.begin());
   ceres::Solver::Summary summary;
   SolveWithinBounds(near ? near_options_ : options_, full_problem_, p_.theta.data(), p_.lower,
-                    p_.upper, &summary);
+                    p_.upper, &p_.counter, &summary);
   if (summary.IsSolutionUsable() && summary.final_cost <= point_cost) {
     best_cost_ = summary.final_cost;
     best_summary_ = summary;
@@ -900,7 +902,8 @@ bool Fitter::LocalRestarts() {
             p_.lower[k], p_.upper[k]);
       }
       ceres::Solver::Summary summary;
-      SolveWithinBounds(o, full_problem_, p_.theta.data(), p_.lower, p_.upper, &summary);
+      SolveWithinBounds(o, full_problem_, p_.theta.data(), p_.lower, p_.upper, &p_.counter,
+                        &summary);
       ++result_.local_starts;
       if (summary.IsSolutionUsable() && summary.final_cost < lowest) {
         lowest = summary.final_cost;
@@ -984,6 +987,7 @@ bool Fitter::Intervals() {
     ProfileOptions profile;
     profile.basis = basis;
     profile.solver = o;
+    profile.counter = &p_.counter;
     profile.lowest_allowed = lower_than_best;
     profile.stop_at_lower = may_restart;
     profile.on_parameter = on_parameter;
