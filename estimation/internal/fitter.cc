@@ -330,7 +330,7 @@ void Fitter::RunShorterStages() {
     run.theta = run.abandoned_horizon > 0.0 ? ends_[s][run.abandoned_stage] : p_.theta;
     if (s == 0) {
       // The cost of the job's initial point on all the data.
-      result_.initial_cost = CostAt(full_problem_, starts_[0], job_.solver.threads, &p_.theta);
+      result_.initial_cost = PlainCostAt(full_problem_, starts_[0]);
       std::copy(run.theta.begin(), run.theta.end(), p_.theta.begin());
     }
   }
@@ -378,10 +378,12 @@ void Fitter::RunStage(size_t s, size_t i, StartRun* run) {
     // every stage, the coulomb_load_offset case's Coulomb refit lost its
     // way and the loop ended with cogging and motor-side Coulomb friction
     // as stand-ins).
+    // Compared in double (PlainCostAt): a point whose Jacobian cannot be
+    // evaluated fails the stage's first iteration, which RunStage retries
+    // from the previous stage's start below.
     const std::vector<double> chain = p_.theta;
-    const double chain_cost = CostAt(stage.problem.get(), chain, job_.solver.threads, &p_.theta);
-    if (!(CostAt(stage.problem.get(), starts_[s], job_.solver.threads, &p_.theta) <
-          chain_cost)) {
+    const double chain_cost = PlainCostAt(stage.problem.get(), chain);
+    if (!(PlainCostAt(stage.problem.get(), starts_[s]) < chain_cost)) {
       std::copy(chain.begin(), chain.end(), p_.theta.begin());
     }
   }
@@ -423,10 +425,22 @@ double Fitter::CostAtStart(size_t s, size_t i) {
     return checkpoint_->starts[s].stages[i].start_cost;
   }
   const std::vector<double> end = p_.theta;
-  const double at_start =
-      CostAt(stages_[i].problem.get(), starts_[s], job_.solver.threads, &p_.theta);
+  const double at_start = PlainCostAt(stages_[i].problem.get(), starts_[s]);
   std::copy(end.begin(), end.end(), p_.theta.begin());
   return at_start;
+}
+
+// CostAt in double, the sensitivity guard off (estimation/experiment_cost.h
+// EvaluationCounter): for costs that are compared or reported, not points
+// the solver is handed as they are (a full-record Jet<1> simulation each
+// before; the initial cost of every candidate refit, the last stage's
+// choice of start).
+double Fitter::PlainCostAt(ceres::Problem* problem, const std::vector<double>& point) {
+  const bool guard = p_.counter.guard;
+  p_.counter.guard = false;
+  const double cost = CostAt(problem, point, job_.solver.threads, &p_.theta);
+  p_.counter.guard = guard;
+  return cost;
 }
 
 // Whether start s stops after stage i: its BIC bound passed the level, or

@@ -110,6 +110,9 @@ class Fitter {
   void RunStage(size_t s, size_t i, StartRun* run);
   void ShowStageStatus(size_t s, size_t i) const;
   double CostAtStart(size_t s, size_t i);
+  // CostAt `point` on `problem` in double (the guard off); leaves p_.theta
+  // at `point`.
+  double PlainCostAt(ceres::Problem* problem, const std::vector<double>& point);
   bool PassedBound(size_t s, size_t i, StartRun* run);
   bool Joined(size_t s, size_t i, StartRun* run);
   void RefreshLevel(bool wait);
