@@ -82,6 +82,25 @@ struct EvaluationCounter {
   std::atomic<bool> guard{true};
 };
 
+// Turns `counter`'s guard off for its lifetime and puts back what it found
+// (also on an exception). A null counter is left alone.
+class ScopedGuardOff {
+ public:
+  explicit ScopedGuardOff(EvaluationCounter* counter)
+      : counter_(counter), was_(counter != nullptr && counter->guard) {
+    if (counter_ != nullptr) counter_->guard = false;
+  }
+  ~ScopedGuardOff() {
+    if (counter_ != nullptr) counter_->guard = was_;
+  }
+  ScopedGuardOff(const ScopedGuardOff&) = delete;
+  ScopedGuardOff& operator=(const ScopedGuardOff&) = delete;
+
+ private:
+  EvaluationCounter* counter_;
+  bool was_;
+};
+
 // Per-sample σ_k of one experiment's fitted channels, in experiment.fitted
 // order: each empty (σ_k = the channel's σ) or one per sample, each ≥ σ
 // (estimation/internal/instant_sample_sigma.h). Set by the fit at its estimate,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <utility>
 
 #include <Eigen/Dense>
@@ -98,7 +99,7 @@ ProbeRoundResult ProbeRound(ceres::Problem* problem, const std::vector<double>& 
   // agreed with the quadratic; the scales are visited in increasing order.
   constexpr double kScales[] = {0.01, 0.3, 1.0, 3.0, 10.0};
   double reach = kScales[std::size(kScales) - 1];
-  counter->guard = false;
+  std::optional<ScopedGuardOff> off(std::in_place, counter);
   for (size_t i = 0; i < directions.size(); ++i) {
     const Eigen::VectorXd& d = directions[i];
     const bool principal = i >= first_principal && i < end_principal;
@@ -123,7 +124,7 @@ ProbeRoundResult ProbeRound(ceres::Problem* problem, const std::vector<double>& 
       }
     }
   }
-  counter->guard = true;
+  off.reset();
   // The lowest point that passes the guard (the same cost, by the same
   // arithmetic, when it passes).
   // By cost, ties by the point (as the pairs were sorted before the scale

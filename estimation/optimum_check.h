@@ -81,10 +81,12 @@ struct ProbeRoundResult {
   // The largest probe scale s ≥ 1 such that along every principal axis, on
   // both sides and at every probe scale from 1 up to s, the cost rose by
   // ½s² within kQuadraticAgreement (a rise of ½ per standard deviation
-  // squared is what the covariance describes); 0 if none, if a probe was
-  // clipped to a bound, or if there is no principal axis. Out to that many
-  // standard deviations the cost is the quadratic bowl of its Gauss–Newton
-  // model along those lines, with no kink or second valley on them.
+  // squared is what the covariance describes); a probe clipped to a bound
+  // counts as disagreeing, so the reach ends at the scale before it; 0 if
+  // even the probes at 1 disagree or there is no principal axis. Out to
+  // that many standard deviations the probes saw the quadratic bowl of the
+  // Gauss–Newton model along those lines (sampled at 1, 3 and 10: a kink
+  // between the scales can go unseen).
   double quadratic_reach = 0.0;
 };
 

@@ -57,8 +57,8 @@ TEST(OptimumCheckTest, AQuadraticReachesTheFurthestProbe) {
 
 // A kink 2 standard deviations out on θ_0: the probe at 3 rises by
 // ½·9 + ½·9·1 = 9 instead of 4.5, so the reach ends at 1; a kink at 5
-// leaves 1 and 3 quadratic (reach 3: the probe at 10 rises 5.05 times as
-// much as the quadratic); a kink at 0.5 already spoils the probe at 1.
+// leaves 1 and 3 quadratic (reach 3: the probe at 10 rises 162.5 against
+// the quadratic's 50); a kink at 0.5 already spoils the probe at 1.
 TEST(OptimumCheckTest, AKinkEndsTheReachBeforeIt) {
   EXPECT_DOUBLE_EQ(Probed(2.0).result.quadratic_reach, 1.0);
   EXPECT_DOUBLE_EQ(Probed(5.0).result.quadratic_reach, 3.0);

@@ -18,9 +18,10 @@ void SolveOptimistically(const ceres::Solver::Options& options, ceres::Problem* 
   }
   const std::vector<double> start(theta, theta + n);
   ceres::Solver::Summary first;
-  counter->guard = false;
-  ceres::Solve(options, problem, &first);
-  counter->guard = true;
+  {
+    const ScopedGuardOff off(counter);
+    ceres::Solve(options, problem, &first);
+  }
   if (first.IsSolutionUsable()) {
     *summary = std::move(first);
     return;

@@ -14,9 +14,15 @@
 // were about a third of a discovery job's time (perf, an independent PRBS
 // record with Coulomb friction: ExperimentCost::Residuals<Jet<1>> 38.7 % of
 // the samples). A run whose accepted points all have a Jacobian needs no
-// guard and, without it, follows the same path (the same residuals, the
-// same accept/reject decisions); a run that meets such a point fails, and is
-// run again from its start with the guard on, which is the guarded run.
+// guard and, without it, usually follows the same path (the same residuals
+// to the last bits, the same accept/reject decisions); a run that meets such
+// a point fails, and is run again from its start with the guard on, which
+// is the guarded run. Two cases part ways: Ceres tests its function
+// tolerance on a candidate before accepting it, so a candidate the guard
+// would have failed can end the run in convergence at the point before it;
+// and the guard judges the sum of the columns against
+// ExperimentCost::kMaxSensitivity, so it can fail a point whose Jacobian
+// would pass. The rerun's progress lines count the iterations from 0 again.
 #ifndef ESTIMATION_INTERNAL_OPTIMISTIC_SOLVE_H_
 #define ESTIMATION_INTERNAL_OPTIMISTIC_SOLVE_H_
 
