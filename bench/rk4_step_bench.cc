@@ -114,7 +114,9 @@ void BM_HandWrittenStep(benchmark::State& state) {
 // evaluation's guard) and in Jet<5> (a Jacobian evaluation, the paper's five
 // unknowns carrying derivative parts).
 // QuasiSteady: the same record with `current_loop: quasi_steady` at a 50 µs
-// step (sim/axis_params.h CurrentLoop), as the discovery jobs fit it.
+// step (sim/axis_params.h CurrentLoop), as the discovery jobs fit it; there
+// also in Jet<6> and Jet<8>, the widths a fit of six unknowns would use
+// with and without whole vector registers (estimation/jet_widths.h).
 template <typename T, bool QuasiSteady = false>
 void BM_SimulatePrbs(benchmark::State& state) {
   axis::ExperimentConfig e =
@@ -144,6 +146,8 @@ BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 1>)->Unit(benchmark::kMil
 BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 5>)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_SimulatePrbs, double, true)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 5>, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 6>, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SimulatePrbs, ceres::Jet<double, 8>, true)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_TEMPLATE(BM_HandWrittenStep, double);
 BENCHMARK_TEMPLATE(BM_HandWrittenStep, ceres::Jet<double, 5>);

@@ -5,6 +5,7 @@
 
 #include "estimation/estimation_problem.h"
 #include "estimation/internal/last_jacobian_memo.h"
+#include "estimation/jet_widths.h"
 
 namespace axis {
 namespace {
@@ -20,6 +21,19 @@ ceres::CostFunction* MakeDynamic(ExperimentCost* functor, int theta_size,
   cost->AddParameterBlock(theta_size);
   cost->SetNumResiduals(functor->num_residuals());
   return new LastJacobianMemo(cost, sample_sigma);
+}
+
+// The narrowest stride of jet_widths.h from `Width` up that holds θ whole,
+// the widest (several passes per Jacobian) beyond it.
+template <int Width>
+ceres::CostFunction* MakeNarrowest(ExperimentCost* functor, int theta_size,
+                                   const SampleSigmas* sample_sigma) {
+  if constexpr (Width < kMaxJetWidth) {
+    if (theta_size > Width) {
+      return MakeNarrowest<Width + kJetLane>(functor, theta_size, sample_sigma);
+    }
+  }
+  return MakeDynamic<Width>(functor, theta_size, sample_sigma);
 }
 
 }  // namespace
@@ -82,14 +96,7 @@ ceres::CostFunction* ExperimentCost::Create(const AxisStructure& structure,
                                             const SampleSigmas* sample_sigma) {
   auto* functor = new ExperimentCost(structure, map, experiment, theta_size, state_index,
                                      counter, sample_sigma);
-  // Strides instantiated: each is a full Jet instantiation of the simulator
-  // (the plant's narrower Jets in SimulateAt, experiment_cost.h, use the same
-  // widths: keep the two lists alike).
-  if (theta_size <= 4) return MakeDynamic<4>(functor, theta_size, sample_sigma);
-  if (theta_size <= 5) return MakeDynamic<5>(functor, theta_size, sample_sigma);
-  if (theta_size <= 6) return MakeDynamic<6>(functor, theta_size, sample_sigma);
-  if (theta_size <= 8) return MakeDynamic<8>(functor, theta_size, sample_sigma);
-  return MakeDynamic<12>(functor, theta_size, sample_sigma);
+  return MakeNarrowest<kJetLane>(functor, theta_size, sample_sigma);
 }
 
 }  // namespace axis

@@ -14,6 +14,7 @@
 #include <ceres/ceres.h>
 
 #include "estimation/estimation_problem.h"
+#include "estimation/jet_widths.h"
 #include "sim/simulate.h"
 
 namespace axis {
@@ -219,7 +220,7 @@ class ExperimentCost {
   // sensor ones, sim/axis_params.h IsSensorParameter, and this
   // experiment's own initial state), the plant is integrated with Jets of
   // those entries alone (the narrowest of the simulator's instantiated
-  // widths, Create's strides in experiment_cost.cc, or in double if none), its derivatives chained to θ's, and the
+  // widths, jet_widths.h, or in double if none), its derivatives chained to θ's, and the
   // sensor front end applied in T: the integration's cost grows with the
   // Jet's width, and a discovered front end (a delay, a filter) adds
   // entries that never act on the plant. The same values and derivatives
@@ -229,23 +230,23 @@ class ExperimentCost {
   Trace<T> SimulateAt(const T* theta) const {
     const AxisParams<T> p = map_.Apply(theta);
     if constexpr (!std::is_same_v<T, double>) {
-      constexpr int n = T::DIMENSION;
       const int k = static_cast<int>(plant_index_.size());
       if (k == 0) return PlantInNarrowerJets<double>(theta, p);
-      if constexpr (n > 4) {
-        if (k <= 4) return PlantInNarrowerJets<ceres::Jet<double, 4>>(theta, p);
-      }
-      if constexpr (n > 5) {
-        if (k <= 5) return PlantInNarrowerJets<ceres::Jet<double, 5>>(theta, p);
-      }
-      if constexpr (n > 6) {
-        if (k <= 6) return PlantInNarrowerJets<ceres::Jet<double, 6>>(theta, p);
-      }
-      if constexpr (n > 8) {
-        if (k <= 8) return PlantInNarrowerJets<ceres::Jet<double, 8>>(theta, p);
-      }
+      return PlantInNarrowestJet<kJetLane>(k, theta, p);
     }
     return Simulate(structure_, p, InitialState(theta, p), *drive_, experiment_.options, grid_);
+  }
+
+  // The plant in the narrowest width of jet_widths.h from `Width` up that
+  // holds its k entries, if narrower than T; the whole trace in T otherwise.
+  template <int Width, typename T>
+  Trace<T> PlantInNarrowestJet(int k, const T* theta, const AxisParams<T>& p) const {
+    if constexpr (Width < T::DIMENSION) {
+      if (k <= Width) return PlantInNarrowerJets<ceres::Jet<double, Width>>(theta, p);
+      return PlantInNarrowestJet<Width + kJetLane>(k, theta, p);
+    } else {
+      return Simulate(structure_, p, InitialState(theta, p), *drive_, experiment_.options, grid_);
+    }
   }
 
   // SimulateAt's split: the plant in P (derivative part i: θ entry
