@@ -29,6 +29,10 @@ struct HorizonCheckpoint {
     double cost = 0.0;          // the stage's cost there (Ceres' final_cost)
     double start_cost = 0.0;    // the stage's cost at the start's own point
     bool usable = true;         // false: the stage failed and the start stopped
+    // The trust-region radius its solve ended with, which the next stage
+    // starts from (estimation/internal/fitter.h StartRun::radius); 0: the
+    // job's initial_trust_region_radius.
+    double radius = 0.0;
   };
   struct Start {
     std::vector<double> point;     // where it started (internal coordinates)

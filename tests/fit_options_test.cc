@@ -559,6 +559,19 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
               whole.start_joined[s] >= 0 && whole.start_joined_horizon[s] < 0.1 ? 1u : 2u)
         << s;
   }
+  // Each stage ends with the trust region its solve ended with, which the
+  // next stage starts from (and the resumed fit with it, as below): within
+  // Ceres' default radius, and wider than the job's damped start somewhere.
+  double widest = 0.0;
+  for (const HorizonCheckpoint::Start& start : screened.checkpoint->starts) {
+    for (const HorizonCheckpoint::StageEnd& end : start.stages) {
+      if (!end.usable) continue;
+      EXPECT_GT(end.radius, 0.0);
+      EXPECT_LE(end.radius, 1e4);
+      widest = std::max(widest, end.radius);
+    }
+  }
+  EXPECT_GT(widest, job.problem.solver.initial_trust_region_radius);
 
   FitControl resumed_control;
   resumed_control.resume = screened.checkpoint;

@@ -311,6 +311,7 @@ void Fitter::RunShorterStages() {
         std::copy(done.theta.begin(), done.theta.end(), p_.theta.begin());
         run.summary.final_cost = done.cost;
         run.usable = done.usable;
+        run.radius = done.radius;
         if (checkpoint_ != nullptr) checkpoint_->starts[s].stages.push_back(done);
       } else {
         RunStage(s, i, &run);
@@ -319,6 +320,7 @@ void Fitter::RunShorterStages() {
           done.theta = p_.theta;
           done.cost = run.summary.final_cost;
           done.usable = run.usable;
+          done.radius = run.radius;
           if (run.usable) done.start_cost = CostAtStart(s, i);
           checkpoint_->starts[s].stages.push_back(std::move(done));
         }
@@ -390,6 +392,7 @@ void Fitter::RunStage(size_t s, size_t i, StartRun* run) {
     }
   }
   ceres::Solver::Options o = options_;
+  o.initial_trust_region_radius = std::max(o.initial_trust_region_radius, run->radius);
   o.callbacks.push_back(&printer);
   PendingLevelStop level_stop(pending_, control_.abandon_above_bic, &run->waiting_bounds);
   if (!level_known_ && !run->waiting_bounds.empty()) o.callbacks.push_back(&level_stop);
@@ -415,6 +418,10 @@ void Fitter::RunStage(size_t s, size_t i, StartRun* run) {
     return;
   }
   run->previous_start = stage_start;
+  if (!run->summary.iterations.empty()) {
+    run->radius =
+        std::min(kNearTrustRegionRadius, run->summary.iterations.back().trust_region_radius);
+  }
 }
 
 // The stage's cost at start s's own point (the stage's minimum is the lower
