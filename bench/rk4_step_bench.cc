@@ -111,8 +111,9 @@ void BM_HandWrittenStep(benchmark::State& state) {
 // One simulation as a fit evaluates it: configs/experiments/x_prbs.yaml (3 s,
 // PRBS ±5 V, the backlash crossed at every reversal, so the switched RK4 of
 // sim/switched_rk4.h locates events), in double, in Jet<1> (a residual-only
-// evaluation's guard) and in Jet<5> (a Jacobian evaluation, the paper's five
-// unknowns carrying derivative parts).
+// evaluation's guard) and in Jet<5> (the paper's five unknowns carrying
+// derivative parts; a fit's Jacobian carries them in a Jet of whole vector
+// registers, estimation/jet_widths.h).
 // QuasiSteady: the same record with `current_loop: quasi_steady` at a 50 µs
 // step (sim/axis_params.h CurrentLoop), as the discovery jobs fit it; there
 // also in Jet<6> and Jet<8>, the widths a fit of six unknowns would use

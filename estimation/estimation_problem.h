@@ -104,7 +104,9 @@ struct EstimationProblem {
   // Jacobian per iteration instead of two. For refits that start at an
   // estimate, or at one with an effect added or a delay freed
   // (estimation/fit.h AsWarmRefit); unlike start_near_minimum the first
-  // steps stay damped by solver.initial_trust_region_radius (a delay freed
+  // horizon's first steps stay damped by solver.initial_trust_region_radius
+  // (the longer horizons go on from the trust region it ended with,
+  // docs/numerics.md "Horizon continuation"; a delay freed
   // at 0 may sit several samples from its minimum: with Ceres' default
   // radius the sampling check's refit of a 5-sample delay jumped to another
   // minimum). start_near_minimum implies it.

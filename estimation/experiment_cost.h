@@ -220,10 +220,10 @@ class ExperimentCost {
   // sensor ones, sim/axis_params.h IsSensorParameter, and this
   // experiment's own initial state), the plant is integrated with Jets of
   // those entries alone (the narrowest of the simulator's instantiated
-  // widths, jet_widths.h, or in double if none), its derivatives chained to θ's, and the
-  // sensor front end applied in T: the integration's cost grows with the
-  // Jet's width, and a discovered front end (a delay, a filter) adds
-  // entries that never act on the plant. The same values and derivatives
+  // widths, jet_widths.h, or in double if none), its derivatives chained
+  // to θ's, and the sensor front end applied in T: the integration's cost
+  // grows with the Jet's width, and a discovered front end (a delay, a
+  // filter) adds entries that never act on the plant. The same values and derivatives
   // as Simulate at θ, up to the rounding of the chain rule's products by
   // θ's derivative parts (exact for the unit seeds Ceres uses).
   template <typename T>

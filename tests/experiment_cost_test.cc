@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "estimation/experiment_cost.h"
+#include "estimation/jet_widths.h"
 #include "estimation/stacked_jacobian.h"
 #include "run/fit_job.h"
 #include "run/load_fit_job.h"
@@ -27,8 +28,8 @@ const std::string kRoot = PROJECT_SOURCE_DIR;
 // The anti-alias front-end case with its front end declared and free: the
 // accelerometer sampled at the instant behind a second-order low-pass and
 // a delay, the tachometer behind a first-order low-pass with a bias; the
-// paper's five unknowns free beside them (10 entries: Jet<12>, the plant
-// alone 5).
+// paper's five unknowns free beside them (10 entries: a Jet of 12 or 16
+// parts, estimation/jet_widths.h; the plant alone 5).
 FitJob FrontEndJob() {
   FitJob job = LoadFitJob(kRoot + "/configs/jobs/front_end/anti_alias.yaml");
   AxisConfig& m = job.problem.model;
@@ -115,14 +116,30 @@ void DirectJacobian(const FitJob& job, const std::vector<double>& theta, int sta
 // `zero_columns`: columns the residuals do not depend on at all (a
 // position offset on records of velocity and acceleration, with no
 // position-dependent force), checked equal rather than non-zero.
+// `unused_entries`: as many entries appended to θ for the cost alone
+// (other experiments' initial states, which act on nothing here), whose
+// columns must be zero.
 void ExpectSame(const FitJob& job, const std::vector<double>& theta, int state_index,
-                const std::vector<int>& zero_columns = {}) {
-  std::vector<double> r, jac, r_direct, jac_direct;
-  CostJacobian(job, theta, state_index, &r, &jac);
+                const std::vector<int>& zero_columns = {}, int unused_entries = 0) {
+  std::vector<double> r, wide_jac, r_direct, jac_direct;
+  std::vector<double> wide = theta;
+  for (int k = 0; k < unused_entries; ++k) wide.push_back(0.1 * (k + 1));
+  CostJacobian(job, wide, state_index, &r, &wide_jac);
   DirectJacobian(job, theta, state_index, &r_direct, &jac_direct);
   ASSERT_EQ(r.size(), r_direct.size());
-  ASSERT_EQ(jac.size(), jac_direct.size());
   const int n = static_cast<int>(theta.size());
+  const int w = static_cast<int>(wide.size());
+  std::vector<double> jac(r.size() * n);
+  for (size_t i = 0; i < r.size(); ++i) {
+    for (int j = 0; j < w; ++j) {
+      if (j < n) {
+        jac[i * n + j] = wide_jac[i * w + j];
+      } else {
+        ASSERT_EQ(wide_jac[i * w + j], 0.0) << "row " << i << ", unused column " << j;
+      }
+    }
+  }
+  ASSERT_EQ(jac.size(), jac_direct.size());
   // The plant's values are the same operations in either Jet, and the
   // chain rule multiplies by unit seeds: equal to the last bit but for the
   // sign of a zero. 1e-12 of each column's largest entry leaves room for a
@@ -165,6 +182,20 @@ TEST(ExperimentCostTest, EstimatedInitialStateIsPartOfThePlant) {
   theta.push_back(-2e-3);  // y1
   const int state = static_cast<int>(theta.size()) - 2;
   ExpectSame(job, theta, state, {state});
+}
+
+// A θ wider than the widest Jet (jet_widths.h): Ceres differentiates it in
+// passes of kMaxJetWidth entries, the plant in its narrower Jet in each
+// (7 entries: Jet<8>), its derivatives lifted to the pass's seeds.
+TEST(ExperimentCostTest, AThetaWiderThanTheWidestJetIsDifferentiatedInPasses) {
+  const FitJob job = FrontEndJob();
+  std::vector<double> theta = InitialTheta(job);
+  theta.push_back(1e-4);   // y0 of this experiment
+  theta.push_back(-2e-3);  // y1
+  const int state = static_cast<int>(theta.size()) - 2;
+  const int unused = kMaxJetWidth + 1 - static_cast<int>(theta.size());
+  ASSERT_GT(unused, 0);
+  ExpectSame(job, theta, state, {state}, unused);
 }
 
 // The sensor parameters alone free: the plant in double.

@@ -120,7 +120,7 @@ std::vector<int> PressedBounds(const double* theta, const std::vector<double>& g
 void SolveWithinBounds(const ceres::Solver::Options& options, ceres::Problem* problem,
                        double* theta, const std::vector<double>& lower,
                        const std::vector<double>& upper, EvaluationCounter* counter,
-                       ceres::Solver::Summary* summary) {
+                       ceres::Solver::Summary* summary, double* final_radius) {
   const int n = static_cast<int>(lower.size());
   std::vector<int> held;
   bool watch = true;  // off after a crawl that no pressed bound explains
@@ -150,6 +150,9 @@ void SolveWithinBounds(const ceres::Solver::Options& options, ceres::Problem* pr
       summary->termination_type = before.termination_type;
       summary->message = before.message;
       return;
+    }
+    if (final_radius != nullptr && run.IsSolutionUsable() && !run.iterations.empty()) {
+      *final_radius = run.iterations.back().trust_region_radius;
     }
     used += static_cast<int>(run.iterations.size()) - 1;
     if (!run.IsSolutionUsable() || round + 1 >= kMaxRounds ||

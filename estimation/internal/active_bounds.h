@@ -49,11 +49,13 @@ struct EvaluationCounter;
 // points with `counter`'s guard off and is repeated with it on if it fails
 // (SolveOptimistically, estimation/internal/optimistic_solve.h; `counter`
 // the problem's costs' counter, or null for plain runs). Leaves the problem
-// without a manifold on `theta`.
+// without a manifold on `theta`. `final_radius`, if not null, receives the
+// trust-region radius (Ceres' IterationSummary::trust_region_radius) at
+// the end of the last round whose end θ holds; untouched if none.
 void SolveWithinBounds(const ceres::Solver::Options& options, ceres::Problem* problem,
                        double* theta, const std::vector<double>& lower,
                        const std::vector<double>& upper, EvaluationCounter* counter,
-                       ceres::Solver::Summary* summary);
+                       ceres::Solver::Summary* summary, double* final_radius = nullptr);
 
 // The entries of θ on a bound whose cost gradient `gradient` (∂cost/∂θ)
 // points out of the box: on the lower bound with ∂cost/∂θ_k > 0, on the

@@ -392,7 +392,12 @@ void Fitter::RunStage(size_t s, size_t i, StartRun* run) {
     }
   }
   ceres::Solver::Options o = options_;
-  o.initial_trust_region_radius = std::max(o.initial_trust_region_radius, run->radius);
+  // A stage that goes on from the previous one's end continues its descent
+  // from the trust region it ended with; from the start itself (the last
+  // stage's choice above) the job's damped one.
+  if (i > 0 && p_.theta != starts_[s]) {
+    o.initial_trust_region_radius = std::max(o.initial_trust_region_radius, run->radius);
+  }
   o.callbacks.push_back(&printer);
   PendingLevelStop level_stop(pending_, control_.abandon_above_bic, &run->waiting_bounds);
   if (!level_known_ && !run->waiting_bounds.empty()) o.callbacks.push_back(&level_stop);
@@ -402,14 +407,16 @@ void Fitter::RunStage(size_t s, size_t i, StartRun* run) {
     o.parameter_tolerance = std::max(o.parameter_tolerance, kStageParameterTolerance);
     o.max_num_iterations = std::min(o.max_num_iterations, 30);
   }
+  double radius = 0.0;
   SolveWithinBounds(o, stage.problem.get(), p_.theta.data(), p_.lower, p_.upper, &p_.counter,
-                    &run->summary);
+                    &run->summary, &radius);
   if (!run->summary.IsSolutionUsable() && i > 0 && run->previous_start != stage_start) {
     ReportStageFailure(job_, *p_.map, p_.theta, s, stage.horizon, run->summary.message,
                        "retrying from the previous stage's start", progress_);
     std::copy(run->previous_start.begin(), run->previous_start.end(), p_.theta.begin());
+    o.initial_trust_region_radius = options_.initial_trust_region_radius;  // a rescue: damped
     SolveWithinBounds(o, stage.problem.get(), p_.theta.data(), p_.lower, p_.upper, &p_.counter,
-                    &run->summary);
+                    &run->summary, &radius);
   }
   if (!run->summary.IsSolutionUsable()) {
     ReportStageFailure(job_, *p_.map, p_.theta, s, stage.horizon, run->summary.message,
@@ -418,10 +425,7 @@ void Fitter::RunStage(size_t s, size_t i, StartRun* run) {
     return;
   }
   run->previous_start = stage_start;
-  if (!run->summary.iterations.empty()) {
-    run->radius =
-        std::min(kNearTrustRegionRadius, run->summary.iterations.back().trust_region_radius);
-  }
+  if (radius > 0.0) run->radius = std::min(kNearTrustRegionRadius, radius);
 }
 
 // The stage's cost at start s's own point (the stage's minimum is the lower
