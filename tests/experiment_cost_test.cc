@@ -173,14 +173,22 @@ TEST(ExperimentCostTest, PlantInNarrowerJetsGivesTheFullJacobian) {
   ExpectSame(job, InitialTheta(job), -1);
 }
 
+// The job's initial θ with this experiment's (y0, y1) appended, their
+// index in *state.
+std::vector<double> ThetaWithInitialState(const FitJob& job, int* state) {
+  std::vector<double> theta = InitialTheta(job);
+  theta.push_back(1e-4);   // y0 of this experiment
+  theta.push_back(-2e-3);  // y1
+  *state = static_cast<int>(theta.size()) - 2;
+  return theta;
+}
+
 // With the experiment's (y0, y1) in θ the plant has 7 entries (Jet<8>) of
 // 12, and an entry of another experiment's state acts on nothing here.
 TEST(ExperimentCostTest, EstimatedInitialStateIsPartOfThePlant) {
   const FitJob job = FrontEndJob();
-  std::vector<double> theta = InitialTheta(job);
-  theta.push_back(1e-4);   // y0 of this experiment
-  theta.push_back(-2e-3);  // y1
-  const int state = static_cast<int>(theta.size()) - 2;
+  int state = 0;
+  const std::vector<double> theta = ThetaWithInitialState(job, &state);
   ExpectSame(job, theta, state, {state});
 }
 
@@ -189,10 +197,8 @@ TEST(ExperimentCostTest, EstimatedInitialStateIsPartOfThePlant) {
 // (7 entries: Jet<8>), its derivatives lifted to the pass's seeds.
 TEST(ExperimentCostTest, AThetaWiderThanTheWidestJetIsDifferentiatedInPasses) {
   const FitJob job = FrontEndJob();
-  std::vector<double> theta = InitialTheta(job);
-  theta.push_back(1e-4);   // y0 of this experiment
-  theta.push_back(-2e-3);  // y1
-  const int state = static_cast<int>(theta.size()) - 2;
+  int state = 0;
+  const std::vector<double> theta = ThetaWithInitialState(job, &state);
   const int unused = kMaxJetWidth + 1 - static_cast<int>(theta.size());
   ASSERT_GT(unused, 0);
   ExpectSame(job, theta, state, {state}, unused);
