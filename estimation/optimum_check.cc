@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <optional>
 #include <utility>
 
 #include <Eigen/Dense>
@@ -99,32 +98,33 @@ ProbeRoundResult ProbeRound(ceres::Problem* problem, const std::vector<double>& 
   // agreed with the quadratic; the scales are visited in increasing order.
   constexpr double kScales[] = {0.01, 0.3, 1.0, 3.0, 10.0};
   double reach = kScales[std::size(kScales) - 1];
-  std::optional<ScopedGuardOff> off(std::in_place, counter);
-  for (size_t i = 0; i < directions.size(); ++i) {
-    const Eigen::VectorXd& d = directions[i];
-    const bool principal = i >= first_principal && i < end_principal;
-    for (size_t j = 0; j < std::size(kScales); ++j) {
-      const double s = kScales[j];
-      for (double sign : {-1.0, 1.0}) {
-        std::vector<double> point = centre;
-        bool clipped = false;
-        for (int k = 0; k < n; ++k) {
-          const double x = centre[k] + sign * s * d[k];
-          point[k] = std::clamp(x, lower[k], upper[k]);
-          clipped = clipped || point[k] != x;
-        }
-        const double c = CostAt(problem, point, threads, theta);
-        ++result.probes;
-        if (c < cost) lower_points.push_back({c, s, point});
-        const double expected = 0.5 * s * s;
-        if (principal && s >= 1.0 && s <= reach &&
-            (clipped || !(std::abs(c - cost - expected) <= kQuadraticAgreement * expected))) {
-          reach = j > 0 && kScales[j - 1] >= 1.0 ? kScales[j - 1] : 0.0;
+  {
+    const ScopedGuardOff off(counter);  // the probes in double
+    for (size_t i = 0; i < directions.size(); ++i) {
+      const Eigen::VectorXd& d = directions[i];
+      const bool principal = i >= first_principal && i < end_principal;
+      for (size_t j = 0; j < std::size(kScales); ++j) {
+        const double s = kScales[j];
+        for (double sign : {-1.0, 1.0}) {
+          std::vector<double> point = centre;
+          bool clipped = false;
+          for (int k = 0; k < n; ++k) {
+            const double x = centre[k] + sign * s * d[k];
+            point[k] = std::clamp(x, lower[k], upper[k]);
+            clipped = clipped || point[k] != x;
+          }
+          const double c = CostAt(problem, point, threads, theta);
+          ++result.probes;
+          if (c < cost) lower_points.push_back({c, s, point});
+          const double expected = 0.5 * s * s;
+          if (principal && s >= 1.0 && s <= reach &&
+              (clipped || !(std::abs(c - cost - expected) <= kQuadraticAgreement * expected))) {
+            reach = j > 0 && kScales[j - 1] >= 1.0 ? kScales[j - 1] : 0.0;
+          }
         }
       }
     }
   }
-  off.reset();
   // The lowest point that passes the guard (the same cost, by the same
   // arithmetic, when it passes).
   // By cost, ties by the point (as the pairs were sorted before the scale
