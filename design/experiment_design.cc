@@ -26,6 +26,7 @@
 #include "sim/channels.h"
 #include "sim/config.h"
 #include "io/csv.h"
+#include "sim/dense_decompositions.h"
 #include "sim/simulate.h"
 
 namespace axis {
@@ -256,10 +257,7 @@ Eigen::MatrixXd Stack(const Eigen::MatrixXd& top, const Eigen::MatrixXd& bottom)
 std::vector<double> RelativeErrors(const EstimationProblem& job, const Eigen::MatrixXd& j, double s2) {
   const ParameterMap map(job.model.params, job.free);
   const Eigen::MatrixXd info = j.transpose() * j;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(info, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  svd.setThreshold(1e-14);
-  const Eigen::MatrixXd cov =
-      svd.solve(Eigen::MatrixXd::Identity(info.rows(), info.cols())) * s2;
+  const Eigen::MatrixXd cov = SvdPseudoInverse(info, 1e-14) * s2;
   std::vector<double> out;
   for (int k = 0; k < map.num_free(); ++k) {
     const double value = job.free[k].initial;
@@ -272,10 +270,10 @@ std::vector<double> RelativeErrors(const EstimationProblem& job, const Eigen::Ma
 
 double LogDet(const Eigen::MatrixXd& j) {
   const Eigen::MatrixXd info = j.transpose() * j;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(info);
+  const SymmetricEigen eig = SymmetricEigenOf(info);
   double out = 0.0;
-  for (int k = 0; k < eig.eigenvalues().size(); ++k) {
-    out += std::log(std::max(eig.eigenvalues()[k], 1e-300));
+  for (int k = 0; k < eig.values.size(); ++k) {
+    out += std::log(std::max(eig.values[k], 1e-300));
   }
   return out;
 }

@@ -7,15 +7,12 @@
 
 #include "common/statistics.h"
 #include "estimation/stacked_jacobian.h"
+#include "sim/dense_decompositions.h"
 
 namespace axis {
 
 Eigen::MatrixXd Basis(const Eigen::MatrixXd& a) {
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
-  qr.setThreshold(1e-10);
-  const int rank = static_cast<int>(qr.rank());
-  Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(a.rows(), rank);
-  return q;
+  return ColumnSpaceBasis(a, 1e-10);
 }
 
 Ranking RankCandidates(const EstimationProblem& job, const std::vector<Candidate>& candidates,
@@ -42,9 +39,7 @@ Ranking RankCandidates(const EstimationProblem& job, const std::vector<Candidate
     s.dof = static_cast<int>(jc.cols());
     const Eigen::MatrixXd info = jc.transpose() * jc;
     const Eigen::VectorXd g = jc.transpose() * r;
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(info, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    svd.setThreshold(1e-12);
-    const Eigen::VectorXd solved = svd.solve(g);
+    const Eigen::VectorXd solved = SvdSolve(info, g, 1e-12);
     s.chi2 = g.dot(solved) / s2;
     s.p_value = ChiSquaredSurvival(s.chi2, s.dof);
     s.step.resize(s.dof);
@@ -65,7 +60,7 @@ Ranking RankCandidates(const EstimationProblem& job, const std::vector<Candidate
       if (bases[a].cols() == 0 || bases[b].cols() == 0) continue;
       if (ranking.scores[a].p_value >= threshold && ranking.scores[b].p_value >= threshold) continue;
       const Eigen::MatrixXd cross = bases[a].transpose() * bases[b];
-      const double cosine = Eigen::JacobiSVD<Eigen::MatrixXd>(cross).singularValues()[0];
+      const double cosine = SvdOf(cross, false, false).singular_values[0];
       if (!(cosine > 0.95)) continue;
       Eigen::MatrixXd both(m, bases[a].cols() + bases[b].cols());
       both << bases[a], bases[b];

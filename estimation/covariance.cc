@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "estimation/optimum_check.h"
+#include "sim/dense_decompositions.h"
 
 namespace axis {
 
@@ -53,8 +54,8 @@ Eigen::MatrixXd CovarianceOfJacobian(const Eigen::MatrixXd& j) {
   } else {
     small = j / scale;
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(small, Eigen::ComputeFullV);
-  const Eigen::VectorXd singular = svd.singularValues();
+  const Svd svd = SvdOf(small, false, true);
+  const Eigen::VectorXd& singular = svd.singular_values;
   if (singular.size() == 0 || !(singular[0] > 0.0)) return out;
   const double min_ratio = std::sqrt(kMinReciprocalCondition);
   Eigen::VectorXd inverse_squared = Eigen::VectorXd::Zero(n);
@@ -62,8 +63,7 @@ Eigen::MatrixXd CovarianceOfJacobian(const Eigen::MatrixXd& j) {
     if (singular[i] / singular[0] < min_ratio) break;
     inverse_squared[i] = 1.0 / (singular[i] * singular[i]);
   }
-  out = svd.matrixV() * inverse_squared.asDiagonal() * svd.matrixV().transpose() /
-        (scale * scale);
+  out = svd.v * inverse_squared.asDiagonal() * svd.v.transpose() / (scale * scale);
   return out;
 }
 
@@ -75,12 +75,12 @@ std::vector<bool> NullSpaceMembersOf(const Eigen::MatrixXd& jtj, int n_free) {
     if (jtj(k, k) <= 0.0) out[k] = true;
   }
   const Eigen::MatrixXd scaled = scale.asDiagonal() * jtj * scale.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
-  const double largest = eig.eigenvalues().maxCoeff();
+  const SymmetricEigen eig = SymmetricEigenOf(scaled);
+  const double largest = eig.values.maxCoeff();
   for (int e = 0; e < n_free; ++e) {
-    if (eig.eigenvalues()[e] > 1e-10 * largest) continue;
+    if (eig.values[e] > 1e-10 * largest) continue;
     for (int k = 0; k < n_free; ++k) {
-      if (std::abs(eig.eigenvectors()(k, e)) > 0.1) out[k] = true;
+      if (std::abs(eig.vectors(k, e)) > 0.1) out[k] = true;
     }
   }
   return out;

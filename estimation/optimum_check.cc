@@ -9,6 +9,7 @@
 
 #include "estimation/cost_at.h"
 #include "estimation/experiment_cost.h"
+#include "sim/dense_decompositions.h"
 
 namespace axis {
 
@@ -66,13 +67,9 @@ ProbeRoundResult ProbeRound(ceres::Problem* problem, const std::vector<double>& 
   Eigen::MatrixXd jtj;
   if (!GaussNewtonMatrix(problem, n, threads, &jtj)) return result;
   std::vector<Eigen::VectorXd> directions;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
-  const double largest = eig.eigenvalues().maxCoeff();
-  const Eigen::MatrixXd cov = eig.eigenvectors() *
-      eig.eigenvalues()
-          .unaryExpr([&](double l) { return l > 1e-14 * largest ? 1.0 / l : 0.0; })
-          .asDiagonal() *
-      eig.eigenvectors().transpose();
+  const SymmetricEigen eig = SymmetricEigenOf(jtj);
+  const double largest = eig.values.maxCoeff();
+  const Eigen::MatrixXd cov = PseudoInverseOf(eig, 1e-14);
   for (int k = 0; k < n; ++k) {
     if (cov(k, k) <= 0.0) continue;
     Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
@@ -81,8 +78,8 @@ ProbeRoundResult ProbeRound(ceres::Problem* problem, const std::vector<double>& 
   }
   const size_t first_principal = directions.size();
   for (int e = 0; e < n; ++e) {
-    const double l = eig.eigenvalues()[e];
-    if (l > 1e-14 * largest) directions.push_back(eig.eigenvectors().col(e) / std::sqrt(l));
+    const double l = eig.values[e];
+    if (l > 1e-14 * largest) directions.push_back(eig.vectors.col(e) / std::sqrt(l));
   }
   const size_t end_principal = directions.size();
   Eigen::VectorXd step = Eigen::Map<const Eigen::VectorXd>(last_step.data(), n);

@@ -27,6 +27,7 @@
 #include "report/published_reference.h"
 #include "run/benchmark_settings.h"
 #include "run/fit_job.h"
+#include "sim/dense_decompositions.h"
 #include "sim/drive_config.h"
 #include "sim/auto_step.h"
 #include "sim/preflight.h"
@@ -369,7 +370,7 @@ void ExperimentParser::EstimateStateFromSamples(const YAML::Node& init_node) {
     for (int d = 0; d <= init_degree_; ++d) basis(k, d) = std::pow(tk, d);
     xs(k) = x.scale * raw[first_ + k] + x.offset;
   }
-  const Eigen::VectorXd c = basis.colPivHouseholderQr().solve(xs);
+  const Eigen::VectorXd c = QrLeastSquares(basis, xs);
   const double intercept = c(0);
   const double slope = c(1);
   e_.initial_state[0] = intercept;

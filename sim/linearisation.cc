@@ -6,9 +6,9 @@
 #include <string>
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <Eigen/LU>
 
+#include "sim/dense_decompositions.h"
 #include "sim/simulate.h"
 
 namespace axis {
@@ -117,12 +117,14 @@ std::complex<double> LinearResponse(const LinearisedAxis& system, size_t row,
 }
 
 std::vector<LinearMode> Resonances(const LinearisedAxis& system) {
-  Eigen::EigenSolver<Eigen::Matrix<double, kNumStates, kNumStates>> solver(system.A, false);
+  bool solved = false;
+  const Eigen::Matrix<std::complex<double>, kNumStates, 1> poles =
+      StateEigenvalues(system.A, &solved);
   std::vector<LinearMode> out;
-  if (solver.info() != Eigen::Success) return out;
+  if (!solved) return out;
   for (int k = 0; k < kNumStates; ++k) {
     LinearMode mode;
-    if (AsMode(solver.eigenvalues()[k], &mode)) out.push_back(mode);
+    if (AsMode(poles[k], &mode)) out.push_back(mode);
   }
   Sort(&out);
   return out;
@@ -156,25 +158,26 @@ std::vector<LinearMode> AntiResonances(const LinearisedAxis& system, size_t row)
     const Matrix closed = system.A - system.B * (w * system.A) / w.dot(system.B);
     rows.conservativeResize(k + 1, kNumStates);  // C·A^k for k < r = k + 1
     rows.row(k) = w / w.norm();
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(rows, Eigen::ComputeFullV);
-    const Eigen::MatrixXd null = svd.matrixV().rightCols(kNumStates - rows.rows());
+    const Eigen::MatrixXd null = SvdOf(rows, false, true).v.rightCols(kNumStates - rows.rows());
     zero_dynamics = null.transpose() * closed * null;
   }
   Eigen::EigenSolver<Eigen::MatrixXd> zeros(zero_dynamics, false);
-  Eigen::EigenSolver<Matrix> poles(system.A, false);
-  if (zeros.info() != Eigen::Success || poles.info() != Eigen::Success) return out;
+  bool solved = false;
+  const Eigen::Matrix<std::complex<double>, kNumStates, 1> poles =
+      StateEigenvalues(system.A, &solved);
+  if (zeros.info() != Eigen::Success || !solved) return out;
   // Zeros at the origin (a differentiating channel, e.g. the acceleration
   // of a position state) come out as a round-off cluster about 0 that would
   // pass for a slow, undamped pair: numerically 0 against the poles' scale.
   double scale = 0.0;
-  for (int j = 0; j < kNumStates; ++j) scale = std::max(scale, std::abs(poles.eigenvalues()[j]));
+  for (int j = 0; j < kNumStates; ++j) scale = std::max(scale, std::abs(poles[j]));
   for (Eigen::Index k = 0; k < zeros.eigenvalues().size(); ++k) {
     const std::complex<double> s = zeros.eigenvalues()[k];
     LinearMode mode;
     if (std::abs(s) <= kOriginCluster * scale || !AsMode(s, &mode)) continue;
     bool cancelled = false;
     for (int j = 0; j < kNumStates; ++j) {
-      cancelled |= std::abs(poles.eigenvalues()[j] - s) <= 1e-6 * std::abs(s);
+      cancelled |= std::abs(poles[j] - s) <= 1e-6 * std::abs(s);
     }
     if (!cancelled) out.push_back(mode);
   }

@@ -4,8 +4,9 @@
 #include <sstream>
 #include <vector>
 
-#include <Eigen/QR>
+#include <Eigen/Core>
 
+#include "sim/dense_decompositions.h"
 #include "sim/linearisation.h"
 #include "sim/simulate.h"
 
@@ -94,7 +95,7 @@ OperatingPoint SolveFrom(const AxisStructure& structure, const AxisParams<double
     if (r.norm() <= 1e-9 * r0 || r.norm() == 0.0) point.converged = true;
     if (r.norm() == 0.0) break;
     point.iterations = it + 1;
-    const Eigen::VectorXd step = jacobian.completeOrthogonalDecomposition().solve(-r);
+    const Eigen::VectorXd step = CodSolve(jacobian, -r);
     double length = 1.0;
     bool decreased = false;
     for (int halving = 0; halving < 40 && !decreased; ++halving, length *= 0.5) {

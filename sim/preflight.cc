@@ -1,14 +1,16 @@
 #include "sim/preflight.h"
 
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include <unistd.h>
 
-#include <Eigen/Eigenvalues>
 #include <ceres/jet.h>
+
+#include "sim/dense_decompositions.h"
 
 namespace axis {
 namespace {
@@ -47,9 +49,9 @@ Rk4StabilityLimit Rk4StabilityLimitOf(const AxisStructure& structure,
       limit.max_step = std::numeric_limits<double>::quiet_NaN();
       return limit;
     }
-    const Eigen::EigenSolver<Eigen::Matrix<double, kNumStates, kNumStates>> solver(jac, false);
+    const Eigen::Matrix<std::complex<double>, kNumStates, 1> eigenvalues = StateEigenvalues(jac);
     for (int k = 0; k < kNumStates; ++k) {
-      std::complex<double> lambda = solver.eigenvalues()[k];
+      std::complex<double> lambda = eigenvalues[k];
       if (std::abs(lambda) < 1e-6) continue;  // rigid-body modes: |R| = 1
       // A growing mode (negative friction at rest, e.g. a learned force
       // map's f(0) + F_c below zero) grows in the exact solution too. A

@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <boost/math/distributions/chi_squared.hpp>
 
+#include "sim/dense_decompositions.h"
 #include "sim/random.h"
 
 namespace axis {
@@ -54,9 +54,9 @@ std::vector<Moved> MovedParameters(const FitResult& result, const AxisConfig& mo
 Eigen::MatrixXd Factor(const Eigen::MatrixXd& r) {
   const Eigen::LLT<Eigen::MatrixXd> llt(r);
   if (llt.info() == Eigen::Success) return llt.matrixL();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(r);
-  const Eigen::VectorXd root = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
-  return eig.eigenvectors() * root.asDiagonal();
+  const SymmetricEigen eig = SymmetricEigenOf(r);
+  const Eigen::VectorXd root = eig.values.cwiseMax(0.0).cwiseSqrt();
+  return eig.vectors * root.asDiagonal();
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "estimation/roughness_cost.h"
 #include "estimation/stacked_jacobian.h"
+#include "sim/dense_decompositions.h"
 #include "sim/force_map.h"
 
 namespace axis {
@@ -28,9 +29,8 @@ Eigen::MatrixXd PenaltyMatrix(const EstimationProblem& job, int n) {
 Penalised AtPenalty(const Eigen::VectorXd& r, const Eigen::MatrixXd& j, const Eigen::MatrixXd& p,
                     const Eigen::VectorXd& theta, bool step) {
   const Eigen::MatrixXd jtj = j.transpose() * j;
-  const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj + p);
   Penalised out;
-  out.inverse = cod.pseudoInverse();
+  out.inverse = CodPseudoInverse(jtj + p);
   out.edf = (out.inverse * jtj).trace();
   Eigen::VectorXd predicted = r;
   if (step) predicted -= j * (out.inverse * (j.transpose() * r + p * theta));

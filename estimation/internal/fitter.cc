@@ -34,6 +34,7 @@
 #include "estimation/profile_likelihood.h"
 #include "estimation/estimation_problem.h"
 #include "estimation/solver_settings.h"
+#include "sim/dense_decompositions.h"
 #include "sim/random.h"
 
 namespace axis {
@@ -910,10 +911,10 @@ bool Fitter::LocalRestarts() {
   AbsoluteDecreaseStop stop(std::max(
       kLowerAbsolute, 0.5 * kRestartStepSe * kRestartStepSe * result_.residual_variance));
   o.callbacks.push_back(&stop);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov_theta_ * result_.residual_variance);
+  const SymmetricEigen eig = SymmetricEigenOf(cov_theta_ * result_.residual_variance);
   if (status_ != nullptr) status_->BeginPhase("local restarts");
   for (int e = 0; e < theta_size_; ++e) {
-    const double l = eig.eigenvalues()[e];
+    const double l = eig.values[e];
     if (!(l > 0.0)) continue;
     for (double sign : {-1.0, 1.0}) {
       if (status_ != nullptr) {
@@ -925,7 +926,7 @@ bool Fitter::LocalRestarts() {
       }
       for (int k = 0; k < theta_size_; ++k) {
         p_.theta[k] = std::clamp(
-            centre[k] + sign * local_starts_ * std::sqrt(l) * eig.eigenvectors()(k, e),
+            centre[k] + sign * local_starts_ * std::sqrt(l) * eig.vectors(k, e),
             p_.lower[k], p_.upper[k]);
       }
       ceres::Solver::Summary summary;

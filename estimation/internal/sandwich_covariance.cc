@@ -5,12 +5,13 @@
 
 #include <Eigen/Dense>
 
+#include "sim/dense_decompositions.h"
+
 namespace axis {
 
 Eigen::MatrixXd NeweyWestCovariance(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& r,
                                     const std::vector<int>& series, int lags) {
   const Eigen::Index m = jacobian.rows();
-  const Eigen::Index n = jacobian.cols();
   if (r.size() != m) {
     throw std::invalid_argument("NeweyWestCovariance: expected " + std::to_string(m) +
                                 " residuals (the Jacobian's rows), got " +
@@ -46,14 +47,7 @@ Eigen::MatrixXd NeweyWestCovariance(const Eigen::MatrixXd& jacobian, const Eigen
     begin += len;
   }
   const Eigen::MatrixXd jtj = jacobian.transpose() * jacobian;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
-  const double largest = n > 0 ? eig.eigenvalues().maxCoeff() : 0.0;
-  const Eigen::MatrixXd bread =
-      eig.eigenvectors() *
-      eig.eigenvalues()
-          .unaryExpr([&](double v) { return v > 1e-14 * largest ? 1.0 / v : 0.0; })
-          .asDiagonal() *
-      eig.eigenvectors().transpose();
+  const Eigen::MatrixXd bread = PseudoInverseOf(SymmetricEigenOf(jtj), 1e-14);
   return bread * s * bread;
 }
 

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include "estimation/cost_at.h"
+#include "sim/dense_decompositions.h"
 
 namespace axis {
 namespace {
@@ -14,13 +15,7 @@ constexpr int kMaxPasses = 4;
 constexpr double kScaleAgreement = 2.0;
 
 Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& a) {
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a);
-  const double largest = eig.eigenvalues().maxCoeff();
-  return eig.eigenvectors() *
-         eig.eigenvalues()
-             .unaryExpr([&](double v) { return v > 1e-14 * largest ? 1.0 / v : 0.0; })
-             .asDiagonal() *
-         eig.eigenvectors().transpose();
+  return PseudoInverseOf(SymmetricEigenOf(a), 1e-14);
 }
 
 }  // namespace
