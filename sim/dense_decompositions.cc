@@ -61,6 +61,9 @@ Eigen::MatrixXd ColumnSpaceBasis(const Eigen::MatrixXd& a, double threshold) {
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
   qr.setThreshold(threshold);
   const Eigen::Index rank = qr.rank();
+  // No columns: Eigen's product with an empty block offsets a null pointer
+  // (UBSan's pointer-overflow check).
+  if (rank == 0) return Eigen::MatrixXd(a.rows(), 0);
   return qr.householderQ() * Eigen::MatrixXd::Identity(a.rows(), rank);
 }
 
