@@ -10,8 +10,6 @@ SymmetricEigen SymmetricEigenOf(const Eigen::MatrixXd& a) {
   SymmetricEigen out;
   if (a.size() == 0) {  // Eigen's solver reads the largest entry of the matrix
     out.ok = true;
-    out.values.resize(0);
-    out.vectors.resize(0, 0);
     return out;
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a);
@@ -79,7 +77,7 @@ Eigen::MatrixXd CodPseudoInverse(const Eigen::MatrixXd& a) {
   return Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(a).pseudoInverse();
 }
 
-Eigen::Matrix<std::complex<double>, kNumStates, 1> StateEigenvalues(
+StateEigenvalueVector StateEigenvalues(
     const Eigen::Matrix<double, kNumStates, kNumStates>& a, bool* ok) {
   const Eigen::EigenSolver<Eigen::Matrix<double, kNumStates, kNumStates>> solver(a, false);
   if (ok != nullptr) *ok = solver.info() == Eigen::Success;

@@ -75,11 +75,14 @@ Eigen::VectorXd QrLeastSquares(const Eigen::MatrixXd& a, const Eigen::VectorXd& 
 Eigen::VectorXd CodSolve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b);
 Eigen::MatrixXd CodPseudoInverse(const Eigen::MatrixXd& a);
 
+// The eigenvalues of a state matrix, one per state, in no particular order.
+using StateEigenvalueVector = Eigen::Matrix<std::complex<double>, kNumStates, 1>;
+
 // The eigenvalues of a state matrix (the model's kNumStates × kNumStates
 // ∂f/∂y, MODEL.md §9), by Eigen::EigenSolver without eigenvectors. *ok (if
 // not null) is false, the values then unspecified, where its QR iteration
 // did not converge.
-Eigen::Matrix<std::complex<double>, kNumStates, 1> StateEigenvalues(
+StateEigenvalueVector StateEigenvalues(
     const Eigen::Matrix<double, kNumStates, kNumStates>& a, bool* ok = nullptr);
 
 }  // namespace axis

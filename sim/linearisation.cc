@@ -118,8 +118,7 @@ std::complex<double> LinearResponse(const LinearisedAxis& system, size_t row,
 
 std::vector<LinearMode> Resonances(const LinearisedAxis& system) {
   bool solved = false;
-  const Eigen::Matrix<std::complex<double>, kNumStates, 1> poles =
-      StateEigenvalues(system.A, &solved);
+  const StateEigenvalueVector poles = StateEigenvalues(system.A, &solved);
   std::vector<LinearMode> out;
   if (!solved) return out;
   for (int k = 0; k < kNumStates; ++k) {
@@ -163,8 +162,7 @@ std::vector<LinearMode> AntiResonances(const LinearisedAxis& system, size_t row)
   }
   Eigen::EigenSolver<Eigen::MatrixXd> zeros(zero_dynamics, false);
   bool solved = false;
-  const Eigen::Matrix<std::complex<double>, kNumStates, 1> poles =
-      StateEigenvalues(system.A, &solved);
+  const StateEigenvalueVector poles = StateEigenvalues(system.A, &solved);
   if (zeros.info() != Eigen::Success || !solved) return out;
   // Zeros at the origin (a differentiating channel, e.g. the acceleration
   // of a position state) come out as a round-off cluster about 0 that would

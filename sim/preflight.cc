@@ -49,7 +49,7 @@ Rk4StabilityLimit Rk4StabilityLimitOf(const AxisStructure& structure,
       limit.max_step = std::numeric_limits<double>::quiet_NaN();
       return limit;
     }
-    const Eigen::Matrix<std::complex<double>, kNumStates, 1> eigenvalues = StateEigenvalues(jac);
+    const StateEigenvalueVector eigenvalues = StateEigenvalues(jac);
     for (int k = 0; k < kNumStates; ++k) {
       std::complex<double> lambda = eigenvalues[k];
       if (std::abs(lambda) < 1e-6) continue;  // rigid-body modes: |R| = 1

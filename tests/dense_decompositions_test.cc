@@ -146,7 +146,7 @@ TEST(DenseDecompositionsTest, StateEigenvaluesOfABlockDiagonalMatrix) {
   a(1, 1) = -1.0;
   for (int k = 2; k < kNumStates; ++k) a(k, k) = -(k + 1.0);
   bool ok = false;
-  const Eigen::Matrix<std::complex<double>, kNumStates, 1> values = StateEigenvalues(a, &ok);
+  const StateEigenvalueVector values = StateEigenvalues(a, &ok);
   ASSERT_TRUE(ok);
   std::vector<std::complex<double>> expected = {{-1.0, 2.0}, {-1.0, -2.0}};
   for (int k = 2; k < kNumStates; ++k) expected.push_back({-(k + 1.0), 0.0});

@@ -14,10 +14,6 @@ namespace {
 constexpr int kMaxPasses = 4;
 constexpr double kScaleAgreement = 2.0;
 
-Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& a) {
-  return PseudoInverseOf(SymmetricEigenOf(a), 1e-14);
-}
-
 }  // namespace
 
 bool EstimateAtIntervalEnd(double value, double low, double high) {
@@ -94,7 +90,8 @@ SmoothScale SmoothScaleCovariance(ceres::Problem* problem, const std::vector<dou
                                    theta, &out.jacobian)) {
       return out;
     }
-    out.cov = s2 * PseudoInverse(out.jacobian.transpose() * out.jacobian);
+    const Eigen::MatrixXd jtj = out.jacobian.transpose() * out.jacobian;
+    out.cov = s2 * PseudoInverseOf(SymmetricEigenOf(jtj), 1e-14);
     const std::vector<double> next = sd_steps(out.cov);
     // Steps only grow: a standard deviation below half the step says the
     // cost is smooth at that step already (a central difference is exact
