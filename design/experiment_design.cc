@@ -255,7 +255,7 @@ Eigen::MatrixXd Stack(const Eigen::MatrixXd& top, const Eigen::MatrixXd& bottom)
 
 // Relative standard errors s·sqrt(diag (JᵀJ)⁻¹) in value units over |value|.
 std::vector<double> RelativeErrors(const EstimationProblem& job, const Eigen::MatrixXd& j, double s2) {
-  const ParameterMap map(job.model.params, job.free);
+  const ParameterMap map(job.model.params, job.free, job.ties);
   const Eigen::MatrixXd info = j.transpose() * j;
   const Eigen::MatrixXd cov = SvdPseudoInverse(info, 1e-14) * s2;
   std::vector<double> out;

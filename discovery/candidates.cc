@@ -94,7 +94,7 @@ Eigen::MatrixXd CandidateColumns(const EstimationProblem& job, const Candidate& 
     f.scale = 1.0;
     f.log = false;
     const double at = *FindParam(&params, column.param);
-    const ParameterMap map(params, {f});
+    const ParameterMap map(params, {f}, job.ties);
     EvaluationCounter counter;
     int row = 0;
     for (const FitExperiment& e : job.experiments) {

@@ -23,6 +23,7 @@ void ApplyEstimates(const FitResult& result, EstimationProblem* job) {
       }
     }
   }
+  ApplyTies(TieIndices(job->ties), &job->model.params);
   if (result.initial_states.size() != job->experiments.size()) return;  // no estimate
   for (size_t j = 0; j < job->experiments.size(); ++j) {
     FitExperiment& e = job->experiments[j];

@@ -18,10 +18,12 @@ namespace axis {
 void SetArmState(const std::array<double, 2>& y, double r_g, FitExperiment* e);
 
 // Writes the free parameters' estimates of `result` into `job` as model
-// values and as initial values (clamped to their bounds), and the fitted
+// values and as initial values (clamped to their bounds), the tied
+// parameters their sources' values (EstimationProblem::ties), and the fitted
 // initial states (FitResult::initial_states) into its experiments with
 // `initial_state: estimate`: the model at the estimate, for the score test
-// and the diagnostics, and the warm start of the next fit. Never throws.
+// and the diagnostics, and the warm start of the next fit. Never throws
+// (the loader has checked the ties' names).
 void ApplyEstimates(const FitResult& result, EstimationProblem* job);
 
 // A copy of `job` with ApplyEstimates(result) applied: the model at the

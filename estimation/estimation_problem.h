@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "estimation/parameter_tie.h"
 #include "estimation/solver_settings.h"
 #include "sim/axis_config.h"
 #include "sim/channels.h"
@@ -82,6 +83,10 @@ struct EstimationProblem {
   std::vector<FitExperiment> experiments;  // role "fit"
   std::vector<FitExperiment> validate;     // role "validate"
   std::vector<FreeParameter> free;
+  // Parameters that take another's value (job key `tie:`;
+  // estimation/parameter_tie.h): never free, kept equal to their source
+  // wherever the fit sets parameters.
+  std::vector<ParameterTie> ties;
   SolverSettings solver;
   UncertaintySettings uncertainty;
   RoughnessPenalty roughness;

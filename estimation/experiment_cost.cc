@@ -39,8 +39,10 @@ ceres::CostFunction* MakeNarrowest(ExperimentCost* functor, int theta_size,
 }  // namespace
 
 ParameterMap::ParameterMap(const AxisParams<double>& base,
-                           std::vector<FreeParameter> free)
-    : base_(base), free_(std::move(free)) {
+                           std::vector<FreeParameter> free,
+                           const std::vector<ParameterTie>& ties)
+    : base_(base), free_(std::move(free)), ties_(TieIndices(ties)) {
+  ApplyTies(ties_, &base_);
   std::vector<std::string> names;
   VisitParams([&](const char* name, const char*, const double&) {
     names.push_back(name);

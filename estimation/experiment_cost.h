@@ -15,6 +15,7 @@
 
 #include "estimation/estimation_problem.h"
 #include "estimation/jet_widths.h"
+#include "estimation/parameter_tie.h"
 #include "sim/simulate.h"
 
 namespace axis {
@@ -22,11 +23,14 @@ namespace axis {
 // The map between the optimiser's vector θ and the model parameters:
 // θ_k = log(p_k) for positive parameters (FreeParameter::log), p_k/scale_k
 // otherwise. After the free parameters, θ holds (y0, y1) for every experiment
-// whose initial state is estimated.
+// whose initial state is estimated. Parameters tied to another
+// (estimation/parameter_tie.h) take its value, in `base` and in Apply.
 class ParameterMap {
  public:
-  // Throws std::invalid_argument if a free parameter is not a model name.
-  ParameterMap(const AxisParams<double>& base, std::vector<FreeParameter> free);
+  // Throws std::invalid_argument if a free or tied parameter is not a model
+  // name.
+  ParameterMap(const AxisParams<double>& base, std::vector<FreeParameter> free,
+               const std::vector<ParameterTie>& ties = {});
 
   int num_free() const { return static_cast<int>(free_.size()); }
   const std::vector<FreeParameter>& free() const { return free_; }
@@ -43,7 +47,8 @@ class ParameterMap {
     return free_[k].log ? std::exp(theta) : free_[k].scale;
   }
 
-  // The model parameters at θ (first num_free() entries). Never throws.
+  // The model parameters at θ (first num_free() entries), the tied ones
+  // set to their sources'. Never throws but std::bad_alloc.
   template <typename T>
   AxisParams<T> Apply(const T* theta) const {
     using std::exp;
@@ -58,12 +63,14 @@ class ParameterMap {
       }
       ++index;
     }, p);
+    ApplyTies(ties_, &p);
     return p;
   }
 
  private:
   AxisParams<double> base_;
   std::vector<FreeParameter> free_;
+  std::vector<std::pair<int, int>> ties_;  // TieIndices
   // (VisitParams index, free index), sorted by VisitParams index.
   std::vector<std::pair<int, int>> order_;
 };

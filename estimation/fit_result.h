@@ -52,6 +52,11 @@ struct ParameterEstimate {
   // False if the data cannot determine it: the Jacobian is rank deficient
   // in its direction, or |correlation| > 0.99 with another free parameter.
   bool determined = true;
+  // A fixed parameter tied to another (job key `tie:`,
+  // estimation/parameter_tie.h): that parameter's name, its value here, and
+  // where the source is free its standard errors and interval; "" if not
+  // tied.
+  std::string tied_to;
 };
 
 // Goodness of fit of one channel of one experiment (MODEL.md §6 channel).

@@ -14,7 +14,7 @@
 namespace axis {
 
 void StackedJacobian(const EstimationProblem& job, Eigen::VectorXd* r, Eigen::MatrixXd* jac) {
-  const ParameterMap map(job.model.params, job.free);
+  const ParameterMap map(job.model.params, job.free, job.ties);
   const int n = map.num_free();
   std::vector<double> theta(n);
   for (int k = 0; k < n; ++k) theta[k] = map.ToInternal(k, job.free[k].initial);

@@ -579,7 +579,9 @@ void DefineFitResultReports(py::class_<JobRun>& c) {
                              [](const JobRun& r) {
                                AxisConfig fitted = r.job.problem.model;
                                for (const ParameterEstimate& p : r.result.parameters) {
-                                 if (p.free) *FindParam(&fitted.params, p.name) = p.value;
+                                 if (p.free || !p.tied_to.empty()) {
+                                   *FindParam(&fitted.params, p.name) = p.value;
+                                 }
                                }
                                return AxisConfigToYaml(fitted);
                              },

@@ -442,10 +442,12 @@ Table ParameterTable(const FitResult& result, const EstimationProblem* job, bool
   for (const ParameterEstimate& p : result.parameters) {
     if (p.free != free) continue;
     const FreeParameter* f = free ? FindFree(job, p.name) : nullptr;
-    std::string status = free ? "free" : "fixed";
+    std::string status = free ? "free" : p.tied_to.empty() ? "fixed" : "tied to " + p.tied_to;
     if (!p.determined) status += " (not determined by the data)";
-    t.rows.push_back({Text(p.name), Text(p.unit), Num(p.value), Num(free ? p.std_error : nan),
-                      Text(free ? Interval(p.ci95_low, p.ci95_high) : "—"), Num(p.initial),
+    // A parameter tied to a free one shares its errors and interval.
+    const bool errors = free || std::isfinite(p.std_error);
+    t.rows.push_back({Text(p.name), Text(p.unit), Num(p.value), Num(errors ? p.std_error : nan),
+                      Text(errors ? Interval(p.ci95_low, p.ci95_high) : "—"), Num(p.initial),
                       Num(f != nullptr ? f->lower : nan), Num(f != nullptr ? f->upper : nan),
                       Text(status)});
   }

@@ -84,11 +84,13 @@ TextTable ParameterTable(const FitResult& result) {
   table.right = {false, false, true, true, false, true, false};
   for (size_t k : ParameterOrder(result)) {
     const ParameterEstimate& p = result.parameters[k];
-    std::string status = p.free ? "free" : "fixed";
+    std::string status = p.free ? "free" : p.tied_to.empty() ? "fixed" : "tied to " + p.tied_to;
     if (!p.determined) status += std::string(" ") + kNotDetermined;
+    // A parameter tied to a free one shares its errors and interval.
+    const bool errors = p.free || std::isfinite(p.std_error);
     table.rows.push_back(
-        {p.name, p.unit, Num(p.value), p.free ? Num(p.std_error) : "-",
-         p.free ? "[" + Num(p.ci95_low) + ", " + Num(p.ci95_high) + "]" : "-",
+        {p.name, p.unit, Num(p.value), errors ? Num(p.std_error) : "-",
+         errors ? "[" + Num(p.ci95_low) + ", " + Num(p.ci95_high) + "]" : "-",
          Num(p.initial), status});
   }
   return table;
@@ -460,16 +462,20 @@ Json ParameterJson(const FitResult& result, const ParameterEstimate& p) {
   e["name"] = p.name;
   e["unit"] = p.unit;
   e["value"] = JsonNumber<Json>(p.value);
-  e["std_error"] = p.free ? JsonNumber<Json>(p.std_error) : Json(nullptr);
-  e["ci95_low"] = p.free ? JsonNumber<Json>(p.ci95_low) : Json(nullptr);
-  e["ci95_high"] = p.free ? JsonNumber<Json>(p.ci95_high) : Json(nullptr);
+  // A parameter tied to another (ParameterEstimate::tied_to) carries the
+  // errors of its source where that is free.
+  const bool errors = p.free || !p.tied_to.empty();
+  e["std_error"] = errors ? JsonNumber<Json>(p.std_error) : Json(nullptr);
+  e["ci95_low"] = errors ? JsonNumber<Json>(p.ci95_low) : Json(nullptr);
+  e["ci95_high"] = errors ? JsonNumber<Json>(p.ci95_high) : Json(nullptr);
   e["std_error_gauss_newton"] =
-      p.free ? JsonNumber<Json>(p.std_error_gauss_newton) : Json(nullptr);
-  e["interval_method"] = p.free ? Json(p.interval_method) : Json(nullptr);
-  if (p.free && !result.misspecification_note.empty()) {
+      errors ? JsonNumber<Json>(p.std_error_gauss_newton) : Json(nullptr);
+  e["interval_method"] = errors ? Json(p.interval_method) : Json(nullptr);
+  if (errors && !result.misspecification_note.empty()) {
     e["std_error_sandwich"] = JsonNumber<Json>(p.std_error_sandwich);
   }
-  if (p.free && result.bootstrap_replicates > 0) {
+  if (!p.tied_to.empty()) e["tied_to"] = p.tied_to;
+  if (errors && result.bootstrap_replicates > 0) {
     e["bootstrap"] = {{"std_error", JsonNumber<Json>(p.std_error_bootstrap)},
                       {"low", JsonNumber<Json>(p.bootstrap_low)},
                       {"high", JsonNumber<Json>(p.bootstrap_high)}};

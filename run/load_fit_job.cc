@@ -18,6 +18,7 @@
 #include "discovery/discovery_settings.h"
 #include "discovery/frequency_response_settings.h"
 #include "estimation/full_loop_refit.h"
+#include "estimation/parameter_tie.h"
 #include "estimation/solver_settings.h"
 #include "io/csv.h"
 #include "io/data_file.h"
@@ -646,6 +647,7 @@ class FitJobParser {
   void ParseSimulation();  // simulation: (step_), the RK4 step's check
   void ChooseStep();       // without simulation.step: the limit of sim/auto_step.h
   void ParseFree();
+  void ParseTies();  // tie: after free:, before the step and the experiments
   FreeParameter ParseFreeParameter(YamlMap& free, const YAML::Node& key,
                                    const std::string& name);
   void ParseSolver();  // solver:, uncertainty:
@@ -665,6 +667,7 @@ FitJob FitJobParser::Parse() {
   ParseModel();
   ParseSimulation();
   ParseFree();
+  ParseTies();
   ChooseStep();
   ParseSolver();
   if (const YAML::Node node = root_.Optional("discover")) {
@@ -744,7 +747,13 @@ void FitJobParser::ParseSimulation() {
 void FitJobParser::ChooseStep() {
   if (step_.fixed > 0.0) return;
   std::vector<ParameterRange> ranges;
-  for (const FreeParameter& f : job_.problem.free) ranges.push_back({f.name, f.lower, f.upper});
+  for (const FreeParameter& f : job_.problem.free) {
+    ranges.push_back({f.name, f.lower, f.upper});
+    // A parameter tied to a free one ranges over its bounds too.
+    for (const ParameterTie& tie : job_.problem.ties) {
+      if (tie.source == f.name) ranges.push_back({tie.parameter, f.lower, f.upper});
+    }
+  }
   try {
     step_.limit = AutoStepLimit(job_.problem.model.structure, job_.problem.model.params, ranges);
   } catch (const std::invalid_argument& err) {
@@ -764,6 +773,57 @@ void FitJobParser::ParseFree() {
     ThrowConfigError(path_, free.node(), "free", "at least one free parameter",
                      "none");
   }
+}
+
+// `tie: {K_e: K_tau}`: each key a model parameter that is not free, taking
+// the value of the parameter it names (estimation/parameter_tie.h); no
+// chains (a source that is itself tied) and no parameter tied twice. The
+// job's model takes the tied values now, so that the step's check and the
+// experiments see them.
+void FitJobParser::ParseTies() {
+  const YAML::Node node = root_.Optional("tie");
+  if (!node) return;
+  YamlMap ties(node, path_, "tie.");
+  AxisParams<double>& params = job_.problem.model.params;
+  const auto is_free = [&](const std::string& name) {
+    for (const FreeParameter& f : job_.problem.free) {
+      if (f.name == name) return true;
+    }
+    return false;
+  };
+  for (const auto& entry : ties.node()) {
+    const std::string name = entry.first.Scalar();
+    const std::string key = "tie." + name;
+    const std::string source = ties.String(name);
+    if (FindParam(&params, name) == nullptr || name.find('.') != std::string::npos) {
+      ThrowConfigError(path_, entry.first, key, "a parameter name of the model (MODEL.md)",
+                       "'" + name + "'");
+    }
+    if (FindParam(&params, source) == nullptr || source.find('.') != std::string::npos) {
+      ThrowConfigError(path_, entry.second, key,
+                       "the name of the model parameter " + name + " takes its value from",
+                       "'" + source + "'");
+    }
+    if (source == name) {
+      ThrowConfigError(path_, entry.second, key, "another parameter than " + name,
+                       "'" + source + "'");
+    }
+    if (is_free(name)) {
+      ThrowConfigError(path_, entry.first, key,
+                       "a parameter that is not free (a tied one follows " + source + ")",
+                       name + " under 'free'");
+    }
+    for (const ParameterTie& tie : job_.problem.ties) {
+      if (tie.parameter == source || tie.source == name) {
+        ThrowConfigError(path_, entry.first, key,
+                         "no chain of ties (tie each parameter to an untied one)",
+                         tie.parameter + " tied to " + tie.source);
+      }
+    }
+    job_.problem.ties.push_back({name, source});
+  }
+  ties.Finish();
+  ApplyTies(TieIndices(job_.problem.ties), &params);
 }
 
 // The entry `name` (its key `key`) of `free`.

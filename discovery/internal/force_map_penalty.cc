@@ -39,7 +39,7 @@ Penalised AtPenalty(const Eigen::VectorXd& r, const Eigen::MatrixXd& j, const Ei
 }
 
 Eigen::VectorXd ThetaOf(const EstimationProblem& job) {
-  const ParameterMap map(job.model.params, job.free);
+  const ParameterMap map(job.model.params, job.free, job.ties);
   Eigen::VectorXd theta(map.num_free());
   for (int k = 0; k < map.num_free(); ++k) theta[k] = map.ToInternal(k, job.free[k].initial);
   return theta;

@@ -10,7 +10,8 @@
 
 namespace axis {
 
-void AppendFixedEstimates(AxisParams<double> fitted, Motion motion, FitResult* result) {
+void AppendFixedEstimates(AxisParams<double> fitted, Motion motion,
+                          const std::vector<ParameterTie>& ties, FitResult* result) {
   for (const ParamInfo& info : ListParams()) {
     if (std::find(result->free_names.begin(), result->free_names.end(),
                   info.name) != result->free_names.end()) {
@@ -26,7 +27,27 @@ void AppendFixedEstimates(AxisParams<double> fitted, Motion motion, FitResult* r
     e.std_error = e.ci95_low = e.ci95_high = e.std_error_gauss_newton =
         e.std_error_bootstrap = e.bootstrap_low = e.bootstrap_high =
             std::numeric_limits<double>::quiet_NaN();
+    e.tied_to = TiedTo(ties, info.name);
     result->parameters.push_back(e);
+  }
+  CopyTiedUncertainty(result);
+}
+
+void CopyTiedUncertainty(FitResult* result) {
+  for (ParameterEstimate& e : result->parameters) {
+    if (e.tied_to.empty()) continue;
+    for (const ParameterEstimate& source : result->parameters) {
+      if (!source.free || source.name != e.tied_to) continue;
+      e.std_error = source.std_error;
+      e.std_error_gauss_newton = source.std_error_gauss_newton;
+      e.std_error_bootstrap = source.std_error_bootstrap;
+      e.bootstrap_low = source.bootstrap_low;
+      e.bootstrap_high = source.bootstrap_high;
+      e.ci95_low = source.ci95_low;
+      e.ci95_high = source.ci95_high;
+      e.interval_method = source.interval_method;
+      e.std_error_sandwich = source.std_error_sandwich;
+    }
   }
 }
 
@@ -46,7 +67,7 @@ void AppendEstimates(const EstimationProblem& job, const ParameterMap& map,
     result->free_names.push_back(e.name);
     result->parameters.push_back(e);
   }
-  AppendFixedEstimates(map.Apply(theta.data()), job.model.structure.motion, result);
+  AppendFixedEstimates(map.Apply(theta.data()), job.model.structure.motion, job.ties, result);
 }
 
 void ReportStageFailure(const EstimationProblem& job, const ParameterMap& map,

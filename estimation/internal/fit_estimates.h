@@ -18,8 +18,19 @@ namespace axis {
 // Appends the fixed parameters (those not in result->free_names) at their
 // values in `fitted`, standard errors and intervals NaN; only those the model
 // configuration uses (no per-channel sensor parameters); units those of an
-// axis moving as `motion` (ParamUnit, sim/axis_params.h).
-void AppendFixedEstimates(AxisParams<double> fitted, Motion motion, FitResult* result);
+// axis moving as `motion` (ParamUnit, sim/axis_params.h). A parameter tied
+// to another (`ties`, estimation/parameter_tie.h) names it in
+// ParameterEstimate::tied_to and, where the source is free and already in
+// result->parameters, carries its standard errors and interval (the same
+// value; CopyTiedUncertainty).
+void AppendFixedEstimates(AxisParams<double> fitted, Motion motion,
+                          const std::vector<ParameterTie>& ties, FitResult* result);
+
+// Gives each tied estimate of result->parameters (ParameterEstimate::
+// tied_to) the standard errors, bootstrap figures and interval of its
+// source where the source is free; again after the sandwich errors are
+// set. Never throws.
+void CopyTiedUncertainty(FitResult* result);
 
 // The parameters of a fit stopped before the whole record (FitResult::
 // abandoned_horizon): every one at its value at θ (internal coordinates),

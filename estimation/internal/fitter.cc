@@ -101,7 +101,7 @@ FitResult Fitter::Run() {
 // ---------------------------------------------------------------- the problem
 
 void Fitter::BuildProblem() {
-  p_.map = std::make_unique<ParameterMap>(job_.model.params, job_.free);
+  p_.map = std::make_unique<ParameterMap>(job_.model.params, job_.free, job_.ties);
   n_free_ = p_.map->num_free();
   for (int k = 0; k < n_free_; ++k) {
     const FreeParameter& f = job_.free[k];
@@ -1079,7 +1079,7 @@ FitResult Fitter::Finish() {
   SmoothScaleIntervals(ratio);
   const AxisParams<double> fitted = p_.map->Apply(p_.theta.data());
   AppendFreeEstimates(cov, determined, ratio);
-  AppendFixedEstimates(fitted, job_.model.structure.motion, &result_);
+  AppendFixedEstimates(fitted, job_.model.structure.motion, job_.ties, &result_);
   // Every fitted entry of θ counts: the free parameters and the estimated
   // initial states.
   const int n = theta_size_;

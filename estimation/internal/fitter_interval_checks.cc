@@ -13,6 +13,7 @@
 
 #include "estimation/cost_at.h"
 #include "estimation/fit_notes.h"
+#include "estimation/internal/fit_estimates.h"
 #include "estimation/internal/fitter.h"
 #include "estimation/optimum_check.h"
 #include "estimation/internal/phase_timer.h"
@@ -121,6 +122,7 @@ void Fitter::MisspecificationCheck() {
     result_.parameters[k].std_error_sandwich =
         std::sqrt(cov(k, k)) * std::abs(p_.map->Derivative(k, p_.theta[k]));
   }
+  CopyTiedUncertainty(&result_);
   result_.misspecification_note = MisspecificationNote(result_, s2, structured, lags);
 }
 
