@@ -38,6 +38,8 @@ std::vector<CandidateColumn> ColumnsOf(const std::string& effect,
     return {{"A_cog", {{"phi_cog", 0.0}}}, {"A_cog", {{"phi_cog", kPi / 2}}}};
   }
   if (effect == "load_friction") return {{"mu_d", {}}, {"mu_b", {}}};
+  // The Stribeck exponent about the Gaussian δ = 2 the term starts with.
+  if (effect == "stribeck_shape") return {{"delta_st", {}}};
   if (effect == "sensor_delay") return {{"tau_d." + channel, {}}};
   if (effect == "sensor_bias") return {{"b." + channel, {}}};
   if (effect == "sensor_lowpass") return {{"tau_lp." + channel, {}}};
@@ -179,6 +181,12 @@ void AddEffect(const Candidate& c, const Score& s, size_t start, EstimationProbl
     p.F_st = p.F_c + s.single_step[start];
     added.push_back(Linear("F_st", p.F_st));
     added.push_back(Positive("v_st", p.v_st, 1e-4, 1.0));
+  } else if (c.effect == "stribeck_shape") {
+    // δ > 0 from the score step about 2, searched over [0.1, 20] (beyond
+    // them the shape is a step or a spike: ImplausibleValue).
+    p.delta_st = std::clamp(p.delta_st + s.step[0], 0.25, 8.0);
+    added.push_back(Positive("delta_st", p.delta_st, kStribeckShapeBounds[0],
+                             kStribeckShapeBounds[1]));
   } else if (c.effect == "load_friction") {
     // Coefficients ≥ 0 (a gearbox's loss opposes the motion) from the score
     // step, searched up to 1 (a loss as large as the force transmitted).
@@ -254,6 +262,9 @@ SearchSides SearchBoundSides(const FreeParameter& f) {
 void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
                   EstimationProblem* job) {
   job->model.structure = WithEffect(job->model.structure, c, false);
+  // The Stribeck term stays: without its own exponent it has the Gaussian
+  // shape again.
+  if (c.effect == "stribeck_shape") job->model.params.delta_st = AxisParams<double>().delta_st;
   std::vector<FreeParameter> kept;
   for (const FreeParameter& f : job->free) {
     if (std::find(params.begin(), params.end(), f.name) == params.end()) kept.push_back(f);
@@ -315,6 +326,11 @@ bool WidenSearchBounds(const FitResult& fit, const std::vector<std::string>& nam
   return widened;
 }
 
+bool RefinedInModel(const std::string& effect, const AxisStructure& structure) {
+  return (effect == "coulomb" && structure.effects.stribeck) ||
+         (effect == "stribeck" && structure.effects.stribeck_shape);
+}
+
 std::vector<std::string> FreedParameters(const std::string& effect) {
   return EffectParameters(CandidateNamed(effect));
 }
@@ -350,6 +366,16 @@ std::vector<Candidate> ListCandidates(const EstimationProblem& job,
     // step and it outranks Coulomb on the extra shapes (EMPS: log10 p
     // −44280 vs −43230) while its refit, without the Coulomb term, fails.
     if (name == "stribeck" && !job.model.structure.effects.coulomb) continue;
+    // Its shape exponent likewise only once a Stribeck term of the
+    // Gaussian shape is in (δ = 2: a δ set otherwise is the model's), and
+    // not where the job fits δ itself.
+    if (name == "stribeck_shape" &&
+        (!job.model.structure.effects.stribeck ||
+         job.model.params.delta_st != AxisParams<double>().delta_st ||
+         std::any_of(job.free.begin(), job.free.end(),
+                     [](const FreeParameter& f) { return f.name == "delta_st"; }))) {
+      continue;
+    }
     all.push_back({e.name, e.name, Channel::kT, ColumnsOf(e.name, ""), {}});
   }
   std::vector<Channel> fitted;

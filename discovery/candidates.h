@@ -36,6 +36,10 @@ struct CandidateColumn {
 // (AddEffect); a refit that ends within 1 % of either end is implausible
 // (discovery/significance.h ImplausibleValue).
 constexpr double kLowpass2DampingBounds[2] = {0.05, 5.0};
+// The search interval of a discovered Stribeck shape exponent δ
+// (AddEffect); a refit that ends within 1 % of either end is implausible
+// (discovery/significance.h ImplausibleValue).
+constexpr double kStribeckShapeBounds[2] = {0.1, 20.0};
 // The damping a discovered second-order filter starts from: the
 // Butterworth filter's 1/√2.
 constexpr double kButterworthDamping = 0.70710678118654752;
@@ -59,6 +63,13 @@ struct Candidate {
 // 'x'" for an unknown name.
 std::vector<Candidate> ListCandidates(const EstimationProblem& job,
                                       const std::vector<std::string>& only = {});
+
+// Whether `effect` (a Candidate::effect) is refined by another effect of
+// `structure` and stays while that one does (the marginality principle of
+// ListCandidates): Coulomb friction under a Stribeck term, the Stribeck
+// term under its own shape exponent (stribeck_shape). The removal steps
+// skip it. Never throws.
+bool RefinedInModel(const std::string& effect, const AxisStructure& structure);
 
 // The parameters the loop frees when it adds `effect` (a Candidate::name,
 // e.g. "coulomb" → F_c, "spring" → k_x (x_0 stays), "cogging" → A_cog,

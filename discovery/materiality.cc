@@ -94,7 +94,7 @@ void DropNegligible(EstimationProblem* job, FitResult* result, DiscoveryReport* 
   for (size_t k = effects.size(); k-- > 0;) {
     if (IsConventionStep(effects[k])) continue;
     const Candidate candidate = CandidateNamed(effects[k]);
-    if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
+    if (RefinedInModel(candidate.effect, job->model.structure)) continue;
     const Contribution c = EffectContribution(candidate.name, *job, *result);
     if (c.material) continue;
     EstimationProblem without;

@@ -11,6 +11,7 @@
 #include "common/progress.h"
 #include "common/statistics.h"
 #include "discovery/accelerometer_convention.h"
+#include "discovery/candidates.h"
 #include "discovery/channel_changes.h"
 #include "discovery/internal/screen.h"
 #include "discovery/significance.h"
@@ -81,7 +82,7 @@ void DropInsignificant(double level, EstimationProblem* job, FitResult* result,
   for (size_t k = effects.size(); k-- > 0;) {
     if (IsConventionStep(effects[k])) continue;  // no parameter to test
     const Candidate candidate = CandidateNamed(effects[k]);
-    if (candidate.effect == "coulomb" && job->model.structure.effects.stribeck) continue;
+    if (RefinedInModel(candidate.effect, job->model.structure)) continue;
     ApplyEstimates(*result, job);
     const EffectSignificance w = EffectWald(candidate.name, *result);
     if (w.p_value < level) continue;

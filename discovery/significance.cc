@@ -51,6 +51,10 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
       const double var = covariance("F_st", "F_st") + covariance("F_c", "F_c") -
                          2.0 * covariance("F_st", "F_c");
       chi2 = d * d / var;
+    } else if (base == "stribeck_shape") {
+      // The exponent against the Gaussian shape the term had without it.
+      const double d = e->value - AxisParams<double>().delta_st;
+      chi2 = d * d / covariance(p, p);
     } else if (base == "cogging") {
       w.dof = 2;
       double var = covariance("A_cog", "A_cog");
@@ -104,6 +108,17 @@ std::string ImplausibleValue(const std::string& effect, const FitResult& fit,
     if (level < 0.0) {
       why << effect << " " << name << " = " << level << unit
           << " is below zero: friction opposes the motion, a negative level does not";
+    }
+  }
+  // A Stribeck exponent at its search bound (discovery/candidates.h
+  // kStribeckShapeBounds) is a shape pushed as far as it goes — a step at
+  // v_st or a spike at rest — a stand-in for something else.
+  if (effect == "stribeck_shape") {
+    const double delta = value("delta_st");
+    const double lo = kStribeckShapeBounds[0], hi = kStribeckShapeBounds[1];
+    if (delta <= lo * 1.01 || delta >= hi * 0.99) {
+      why << "stribeck_shape delta_st = " << delta << " is at its search bound [" << lo << ", "
+          << hi << "]: a shape no friction curve has";
     }
   }
   // The sensor's filters (MODEL.md §6) must be filters of this record: a

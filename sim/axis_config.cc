@@ -263,9 +263,11 @@ void ParseEffects(YamlMap& effects, AxisConfig* config) {
       ThrowConfigError(effects.file(), body.Optional("x_pt1"), body.KeyPath("x_pt1"),
                        "a patch end above x_pt0", got.str());
     }
-    if (name == "stribeck") {
-      config->params.delta_st =
-          body.Number("delta_st", config->params.delta_st, ParamRange("delta_st"));
+    // `stribeck: {…, delta_st}` declares the shape exponent as
+    // `stribeck_shape: {delta_st}` does.
+    if (name == "stribeck" && body.Has("delta_st")) {
+      config->params.delta_st = body.Number("delta_st", ParamRange("delta_st"));
+      config->structure.effects.stribeck_shape = true;
     }
     if (name == "cogging") {
       config->structure.N_cog =
@@ -306,6 +308,10 @@ void ValidateAxisConfig(const AxisConfig& config, const std::string& where) {
     throw std::invalid_argument(where + ": key 'effects.load_friction': expected a drive with a "
                                         "motor (its current makes the force the gearbox "
                                         "transmits), got amplifier force_source");
+  }
+  if (s.effects.stribeck_shape && !s.effects.stribeck) {
+    throw std::invalid_argument(where + ": key 'effects.stribeck_shape': expected the Stribeck "
+                                        "term it shapes (effects.stribeck), got none");
   }
   if (s.load == LoadTerm::kPendulum && s.motion != Motion::kRotary) {
     throw std::invalid_argument(where + ": key 'load': expected motion: rotary with a pendulum "

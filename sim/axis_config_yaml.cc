@@ -30,7 +30,11 @@ void EmitEffects(const AxisConfig& config, AxisParams<double>& params, YAML::Emi
   std::vector<const EffectInfo*> switched;
   for (const auto* table : {&DynamicEffectTable(), &GeneratorOnlyEffectTable()}) {
     for (const EffectInfo& e : *table) {
-      if (sw.*(e.flag)) switched.push_back(&e);
+      // A Stribeck exponent off the Gaussian 2 (a job that freed
+      // delta_st) is written as its own block too, so that it loads back.
+      const bool shaped = std::string(e.name) == "stribeck_shape" &&
+                          sw.stribeck && config.params.delta_st != AxisParams<double>().delta_st;
+      if (sw.*(e.flag) || shaped) switched.push_back(&e);
     }
   }
   any = any || !switched.empty();

@@ -71,6 +71,11 @@ struct EffectSwitches {
   bool motor_coulomb = false;
   bool cogging = false;
   bool load_friction = false;  // gear friction growing with the transmitted force
+  // The Stribeck term's shape exponent δ (`delta_st`) is the model's own
+  // (declared, or freed by the discovery loop), not the Gaussian δ = 2 it
+  // defaults to; needs `stribeck`. No force of its own: the Stribeck term
+  // reads delta_st either way (MODEL.md §7).
+  bool stribeck_shape = false;
   // Forces outside MODEL.md §7, for generating data only (issue 10: data
   // whose missing force the discovery loop's library cannot express must end
   // with the verdict `incomplete`). The model config accepts them

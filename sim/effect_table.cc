@@ -19,6 +19,7 @@ const std::vector<EffectInfo>& DynamicEffectTable() {
       {"motor_coulomb", {"T_c"}, &EffectSwitches::motor_coulomb},
       {"cogging", {"A_cog", "phi_cog"}, &EffectSwitches::cogging},
       {"load_friction", {"mu_d", "mu_b"}, &EffectSwitches::load_friction},
+      {"stribeck_shape", {"delta_st"}, &EffectSwitches::stribeck_shape},
   };
   return effects;
 }

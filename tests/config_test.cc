@@ -265,6 +265,41 @@ TEST(ConfigTest, EffectsAreParsedWithTheirParameters) {
   EXPECT_EQ(e.model.params.b[static_cast<int>(Channel::kTach)], 0.01);
 }
 
+// The Stribeck shape exponent (MODEL.md §7 stribeck_shape): declared by the
+// stribeck block's delta_st or by its own block, written back as the
+// latter (also where a job freed δ with the flag off), refused without
+// the Stribeck term it shapes.
+TEST(ConfigTest, TheStribeckShapeIsDeclaredWrittenBackAndNeedsStribeck) {
+  const ExperimentConfig e = LoadExperiment(WriteTemp(
+      "shape.yaml", Experiment("effects:\n  coulomb: {F_c: 30}\n"
+                               "  stribeck: {F_st: 50, v_st: 0.05, delta_st: 1}\n")));
+  EXPECT_TRUE(e.model.structure.effects.stribeck_shape);
+  EXPECT_EQ(e.model.params.delta_st, 1.0);
+  const std::string text = AxisConfigToYaml(e.model);
+  EXPECT_NE(text.find("stribeck_shape"), std::string::npos) << text;
+  const AxisConfig back = LoadAxisConfig(WriteTemp("shape_back.yaml", text));
+  EXPECT_TRUE(back.structure.effects.stribeck_shape);
+  EXPECT_EQ(back.params.delta_st, 1.0);
+  AxisConfig freed = e.model;  // δ fitted by a job, the flag off
+  freed.structure.effects.stribeck_shape = false;
+  freed.params.delta_st = 1.3;
+  const AxisConfig freed_back =
+      LoadAxisConfig(WriteTemp("freed_back.yaml", AxisConfigToYaml(freed)));
+  EXPECT_EQ(freed_back.params.delta_st, 1.3);
+  const ExperimentConfig gaussian = LoadExperiment(WriteTemp(
+      "gaussian.yaml", Experiment("effects:\n  coulomb: {F_c: 30}\n"
+                                  "  stribeck: {F_st: 50, v_st: 0.05}\n")));
+  EXPECT_FALSE(gaussian.model.structure.effects.stribeck_shape);
+  EXPECT_EQ(AxisConfigToYaml(gaussian.model).find("stribeck_shape"), std::string::npos);
+  const std::string alone = ErrorOf([&] {
+    LoadExperiment(WriteTemp("shape_alone.yaml",
+                             Experiment("effects:\n  stribeck_shape: {delta_st: 1}\n")));
+  });
+  EXPECT_NE(alone.find("key 'effects.stribeck_shape': expected the Stribeck term"),
+            std::string::npos)
+      << alone;
+}
+
 // Forces outside MODEL.md §7 (issue 10) load for generating data, round
 // trip through AxisConfigToYaml, and are no discovery candidates.
 TEST(ConfigTest, GeneratorOnlyForcesLoadButAreNotEffectsOfTheLibrary) {

@@ -65,6 +65,23 @@ TEST(EffectWaldTest, CoggingBothQuadratures) {
   EXPECT_NEAR(std::log(w.p_value), -312.5, 1e-6);
 }
 
+TEST(EffectWaldTest, StribeckShapeAgainstTheGaussian) {
+  // δ = 1.4 ± 0.2 against the Gaussian 2: χ² = (0.6/0.2)² = 9, p = erfc(3/√2).
+  FitResult fit;
+  ParameterEstimate e;
+  e.name = "delta_st";
+  e.value = 1.4;
+  e.std_error = 0.2;
+  e.free = true;
+  fit.parameters.push_back(e);
+  fit.free_names.push_back(e.name);
+  fit.correlation = Eigen::MatrixXd::Identity(1, 1);
+  const EffectSignificance w = EffectWald("stribeck_shape", fit);
+  EXPECT_EQ(w.dof, 1);
+  EXPECT_NEAR(w.chi2, 9.0, 1e-9);
+  EXPECT_NEAR(w.p_value, std::erfc(3.0 / std::sqrt(2.0)), 1e-12);
+}
+
 TEST(EffectWaldTest, FixedOrMissingParameterIsNotSignificant) {
   EXPECT_TRUE(std::isnan(EffectWald("motor_coulomb", MakeFit()).p_value));  // T_c fixed
   EXPECT_TRUE(std::isnan(EffectWald("sensor_bias.a", MakeFit()).p_value));  // absent

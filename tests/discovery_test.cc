@@ -15,6 +15,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/statistics.h"
+#include "discovery/candidates.h"
 #include "discovery/diagnostics.h"
 #include "discovery/discovery.h"
 #include "discovery/removal.h"
@@ -515,6 +516,29 @@ TEST(DiscoveryTest, StribeckIsACandidateOnlyWithCoulomb) {
   const std::vector<std::string> with = names(job);
   EXPECT_FALSE(has(with, "coulomb"));
   EXPECT_TRUE(has(with, "stribeck"));
+  EXPECT_FALSE(has(with, "stribeck_shape"));
+  // Its shape exponent once a Gaussian Stribeck term is in; not where δ is
+  // the model's own or the job fits it.
+  job.problem.model.structure.effects.stribeck = true;
+  EXPECT_TRUE(has(names(job), "stribeck_shape"));
+  EXPECT_TRUE(RefinedInModel("coulomb", job.problem.model.structure));
+  EXPECT_FALSE(RefinedInModel("stribeck", job.problem.model.structure));
+  FitJob shaped = job;
+  shaped.problem.model.params.delta_st = 1.5;
+  EXPECT_FALSE(has(names(shaped), "stribeck_shape"));
+  FitJob fitted = job;
+  fitted.problem.free.push_back({"delta_st", "1", 2.0, 0.5, 4.0, 1.0, true});
+  EXPECT_FALSE(has(names(fitted), "stribeck_shape"));
+  // Switched on, the Stribeck term stays while it does; switched off again,
+  // δ is the Gaussian 2 and no longer free.
+  shaped.problem.model.structure.effects.stribeck_shape = true;
+  shaped.problem.free.push_back({"delta_st", "1", 1.5, 0.1, 20.0, 1.0, true});
+  EXPECT_TRUE(RefinedInModel("stribeck", shaped.problem.model.structure));
+  const EstimationProblem off = JobWithout(shaped.problem, "stribeck_shape");
+  EXPECT_FALSE(off.model.structure.effects.stribeck_shape);
+  EXPECT_TRUE(off.model.structure.effects.stribeck);
+  EXPECT_EQ(off.model.params.delta_st, 2.0);
+  EXPECT_EQ(off.free.size(), job.problem.free.size());
 }
 
 // The small campaign of the suite (issue 10): 10 seeds of

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "common/progress.h"
+#include "discovery/candidates.h"
 #include "discovery/channel_changes.h"
 #include "discovery/diagnostics.h"
 #include "discovery/materiality.h"
@@ -907,7 +908,7 @@ void DiscoveryLoop::BackwardPass() {
   if (stage_) stage_("discovery backward pass");
   for (size_t k = 0; k + 1 < added.size(); ++k) {
     const Candidate candidate = CandidateNamed(added[k]);
-    if (candidate.effect == "coulomb" && job_->model.structure.effects.stribeck) continue;
+    if (RefinedInModel(candidate.effect, job_->model.structure)) continue;
     if (status_ != nullptr) {
       status_->Status("discovery backward pass: refit without " + candidate.name + " (" +
                           std::to_string(k + 1) + " of " + std::to_string(added.size() - 1) +

@@ -373,7 +373,7 @@ void ForceMapStep::BackwardPass() {
     if (std::find(loop_.removed.begin(), loop_.removed.end(), effect) != loop_.removed.end()) {
       continue;
     }
-    if (effect == "coulomb" && map_job_.model.structure.effects.stribeck) continue;
+    if (RefinedInModel(effect, map_job_.model.structure)) continue;
     TryWithout(effect);
   }
   report_.bic_after = at_.bic;
