@@ -376,6 +376,13 @@ std::vector<Candidate> ListCandidates(const EstimationProblem& job,
                      [](const FreeParameter& f) { return f.name == "delta_st"; }))) {
       continue;
     }
+    // An effect whose parameter the job ties to another (tie:) cannot be
+    // freed.
+    if (std::any_of(e.params.begin(), e.params.end(), [&](const char* param) {
+          return !TiedTo(job.ties, param).empty();
+        })) {
+      continue;
+    }
     all.push_back({e.name, e.name, Channel::kT, ColumnsOf(e.name, ""), {}});
   }
   std::vector<Channel> fitted;

@@ -123,7 +123,8 @@ LinearModelModes LinearModelWithIntervals(const AxisConfig& model,
                                           const AxisState<double>& start, double u,
                                           const std::vector<Channel>& channels,
                                           const std::vector<std::string>& free,
-                                          const Eigen::MatrixXd& covariance) {
+                                          const Eigen::MatrixXd& covariance,
+                                          const std::vector<ParameterTie>& ties) {
   const Eigen::Index n = static_cast<Eigen::Index>(free.size());
   const bool intervals = covariance.size() > 0;
   if (intervals && (covariance.rows() != n || covariance.cols() != n)) {
@@ -144,6 +145,7 @@ LinearModelModes LinearModelWithIntervals(const AxisConfig& model,
   ForEachMode(at, [&](int, size_t, const LinearMode&) {
     gradient.push_back(Eigen::VectorXd::Zero(n));
   });
+  const std::vector<std::pair<int, int>> tie_indices = TieIndices(ties);
   for (Eigen::Index j = 0; intervals && j < n; ++j) {
     AxisParams<double> p = model.params;
     double* value = FindParam(&p, free[j]);
@@ -155,8 +157,10 @@ LinearModelModes LinearModelWithIntervals(const AxisConfig& model,
     const double sd = std::sqrt(std::max(covariance(j, j), 0.0));
     const double h = x != 0.0 ? 1e-5 * std::abs(x) : (sd > 0.0 ? 1e-3 * sd : 1e-8);
     *value = x + h;
+    ApplyTies(tie_indices, &p);
     const ModeSet up = ModesAt(structure, p, start, u, channels);
     *value = x - h;
+    ApplyTies(tie_indices, &p);
     const ModeSet down = ModesAt(structure, p, start, u, channels);
     size_t i = 0;
     ForEachMode(at, [&](int set, size_t, const LinearMode& m) {
@@ -242,7 +246,7 @@ void AnalyseChannels(const EstimationProblem& job, const FitExperiment& e,
   } else {
     r->linear = LinearModelWithIntervals(job.model, e.initial_state, r->mean_input,
                                          linear_channels, result.free_names,
-                                         ParameterCovariance(result));
+                                         ParameterCovariance(result), job.ties);
   }
   LinearisedAxis system;
   if (r->linear.blocker.empty()) {

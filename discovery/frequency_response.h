@@ -66,13 +66,16 @@ Eigen::MatrixXd ParameterCovariance(const FitResult& result);
 // LinearModelBlocker's), its resonances and the anti-resonances of each
 // of `channels` (functions of the state), with intervals from `covariance`
 // (free × free, in the order of `free`, VisitParams names; 0×0: no
-// intervals). Throws std::invalid_argument for an unknown free parameter
-// name or a covariance of the wrong size.
+// intervals); the parameters tied to a free one (`ties`,
+// estimation/parameter_tie.h) move with it in the derivatives. Throws
+// std::invalid_argument for an unknown free or tied parameter name or a
+// covariance of the wrong size.
 LinearModelModes LinearModelWithIntervals(const AxisConfig& model,
                                           const AxisState<double>& start, double u,
                                           const std::vector<Channel>& channels,
                                           const std::vector<std::string>& free,
-                                          const Eigen::MatrixXd& covariance);
+                                          const Eigen::MatrixXd& covariance,
+                                          const std::vector<ParameterTie>& ties = {});
 
 // One fitted channel's response on the excited band's bins.
 struct ChannelFrequencyResponse {

@@ -39,4 +39,15 @@ int EstimatedStateCount(const EstimationProblem& problem) {
   return n;
 }
 
+std::vector<ParameterRange> FreeParameterRanges(const EstimationProblem& problem) {
+  std::vector<ParameterRange> ranges;
+  for (const FreeParameter& f : problem.free) {
+    ranges.push_back({f.name, f.lower, f.upper});
+    for (const ParameterTie& tie : problem.ties) {
+      if (tie.source == f.name) ranges.push_back({tie.parameter, f.lower, f.upper});
+    }
+  }
+  return ranges;
+}
+
 }  // namespace axis

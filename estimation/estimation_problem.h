@@ -14,6 +14,7 @@
 
 #include "estimation/parameter_tie.h"
 #include "estimation/solver_settings.h"
+#include "sim/auto_step.h"
 #include "sim/axis_config.h"
 #include "sim/channels.h"
 #include "sim/simulate.h"
@@ -130,6 +131,12 @@ const FitExperiment* FindExperiment(const std::vector<FitExperiment>& list,
 // fitted experiment with `initial_state: estimate`; they follow the free
 // parameters in θ (estimation/fit.h FitParameters).
 int EstimatedStateCount(const EstimationProblem& problem);
+
+// The ranges the free parameters take (their bounds), and a parameter tied
+// to a free one its source's (EstimationProblem::ties): what the automatic
+// step's limit is taken over (sim/auto_step.h AutoStepLimit). Never throws
+// but std::bad_alloc.
+std::vector<ParameterRange> FreeParameterRanges(const EstimationProblem& problem);
 
 }  // namespace axis
 

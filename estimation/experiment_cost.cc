@@ -54,6 +54,11 @@ ParameterMap::ParameterMap(const AxisParams<double>& base,
                                   free_[j].name + "'");
     }
     order_.emplace_back(static_cast<int>(it - names.begin()), static_cast<int>(j));
+    if (!TiedTo(ties, free_[j].name).empty()) {
+      throw std::invalid_argument("expected a free parameter that is not tied, got '" +
+                                  free_[j].name + "' tied to '" +
+                                  TiedTo(ties, free_[j].name) + "'");
+    }
   }
   std::sort(order_.begin(), order_.end());
 }

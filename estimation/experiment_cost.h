@@ -28,7 +28,7 @@ namespace axis {
 class ParameterMap {
  public:
   // Throws std::invalid_argument if a free or tied parameter is not a model
-  // name.
+  // name, or a free parameter is tied.
   ParameterMap(const AxisParams<double>& base, std::vector<FreeParameter> free,
                const std::vector<ParameterTie>& ties = {});
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "estimation/at_estimate.h"
+#include "estimation/parameter_tie.h"
 
 namespace axis {
 namespace {
@@ -26,7 +27,8 @@ double CarryEnd(double end, double q, double value, double r) {
 }
 
 // Gives every free parameter of `to` that is in `from` from's interval,
-// moved to its value and widened by the Gauss–Newton ratio (never narrowed).
+// moved to its value and widened by the Gauss–Newton ratio (never narrowed),
+// and the parameters tied to them theirs.
 void MoveIntervals(const FitResult& from, FitResult* to) {
   for (ParameterEstimate& e : to->parameters) {
     const ParameterEstimate* q = e.free ? Find(from, e.name) : nullptr;
@@ -43,6 +45,7 @@ void MoveIntervals(const FitResult& from, FitResult* to) {
     e.interval_method = q->interval_method;
     e.determined = e.determined && q->determined;
   }
+  CopyTiedUncertainty(to);
 }
 
 }  // namespace

@@ -11,11 +11,14 @@
 #define ESTIMATION_PARAMETER_TIE_H_
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/axis_params.h"
 
 namespace axis {
+
+struct FitResult;  // estimation/fit_result.h
 
 // `parameter` takes the value of `source` (both VisitParams names). The job
 // loader (run/load_fit_job.cc) refuses a tied parameter that is free, a
@@ -32,7 +35,7 @@ std::vector<std::pair<int, int>> TieIndices(const std::vector<ParameterTie>& tie
 
 // Sets each tied parameter of `params` to its source's value, for
 // `indices` = TieIndices(ties). T: double or a ceres::Jet (the tied field
-// then carries the source's derivatives). Never throws.
+// then carries the source's derivatives). Never throws but std::bad_alloc.
 template <typename T>
 void ApplyTies(const std::vector<std::pair<int, int>>& indices, AxisParams<T>* params) {
   if (indices.empty()) return;
@@ -43,6 +46,19 @@ void ApplyTies(const std::vector<std::pair<int, int>>& indices, AxisParams<T>* p
 
 // The source `name` is tied to, or "" if it is not tied. Never throws.
 std::string TiedTo(const std::vector<ParameterTie>& ties, const std::string& name);
+
+// Sets each parameter `result` reports tied (ParameterEstimate::tied_to)
+// to its source's value in `params`: for models moved away from the
+// estimate after the fit (the tuner's interval ends and joint samples,
+// tune/). Never throws.
+void ApplyResultTies(const FitResult& result, AxisParams<double>* params);
+
+// Gives each tied estimate of result->parameters the initial value,
+// standard errors, bootstrap figures and interval of its source where the
+// source is free (the same value); run again by every step that changes
+// the free ones' (the fit's end, the sandwich errors, the bootstrap, the
+// carried quasi-steady intervals). Never throws.
+void CopyTiedUncertainty(FitResult* result);
 
 }  // namespace axis
 

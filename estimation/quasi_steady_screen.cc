@@ -40,12 +40,14 @@ void SetScreenSteps(double limit, EstimationProblem* job) {
   }
 }
 
-// The job's model with its free parameters at their initial values.
+// The job's model with its free parameters at their initial values (and
+// the parameters tied to them at theirs).
 AxisParams<double> StartParams(const EstimationProblem& job) {
   AxisParams<double> params = job.model.params;
   for (const FreeParameter& f : job.free) {
     if (double* field = FindParam(&params, f.name)) *field = f.initial;
   }
+  ApplyTies(TieIndices(job.ties), &params);
   return params;
 }
 
@@ -91,8 +93,7 @@ EstimationProblem QuasiSteadyScreen(const EstimationProblem& job) {
   }
   EstimationProblem screen = job;
   screen.model.structure.current_loop = CurrentLoop::kQuasiSteady;
-  std::vector<ParameterRange> ranges;
-  for (const FreeParameter& f : job.free) ranges.push_back({f.name, f.lower, f.upper});
+  const std::vector<ParameterRange> ranges = FreeParameterRanges(job);
   const double limit = AutoStepLimit(screen.model.structure, screen.model.params, ranges);
   if (!(limit > 0.0)) {
     throw std::invalid_argument("expected a positive RK4 step limit of the quasi-steady model");

@@ -11,6 +11,7 @@
 #include "estimation/fit.h"
 #include "estimation/fit_result.h"
 #include "estimation/estimation_problem.h"
+#include "estimation/parameter_tie.h"
 #include "sim/random.h"
 
 namespace axis {
@@ -97,6 +98,7 @@ void ResidualBootstrap(const EstimationProblem& job, FitResult* fit, std::ostrea
     p.bootstrap_low = percentile(0.025);
     p.bootstrap_high = percentile(0.975);
   }
+  CopyTiedUncertainty(fit);
 }
 
 }  // namespace axis

@@ -417,12 +417,17 @@ void DefineParameter(py::module_& m) {
       .def_readonly("value", &ParameterEstimate::value)
       .def_readonly("initial", &ParameterEstimate::initial)
       .def_readonly("free", &ParameterEstimate::free)
+      .def_readonly("tied_to", &ParameterEstimate::tied_to,
+                    "the parameter whose value this one takes (job key tie:), or ''")
       .def_readonly("determined", &ParameterEstimate::determined,
                     "False if the data cannot determine it")
       .def_property_readonly(
           "std_error",
-          [](const ParameterEstimate& p) { return FiniteOrNone(p.std_error, p.free); },
-          "standard error (result.uncertainty_method); None if fixed or not finite")
+          [](const ParameterEstimate& p) {
+            return FiniteOrNone(p.std_error, p.free || !p.tied_to.empty());
+          },
+          "standard error (result.uncertainty_method; a tied parameter its source's); None if "
+          "fixed or not finite")
       .def_property_readonly("std_error_gauss_newton",
                              [](const ParameterEstimate& p) {
                                return FiniteOrNone(p.std_error_gauss_newton, p.free);
@@ -430,10 +435,11 @@ void DefineParameter(py::module_& m) {
       .def_property_readonly(
           "ci95",
           [](const ParameterEstimate& p) -> py::object {
-            if (!p.free) return py::none();
+            const bool tied = !p.tied_to.empty() && std::isfinite(p.ci95_low);
+            if (!p.free && !tied) return py::none();
             return py::make_tuple(p.ci95_low, p.ci95_high);
           },
-          "95 % interval (low, high); None if fixed")
+          "95 % interval (low, high); a tied parameter its source's; None if fixed")
       .def("__repr__", [](const ParameterEstimate& p) {
         return "Parameter(" + p.name + " = " + std::to_string(p.value) + " " + p.unit +
                (p.free ? ", free)" : ", fixed)");

@@ -33,8 +33,10 @@ PublishedComparison ComparePublished(const EstimationProblem& job, const FitResu
     for (const ParameterEstimate& e : result.parameters) {
       if (e.name != name) continue;
       p.fitted = e.value;
-      p.free = e.free;
-      if (e.free) p.std_error = e.std_error;
+      // A parameter tied to a fitted one (ParameterEstimate::tied_to) is
+      // estimated with it.
+      p.free = e.free || !e.tied_to.empty();
+      if (p.free) p.std_error = e.std_error;
     }
     out.parameters.push_back(p);
   }

@@ -340,13 +340,17 @@ void WriteParamsCsv(const std::string& path, const FitResult& result) {
   for (size_t k : ParameterOrder(result)) {
     const ParameterEstimate& p = result.parameters[k];
     out += CsvCell(p.name) + "," + CsvCell(p.unit) + "," + Exact(p.value) + ",";
-    if (p.free) {
+    // A parameter tied to another carries its source's errors where that
+    // is free; its `free` cell says "tied to <source>".
+    if (p.free || std::isfinite(p.std_error)) {
       out += Exact(p.std_error) + "," + Exact(p.ci95_low) + "," +
              Exact(p.ci95_high);
     } else {
       out += ",,";
     }
-    out += "," + Exact(p.initial) + "," + (p.free ? "free" : "fixed") + "\n";
+    const std::string status =
+        p.free ? "free" : p.tied_to.empty() ? "fixed" : "tied to " + p.tied_to;
+    out += "," + Exact(p.initial) + "," + CsvCell(status) + "\n";
   }
   WriteFileAtomic(path, out);
 }

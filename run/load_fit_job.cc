@@ -626,9 +626,9 @@ void CheckFreeParameter(const FreeParameter& f, const std::string& where) {
 }
 
 // A job's keys as a sequence of named steps, one per key group, in the order
-// their checks run: the model, the simulation step, the free parameters
-// (before the experiments, so that a bad name is reported without reading
-// data), the solver, uncertainty, discovery, design and output settings, the
+// their checks run: the model, the simulation settings, the free parameters
+// and their ties (before the experiments, so that a bad name is reported
+// without reading data), the step, the solver, uncertainty, discovery, design and output settings, the
 // experiments, the fit's memory, the published reference and the benchmark.
 class FitJobParser {
  public:
@@ -644,8 +644,10 @@ class FitJobParser {
 
  private:
   void ParseModel();       // title, description, model, overrides, controller
-  void ParseSimulation();  // simulation: (step_), the RK4 step's check
-  void ChooseStep();       // without simulation.step: the limit of sim/auto_step.h
+  void ParseSimulation();  // simulation: (step_)
+  // After the ties: simulation.step's RK4 check, or without it the limit
+  // of sim/auto_step.h.
+  void ChooseStep();
   void ParseFree();
   void ParseTies();  // tie: after free:, before the step and the experiments
   FreeParameter ParseFreeParameter(YamlMap& free, const YAML::Node& key,
@@ -736,24 +738,18 @@ void FitJobParser::ParseSimulation() {
     ReadSettings(&map, &job_.full_loop);
     map.Finish();
   }
-  if (!(step_.fixed > 0.0)) return;
-  const YAML::Node sim = root_.node()["simulation"];
-  const YAML::Node node = sim && sim.IsMap() ? sim["step"] : YAML::Node();
-  CheckRk4Step(job_.problem.model.structure, job_.problem.model.params, step_.fixed,
-               node ? path_ + ":" + std::to_string(node.Mark().line + 1) : path_,
-               "simulation.step");
 }
 
 void FitJobParser::ChooseStep() {
-  if (step_.fixed > 0.0) return;
-  std::vector<ParameterRange> ranges;
-  for (const FreeParameter& f : job_.problem.free) {
-    ranges.push_back({f.name, f.lower, f.upper});
-    // A parameter tied to a free one ranges over its bounds too.
-    for (const ParameterTie& tie : job_.problem.ties) {
-      if (tie.source == f.name) ranges.push_back({tie.parameter, f.lower, f.upper});
-    }
+  if (step_.fixed > 0.0) {
+    const YAML::Node sim = root_.node()["simulation"];
+    const YAML::Node node = sim && sim.IsMap() ? sim["step"] : YAML::Node();
+    CheckRk4Step(job_.problem.model.structure, job_.problem.model.params, step_.fixed,
+                 node ? path_ + ":" + std::to_string(node.Mark().line + 1) : path_,
+                 "simulation.step");
+    return;
   }
+  const std::vector<ParameterRange> ranges = FreeParameterRanges(job_.problem);
   try {
     step_.limit = AutoStepLimit(job_.problem.model.structure, job_.problem.model.params, ranges);
   } catch (const std::invalid_argument& err) {
@@ -778,8 +774,8 @@ void FitJobParser::ParseFree() {
 // `tie: {K_e: K_tau}`: each key a model parameter that is not free, taking
 // the value of the parameter it names (estimation/parameter_tie.h); no
 // chains (a source that is itself tied) and no parameter tied twice. The
-// job's model takes the tied values now, so that the step's check and the
-// experiments see them.
+// job's model takes the tied values now, so that the step (ChooseStep) and
+// the experiments see them.
 void FitJobParser::ParseTies() {
   const YAML::Node node = root_.Optional("tie");
   if (!node) return;

@@ -14,10 +14,12 @@
 #include <nlohmann/json.hpp>
 
 #include "estimation/experiment_cost.h"
+#include "estimation/fit_result.h"
 #include "estimation/parameter_tie.h"
 #include "run/fit_job.h"
 #include "run/load_fit_job.h"
 #include "tests/test_files.h"
+#include "tune/interval_ends.h"
 
 namespace axis {
 namespace {
@@ -55,6 +57,46 @@ TEST(ParameterTieTest, ATiedParameterTakesItsSourcesValueAndDerivatives) {
   EXPECT_THROW(TieIndices({{"K_e", "K_nothing"}}), std::invalid_argument);
   EXPECT_EQ(TiedTo({{"K_e", "K_tau"}}, "K_e"), "K_tau");
   EXPECT_EQ(TiedTo({{"K_e", "K_tau"}}, "K_tau"), "");
+}
+
+// After the fit: a tied estimate carries its free source's initial value,
+// errors and interval, and a model moved away from the estimate (the
+// tuner's interval ends) keeps the tie; a parameter both free and tied is
+// refused.
+TEST(ParameterTieTest, TheTieHoldsAfterTheFitAndCannotBeFree) {
+  FitResult result;
+  ParameterEstimate kt;
+  kt.name = "K_tau";
+  kt.value = 0.4;
+  kt.initial = 0.3;
+  kt.free = true;
+  kt.std_error = 0.01;
+  kt.ci95_low = 0.38;
+  kt.ci95_high = 0.42;
+  kt.interval_method = "profile likelihood";
+  ParameterEstimate ke;
+  ke.name = "K_e";
+  ke.value = 0.4;
+  ke.initial = 0.4;
+  ke.std_error = ke.ci95_low = ke.ci95_high = NAN;
+  ke.tied_to = "K_tau";
+  result.parameters = {kt, ke};
+  result.free_names = {"K_tau"};
+  CopyTiedUncertainty(&result);
+  EXPECT_EQ(result.parameters[1].initial, 0.3);
+  EXPECT_EQ(result.parameters[1].std_error, 0.01);
+  EXPECT_EQ(result.parameters[1].ci95_high, 0.42);
+  EXPECT_EQ(result.parameters[1].interval_method, "profile likelihood");
+  AxisConfig model;
+  model.params.K_tau = model.params.K_e = 0.4;
+  const std::vector<IntervalEnd> ends = IntervalEnds(result, model, {});
+  ASSERT_EQ(ends.size(), 2u);
+  for (const IntervalEnd& end : ends) {
+    EXPECT_EQ(end.model.params.K_e, end.model.params.K_tau);
+    EXPECT_NE(end.model.params.K_e, 0.4);
+  }
+  EXPECT_THROW(ParameterMap(AxisParams<double>(), {Free("K_e", 0.1, 1.0)}, {{"K_e", "K_tau"}}),
+               std::invalid_argument);
 }
 
 // A job of the X axis (one step record, the tachometer fitted) with `keys`

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "estimation/parameter_tie.h"
+
 namespace axis {
 
 std::vector<IntervalEnd> IntervalEnds(const FitResult& result, const AxisConfig& model,
@@ -17,6 +19,7 @@ std::vector<IntervalEnd> IntervalEnds(const FitResult& result, const AxisConfig&
       double* p = FindParam(&ie.model.params, e.name);
       if (p == nullptr) continue;
       *p = end;
+      ApplyResultTies(result, &ie.model.params);
       out.push_back(std::move(ie));
     }
   }

@@ -25,8 +25,9 @@ struct IntervalEnd {
 
 // The ends of every free parameter of `result` with a finite end and a
 // name FindParam knows, skipping the names in `skip` (the settings being
-// tuned), in the order of result.parameters, low end first. Never throws
-// (except std::bad_alloc).
+// tuned), in the order of result.parameters, low end first; a parameter
+// tied to the one moved (ParameterEstimate::tied_to) moves with it. Never
+// throws (except std::bad_alloc).
 std::vector<IntervalEnd> IntervalEnds(const FitResult& result, const AxisConfig& model,
                                       const std::vector<std::string>& skip);
 

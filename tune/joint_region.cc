@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 #include <boost/math/distributions/chi_squared.hpp>
 
+#include "estimation/parameter_tie.h"
 #include "sim/dense_decompositions.h"
 #include "sim/random.h"
 
@@ -90,6 +91,7 @@ std::vector<RegionSample> JointRegionSamples(const FitResult& result, const Axis
       *FindParam(&s.model.params, m.name) =
           std::clamp(m.value + z(i) * half / kZ95, m.lower, m.upper);
     }
+    ApplyResultTies(result, &s.model.params);
     out.push_back(std::move(s));
   }
   return out;

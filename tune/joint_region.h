@@ -45,7 +45,8 @@ struct RegionSample {
 // - mapped onto each parameter's own interval, θ_i = θ̂_i + z_i·(ci95_high −
 //   θ̂_i)/1.96 for z_i ≥ 0 and θ̂_i + z_i·(θ̂_i − ci95_low)/1.96 below, so
 //   that z_i = ±1.96 is the interval's end (a profile interval's asymmetry
-//   kept), and clamped to the parameter's bounds in `free` (EstimationProblem::free).
+//   kept), and clamped to the parameter's bounds in `free` (EstimationProblem::free);
+//   a parameter tied to one (ParameterEstimate::tied_to) takes its value.
 // Empty if no parameter qualifies. Never throws (except std::bad_alloc).
 std::vector<RegionSample> JointRegionSamples(const FitResult& result, const AxisConfig& model,
                                              const std::vector<std::string>& skip,

@@ -7,6 +7,7 @@
 #include "estimation/experiment_cost.h"
 #include "estimation/fit_result.h"
 #include "estimation/estimation_problem.h"
+#include "estimation/parameter_tie.h"
 
 namespace axis {
 
@@ -31,24 +32,6 @@ void AppendFixedEstimates(AxisParams<double> fitted, Motion motion,
     result->parameters.push_back(e);
   }
   CopyTiedUncertainty(result);
-}
-
-void CopyTiedUncertainty(FitResult* result) {
-  for (ParameterEstimate& e : result->parameters) {
-    if (e.tied_to.empty()) continue;
-    for (const ParameterEstimate& source : result->parameters) {
-      if (!source.free || source.name != e.tied_to) continue;
-      e.std_error = source.std_error;
-      e.std_error_gauss_newton = source.std_error_gauss_newton;
-      e.std_error_bootstrap = source.std_error_bootstrap;
-      e.bootstrap_low = source.bootstrap_low;
-      e.bootstrap_high = source.bootstrap_high;
-      e.ci95_low = source.ci95_low;
-      e.ci95_high = source.ci95_high;
-      e.interval_method = source.interval_method;
-      e.std_error_sandwich = source.std_error_sandwich;
-    }
-  }
 }
 
 void AppendEstimates(const EstimationProblem& job, const ParameterMap& map,

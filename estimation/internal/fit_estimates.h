@@ -22,15 +22,10 @@ namespace axis {
 // to another (`ties`, estimation/parameter_tie.h) names it in
 // ParameterEstimate::tied_to and, where the source is free and already in
 // result->parameters, carries its standard errors and interval (the same
-// value; CopyTiedUncertainty).
+// value; CopyTiedUncertainty, estimation/parameter_tie.h).
 void AppendFixedEstimates(AxisParams<double> fitted, Motion motion,
                           const std::vector<ParameterTie>& ties, FitResult* result);
 
-// Gives each tied estimate of result->parameters (ParameterEstimate::
-// tied_to) the standard errors, bootstrap figures and interval of its
-// source where the source is free; again after the sandwich errors are
-// set. Never throws.
-void CopyTiedUncertainty(FitResult* result);
 
 // The parameters of a fit stopped before the whole record (FitResult::
 // abandoned_horizon): every one at its value at θ (internal coordinates),

@@ -13,9 +13,9 @@
 
 #include "estimation/cost_at.h"
 #include "estimation/fit_notes.h"
-#include "estimation/internal/fit_estimates.h"
 #include "estimation/internal/fitter.h"
 #include "estimation/optimum_check.h"
+#include "estimation/parameter_tie.h"
 #include "estimation/internal/phase_timer.h"
 #include "estimation/internal/sandwich_covariance.h"
 #include "estimation/internal/smooth_scale.h"
