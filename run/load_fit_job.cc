@@ -489,6 +489,9 @@ void ExperimentParser::ParseStateChoice() {
     init_ = map_.Choice("initial_state", {"rest", "estimate"}, "rest");
   }
   e_.estimate_initial_state = init_ == "estimate";
+  // A record taken in motion: an inductive drive's current was running
+  // before it began (sim/simulate.h SimulationOptions::settled_current).
+  e_.options.settled_current = init_ == "from_samples" || init_ == "estimate";
   if (e_.estimate_initial_state && e_.role != "fit") {
     ThrowConfigError(map_.file(), map_.Optional("initial_state"), map_.KeyPath("initial_state"),
                      "rest or {from_samples: N} in a validation experiment (only "

@@ -84,6 +84,13 @@ struct SimulationOptions {
   // (Trace::a_point), for the window's spread (estimation/
   // instant_sample_sigma.h). Costs a derivative evaluation per RK4 step.
   bool point_acceleration = false;
+  // A record that starts in motion (`initial_state: from_samples` or
+  // `estimate`): an inductive voltage drive's winding current y6 starts at
+  // its steady value for the first input and speed, (U(0) − K_e·ω(0))/R
+  // with the drive on (0 with it off), instead of the initial state's y6 —
+  // the drive was running before the record began (MODEL.md §4). No effect
+  // on any other drive.
+  bool settled_current = false;
 };
 
 // The integer grid derived from SimulationOptions.
@@ -481,6 +488,8 @@ class Simulation {
         progress_(progress),
         h_(grid.step),
         a_mean_(structure.accelerometer == AccelerometerSampling::kPeriodMean),
+        settle_current_(options.settled_current &&
+                        structure.amplifier == Amplifier::kVoltageDrive && structure.inductance),
         y_(y_init),
         input_(drive, grid),
         coeffs_(MakeAxisCoefficients(structure, params)),
@@ -560,6 +569,7 @@ class Simulation {
       const double t = n * h_;
       input_.BeginStep(n, t);
       if (drive_.closed_loop && n % grid_.steps_per_control == 0) Control(n, t);
+      if (n == 0 && settle_current_) SettleCurrent(t);
       if (!Record(n, t)) return;
       if (n == grid_.num_steps) break;
       if (switched_) {
@@ -571,6 +581,12 @@ class Simulation {
         progress_(static_cast<double>(n) / grid_.num_steps);
       }
     }
+  }
+
+  // SimulationOptions::settled_current: y6 at the winding's steady current
+  // for the input and speed at `t` (the record's start).
+  void SettleCurrent(double t) {
+    y_[6] = input_.drive_on() ? T((input_(t) - params_.K_e * y_[3]) / params_.R) : T(0.0);
   }
 
   // The controller of MODEL.md §5 at control instant n / steps_per_control,
@@ -639,6 +655,7 @@ class Simulation {
   const std::function<void(double)>& progress_;
   const double h_;
   const bool a_mean_;  // the period-mean accelerometer
+  const bool settle_current_;  // SimulationOptions::settled_current, an inductive voltage drive
 
   PlantRecord<T> record_;
   bool any_on_grid_ = false;     // some channel is recorded at every step

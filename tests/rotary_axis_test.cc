@@ -168,6 +168,35 @@ TEST(VoltageDriveTest, InductiveWindingsCurrentRisesWithItsTimeConstant) {
   EXPECT_GT(Rk4StabilityLimitOf(s, p).max_step, 100.0 * p.L / p.R);
 }
 
+// The inductive DC motor of RotaryParams `p` under a constant U (V) as the
+// linear system x' = A·x + b in x = (ω, i): A and the steady state x_ss.
+struct LinearMotor {
+  Eigen::Matrix2d a;
+  Eigen::Vector2d x_ss;
+};
+LinearMotor InductiveMotor(const AxisParams<double>& p, double u) {
+  LinearMotor m;
+  m.a << -ShaftDamping(p) / ShaftInertia(p), p.K_tau / ShaftInertia(p), -p.K_e / p.L,
+      -p.R / p.L;
+  m.x_ss = -m.a.partialPivLu().solve(Eigen::Vector2d(0.0, u / p.L));
+  return m;
+}
+
+// The rotary DC motor with an inductive winding (L/R = 12.5 ms) under a
+// constant 6 V: its structure, parameters and drive.
+struct InductiveSetup {
+  AxisStructure s;
+  AxisParams<double> p;
+  Drive drive;
+};
+InductiveSetup InductiveMotorAt6V() {
+  InductiveSetup m{RotaryStructure(LoadTerm::kNone), RotaryParams(), Drive()};
+  m.s.inductance = true;
+  m.p.L = 0.05;
+  m.drive.input = Constant(6.0);
+  return m;
+}
+
 // The inductive DC motor is linear in x = (ω, i): J·ω' = K_τ·i − B·ω,
 // L·i' = U − R·i − K_e·ω, so x(t) = x_ss + e^{At}·(x(0) − x_ss), against
 // Eigen's matrix exponential (unsupported/MatrixFunctions, Padé with
@@ -177,21 +206,11 @@ TEST(VoltageDriveTest, InductiveWindingsCurrentRisesWithItsTimeConstant) {
 // at 0.1 ms: error O((h/τ)⁴) ≈ 1e-9 of the scales, so 1e-7 of ω_ss and of
 // U/R.
 TEST(VoltageDriveTest, InductiveMotorFollowsTheMatrixExponential) {
-  AxisStructure s = RotaryStructure(LoadTerm::kNone);
-  s.inductance = true;
-  AxisParams<double> p = RotaryParams();
-  p.L = 0.05;
-  Drive drive;
-  drive.input = Constant(6.0);
+  auto [s, p, drive] = InductiveMotorAt6V();
   const Trace<double> trace = Simulated(s, p, AxisState<double>::Zero(), drive, 0.4, 1e-4, 1e-3,
                                         {Channel::kV, Channel::kI});
   ASSERT_TRUE(trace.finite);
-  const double J = ShaftInertia(p);
-  const double B = ShaftDamping(p);
-  Eigen::Matrix2d a;
-  a << -B / J, p.K_tau / J, -p.K_e / p.L, -p.R / p.L;
-  const Eigen::Vector2d b(0.0, 6.0 / p.L);
-  const Eigen::Vector2d x_ss = -a.partialPivLu().solve(b);
+  const auto [a, x_ss] = InductiveMotor(p, 6.0);
   EXPECT_NEAR(x_ss[1], (6.0 - p.K_e * x_ss[0]) / p.R, 1e-12);
   EXPECT_EQ(trace[Channel::kI][0], 0.0);
   for (size_t j = 0; j < trace.t.size(); ++j) {
@@ -200,6 +219,39 @@ TEST(VoltageDriveTest, InductiveMotorFollowsTheMatrixExponential) {
     EXPECT_NEAR(trace[Channel::kV][j], x[0], 1e-7 * x_ss[0]) << "t = " << trace.t[j];
     EXPECT_NEAR(trace[Channel::kI][j], x[1], 1e-7 * 6.0 / p.R) << "t = " << trace.t[j];
   }
+}
+
+// A record taken in motion (SimulationOptions::settled_current, MODEL.md
+// §4): the winding current starts at (U − K_e·ω(0))/R and (ω, i) then
+// follows x_ss + e^{At}·(x(0) − x_ss) as above (same step and tolerance);
+// without the option it starts at 0, and with the drive off at 0 too.
+TEST(VoltageDriveTest, ARecordInMotionStartsItsCurrentSettled) {
+  auto [s, p, drive] = InductiveMotorAt6V();
+  AxisState<double> y0 = AxisState<double>::Zero();
+  y0[1] = y0[3] = 5.0;  // rad/s, r_g = 1
+  SimulationOptions o;
+  o.duration = 0.2;
+  o.step = 1e-4;
+  o.output_period = 1e-3;
+  o.channels = {Channel::kV, Channel::kI};
+  o.settled_current = true;
+  const Trace<double> trace = Simulate(s, p, y0, drive, o, MakeGrid(o, drive));
+  ASSERT_TRUE(trace.finite);
+  const double i0 = (6.0 - p.K_e * 5.0) / p.R;
+  EXPECT_NEAR(trace[Channel::kI][0], i0, 1e-12);
+  const auto [a, x_ss] = InductiveMotor(p, 6.0);
+  const Eigen::Vector2d x0(5.0, i0);
+  for (size_t j = 0; j < trace.t.size(); ++j) {
+    const Eigen::Vector2d x = x_ss + (a * trace.t[j]).exp() * (x0 - x_ss);
+    EXPECT_NEAR(trace[Channel::kV][j], x[0], 1e-7 * x_ss[0]) << "t = " << trace.t[j];
+    EXPECT_NEAR(trace[Channel::kI][j], x[1], 1e-7 * 6.0 / p.R) << "t = " << trace.t[j];
+  }
+  o.settled_current = false;
+  EXPECT_EQ(Simulate(s, p, y0, drive, o, MakeGrid(o, drive))[Channel::kI][0], 0.0);
+  o.settled_current = true;
+  drive.has_enable = true;
+  drive.enable = Constant(0.0);
+  EXPECT_EQ(Simulate(s, p, y0, drive, o, MakeGrid(o, drive))[Channel::kI][0], 0.0);
 }
 
 // Drive off: a pendulum with no friction swings about x = −θ_p with period
