@@ -57,7 +57,17 @@ function(axis_pch_targets)
   target_compile_definitions(axis_pch_test PRIVATE
     PROJECT_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     BINARY_DIR="${CMAKE_BINARY_DIR}/bin")
+  axis_test_optimization(axis_pch_test)  # the tests' level, which their header must match
   target_precompile_headers(axis_pch_test PRIVATE ${AXIS_PCH_HEADERS} <gtest/gtest.h>)
+endfunction()
+
+# axis_test_optimization(TARGET): TARGET's sources at AXIS_TEST_OPTIMIZATION
+# (CMakeLists.txt) in a Release build, after the build type's flags so that
+# it is the level in force.
+function(axis_test_optimization target)
+  if(AXIS_TEST_OPTIMIZATION)
+    target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:${AXIS_TEST_OPTIMIZATION}>)
+  endif()
 endfunction()
 
 # axis_use_pch(TARGET KIND): TARGET's sources include the precompiled header
