@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -152,6 +153,47 @@ TEST(MoveTuneTest, TheProposalMeetsTheSpecOnTheAxisThatMadeTheData) {
   EXPECT_TRUE(verify.drive.closed_loop);
   EXPECT_DOUBLE_EQ(verify.drive.controller.G_p, t.proposed.controller.G_p);
   EXPECT_NEAR(verify.drive.reference.MoveDuration(), t.proposed.reference.MoveDuration(), 1e-6);
+}
+
+// The searches of the profiles and of their shapers run at once, on
+// job.solver.threads, and the models a setting is checked on likewise
+// (tune/move_tuning.cc SearchEach, CheckEach): each on its own copy of
+// the search state, the results in the tasks' order. One thread and two
+// must give the same proposal to the last bit (a small budget: the claim
+// is the order, not the quality).
+TEST(MoveTuneTest, TheTuningIsTheSameOnOneThreadAndOnTwo) {
+  FitJob job = LoadFitJob(kRoot + "/configs/jobs/tune/x_axis_move.yaml");
+  job.problem.solver.progress = false;
+  job.tune.move.evaluations = 12;
+  job.tune.samples = 2;
+  job.tune.move.shapers = {ShaperType::kZV};
+  const FitResult result = FitParameters(job.problem, nullptr);
+  std::vector<MoveTuning> runs;
+  for (int threads : {1, 2}) {
+    job.problem.solver.threads = threads;
+    runs.push_back(TuneMove(job.problem, result, job.tune, nullptr));
+    ASSERT_TRUE(runs.back().ran) << runs.back().note;
+  }
+  ASSERT_EQ(runs[0].tuned.size(), runs[1].tuned.size());
+  EXPECT_EQ(runs[0].tuned.size(), 2u * (1u + job.tune.move.shapers.size()))
+      << "each profile unshaped and with the shaper";
+  for (size_t k = 0; k < runs[0].tuned.size(); ++k) {
+    const MoveSetting& a = runs[0].tuned[k];
+    const MoveSetting& b = runs[1].tuned[k];
+    SCOPED_TRACE(a.profile + " " + std::to_string(k));
+    EXPECT_EQ(a.profile, b.profile);
+    EXPECT_EQ(a.controller.G_p, b.controller.G_p);
+    EXPECT_EQ(a.controller.G_v, b.controller.G_v);
+    EXPECT_EQ(a.speed, b.speed);
+    EXPECT_EQ(a.reference.shaper.frequency, b.reference.shaper.frequency);
+    EXPECT_EQ(a.objective, b.objective);
+    EXPECT_EQ(a.scenarios, b.scenarios);
+    EXPECT_EQ(a.checks_met, b.checks_met);
+    EXPECT_EQ(a.robust, b.robust);
+  }
+  EXPECT_EQ(runs[0].simulations, runs[1].simulations);
+  EXPECT_EQ(runs[0].proposed.profile, runs[1].proposed.profile);
+  EXPECT_EQ(runs[0].proposed.objective, runs[1].proposed.objective);
 }
 
 TEST(MoveTuneTest, BadMoveKeysAreRefusedNamingThem) {

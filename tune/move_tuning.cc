@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
 #include <nlopt.h>
 
+#include "common/concurrency.h"
 #include "common/format.h"
 #include "estimation/at_estimate.h"
 #include "estimation/current_loop_check.h"
@@ -100,12 +102,15 @@ class MoveTuner {
         analog_(analog),
         settings_(tune.move),
         spec_(tune.move.spec),
-        samples_(tune.samples) {}
+        samples_(tune.samples),
+        threads_(std::max(1, job.solver.threads)) {}
 
   MoveTuning Run() {
     const auto start = std::chrono::steady_clock::now();
     if (!Prepare()) return out_;
-    for (const std::string& profile : spec_.profiles) out_.tuned.push_back(Search(profile));
+    std::vector<SearchTask> unshaped;
+    for (const std::string& profile : spec_.profiles) unshaped.push_back({profile, {}, {}});
+    out_.tuned = SearchEach(unshaped);
     SearchShapers();
     if (settings_.klipper.enabled) ApplyKlippersRule();
     // Every judged run ends together (the plots and tune_move.csv put the
@@ -156,20 +161,61 @@ class MoveTuner {
   void SearchShapers() {
     out_.shapers = settings_.shapers;
     if (settings_.shapers.empty()) return;
-    const size_t unshaped = out_.tuned.size();
-    for (size_t k = 0; k < unshaped; ++k) {
-      const MoveSetting start = out_.tuned[k];
+    std::vector<SearchTask> shaped;
+    for (const MoveSetting& start : out_.tuned) {
       ShaperSearch box;
       if (!ShaperRange(start, &box)) continue;
-      shaped_start_ = &start;
       for (ShaperType type : settings_.shapers) {
         box.type = type;
-        shaping_ = box;
-        out_.tuned.push_back(Search(start.profile));
+        shaped.push_back({start.profile, box, start});
       }
-      shaped_start_ = nullptr;
     }
-    shaping_ = ShaperSearch{};
+    for (MoveSetting& s : SearchEach(shaped)) out_.tuned.push_back(std::move(s));
+  }
+
+  // One search of the tuner: a profile, and the shaper it tunes with the
+  // profile's unshaped tuned setting it starts from (none: unshaped).
+  struct SearchTask {
+    std::string profile;
+    ShaperSearch shaping;
+    std::optional<MoveSetting> shaped_start;
+  };
+
+  // Search of each task, several at once (job.solver.threads): each on a
+  // copy of this tuner (its own scenarios_, shaping_ and simulation count;
+  // the model, checks and spec read only), the results in the tasks'
+  // order, the same whatever the number of threads. A search's own loops
+  // over models (CheckEach) get the threads the searches leave.
+  std::vector<MoveSetting> SearchEach(const std::vector<SearchTask>& tasks) {
+    std::vector<MoveSetting> found(tasks.size());
+    std::vector<int> simulations(tasks.size(), 0);
+    const int at_once = static_cast<int>(std::min<size_t>(tasks.size(), threads_));
+    const int inner = std::max(1, threads_ / std::max(1, at_once));
+    ForEachConcurrently(tasks.size(), threads_, [&](size_t k) {
+      MoveTuner worker(*this);
+      worker.threads_ = inner;
+      worker.scenarios_.clear();
+      worker.simulations_ = 0;
+      worker.shaping_ = tasks[k].shaping;
+      worker.shaped_start_ = tasks[k].shaped_start ? &*tasks[k].shaped_start : nullptr;
+      found[k] = worker.Search(tasks[k].profile);
+      simulations[k] = worker.simulations_;
+    });
+    for (int n : simulations) simulations_ += n;
+    return found;
+  }
+
+  // The move of `controller` and `reference` on each of `checks` (the run
+  // `settle` s past the move), up to threads_ at once; counts them.
+  std::vector<MoveResponse> CheckEach(const std::vector<const Check*>& checks,
+                                      const ControllerConfig& controller,
+                                      const Reference& reference, double settle) {
+    std::vector<MoveResponse> out(checks.size());
+    ForEachConcurrently(checks.size(), threads_, [&](size_t k) {
+      out[k] = SimulateMove(checks[k]->model, controller, reference, checks[k]->step, settle);
+    });
+    simulations_ += static_cast<int>(checks.size());
+    return out;
   }
 
   // The frequency and damping box of the shapers on `unshaped`'s profile:
@@ -325,11 +371,10 @@ class MoveTuner {
     s.violations = MoveViolations(s.metrics, spec_);
     s.objective = ObjectiveOf(s.metrics);
     // The worst over the models the robust search has added.
-    for (const Check& check : scenarios_) {
-      ++simulations_;
-      const MoveMetrics m = MeasureMove(
-          SimulateMove(check.model, c, s.reference, check.step, spec_.settle), spec_);
-      s.objective = std::max(s.objective, ObjectiveOf(m));
+    std::vector<const Check*> added;
+    for (const Check& check : scenarios_) added.push_back(&check);
+    for (const MoveResponse& r : CheckEach(added, c, s.reference, spec_.settle)) {
+      s.objective = std::max(s.objective, ObjectiveOf(MeasureMove(r, spec_)));
     }
     return s;
   }
@@ -344,19 +389,20 @@ class MoveTuner {
   // The checks at which `s` breaks the spec with its margin, the worst
   // kEndsPerRound of them (by MoveViolation).
   std::vector<Check> Violating(const MoveSetting& s) {
-    std::vector<std::pair<double, const Check*>> broken;
+    // The joint region's samples judge the setting (Judge) but do not
+    // steer the search: added as scenarios, the worst of them (out at
+    // the region's edge, farther than any interval end) made the tuned
+    // moves worse on the axes that made the records (tune_coulomb and
+    // tune_payload: move spec met 8/10 each, against 10/10 without).
+    std::vector<const Check*> ends;
     for (const Check& check : checks_) {
-      // The joint region's samples judge the setting (Judge) but do not
-      // steer the search: added as scenarios, the worst of them (out at
-      // the region's edge, farther than any interval end) made the tuned
-      // moves worse on the axes that made the records (tune_coulomb and
-      // tune_payload: move spec met 8/10 each, against 10/10 without).
-      if (check.sample) continue;
-      ++simulations_;
-      const MoveMetrics m = MeasureMove(
-          SimulateMove(check.model, s.controller, s.reference, check.step, spec_.settle), spec_);
-      const double v = MoveViolation(m, search_spec_);
-      if (v > 0.0) broken.emplace_back(v, &check);
+      if (!check.sample) ends.push_back(&check);
+    }
+    const std::vector<MoveResponse> runs = CheckEach(ends, s.controller, s.reference, spec_.settle);
+    std::vector<std::pair<double, const Check*>> broken;
+    for (size_t k = 0; k < ends.size(); ++k) {
+      const double v = MoveViolation(MeasureMove(runs[k], spec_), search_spec_);
+      if (v > 0.0) broken.emplace_back(v, ends[k]);
     }
     std::stable_sort(broken.begin(), broken.end(),
                      [](const auto& a, const auto& b) { return a.first > b.first; });
@@ -517,10 +563,12 @@ class MoveTuner {
     s->robust = s->violations.empty();
     s->spread = StartSpread(FigureNames(kMoveFigures), FigureValues(s->metrics, kMoveFigures));
     std::vector<double> moved(std::size(kMoveFigures), 0.0);
-    for (const Check& check : checks_) {
-      ++simulations_;
-      const MoveResponse r =
-          SimulateMove(check.model, s->controller, s->reference, check.step, settle);
+    std::vector<const Check*> all;
+    for (const Check& check : checks_) all.push_back(&check);
+    const std::vector<MoveResponse> runs = CheckEach(all, s->controller, s->reference, settle);
+    for (size_t k = 0; k < checks_.size(); ++k) {
+      const Check& check = checks_[k];
+      const MoveResponse& r = runs[k];
       WidenMoveBand(r, &s->band_low, &s->band_high);
       const MoveMetrics m = MeasureMove(r, spec_);
       s->residual_vibration.push_back({check.name, m.ringing});
@@ -546,6 +594,7 @@ class MoveTuner {
   const MoveTuneSettings& settings_;
   const MoveSpec& spec_;
   const int samples_;  // TuneSettings::samples: points of the joint region
+  int threads_;        // simulations at once (job.solver.threads; a search's: SearchEach)
   MoveSpec search_spec_;  // spec_ with the design margin (the search's)
   AxisConfig model_;
   ControllerConfig base_;

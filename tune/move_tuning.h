@@ -144,7 +144,10 @@ struct MoveTuning {
 // fitted experiment's RK4 step. The model's amplifier may be any; the controller
 // is the model's (AxisConfig::controller) if it has one, else the AID 600
 // defaults; the joint region's samples are tune.samples. ran is false
-// with a note if tune.move is not enabled.
+// with a note if tune.move is not enabled. The searches of the profiles
+// (then of their shapers) and the simulations of a setting on the checks'
+// models run up to job.solver.threads at once; the result is the same for
+// any number of threads.
 // Throws std::runtime_error if the job has no experiment or the model at
 // the estimate does not simulate the current setting; never for a spec
 // that cannot be met (the proposal then has the least violation).
