@@ -29,29 +29,32 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-}  // namespace
+// `job` without `c` (its parameters `params` fixed), as a warm refit.
+// Without a large effect the optimum can be far from this start: the
+// removal keeps the horizon continuation (there is no bound on its cost
+// to check a warm refit against, as there is for an added effect).
+EstimationProblem WithoutJob(const Candidate& c, const std::vector<std::string>& params,
+                             const EstimationProblem& job) {
+  EstimationProblem without = job;
+  RemoveEffect(c, params, &without);
+  const double first_horizon = without.solver.first_horizon;
+  AsWarmRefit(&without);
+  without.solver.first_horizon = first_horizon;
+  return without;
+}
 
-std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
-                                                 const std::vector<std::string>& params,
-                                                 EstimationProblem* job, const FitResult& result,
-                                                 EstimationProblem* without) {
-  ApplyEstimates(result, job);
-  *without = *job;
-  RemoveEffect(c, params, without);
-  // Without a large effect the optimum can be far from this start: the
-  // removal keeps the horizon continuation (there is no bound on its cost
-  // to check a warm refit against, as there is for an added effect).
-  const double first_horizon = without->solver.first_horizon;
-  AsWarmRefit(without);
-  without->solver.first_horizon = first_horizon;
-  // Removed only if BIC falls: a refit that can no longer fall below the
-  // BIC with the effect stops early (FitControl::abandon_above_bic).
+// Removed only if BIC falls: a refit that can no longer fall below the
+// BIC with the effect stops early (FitControl::abandon_above_bic).
+FitControl RemovalControl(const FitResult& result) {
   FitControl control;
   control.abandon_above_bic = kStopFactor * result.bic;
-  const Clock::time_point start = Clock::now();
-  FitResult refit = FitParameters(*without, nullptr, control);
+  return control;
+}
+
+DiscoveryStep RemovalRecord(const Candidate& c, const FitResult& result, const FitResult& refit,
+                            double seconds) {
   DiscoveryStep record;
-  record.seconds = SecondsSince(start);
+  record.seconds = seconds;
   record.effect = c.name;
   record.removal = true;
   record.bic_before = result.bic;
@@ -59,7 +62,38 @@ std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
   record.stopped = StoppedText(refit, result.bic, "the BIC with the effect");
   record.kept = refit.bic < result.bic && record.stopped.empty();
   record.channels = ChannelChanges(result, refit);
+  return record;
+}
+
+}  // namespace
+
+std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
+                                                 const std::vector<std::string>& params,
+                                                 EstimationProblem* job, const FitResult& result,
+                                                 EstimationProblem* without) {
+  ApplyEstimates(result, job);
+  *without = WithoutJob(c, params, *job);
+  const Clock::time_point start = Clock::now();
+  FitResult refit = FitParameters(*without, nullptr, RemovalControl(result));
+  DiscoveryStep record = RemovalRecord(c, result, refit, SecondsSince(start));
   return {record, refit};
+}
+
+std::vector<Removal> RefitsWithout(const std::vector<Candidate>& candidates,
+                                   EstimationProblem* job, const FitResult& result) {
+  ApplyEstimates(result, job);
+  std::vector<EstimationProblem> jobs;
+  for (const Candidate& c : candidates) jobs.push_back(WithoutJob(c, EffectParameters(c), *job));
+  std::vector<double> seconds;
+  std::vector<FitResult> refits =
+      FitConcurrently(jobs, job->solver.threads, &seconds,
+                      std::vector<FitControl>(jobs.size(), RemovalControl(result)));
+  std::vector<Removal> out;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    DiscoveryStep record = RemovalRecord(candidates[k], result, refits[k], seconds[k]);
+    out.push_back({std::move(record), std::move(refits[k]), std::move(jobs[k])});
+  }
+  return out;
 }
 
 void DropEffect(const std::string& name, EstimationProblem&& without, FitResult&& refit, EstimationProblem* job,

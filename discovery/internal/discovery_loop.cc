@@ -901,33 +901,50 @@ void DiscoveryLoop::PrintRefit(const Pending& q, const DiscoveryStep& record) co
 
 // ---------------------------------------------------------------- after the forward steps
 
-// Backward pass: without each added effect but the last.
+// Backward pass: without each added effect but the last, in the order they
+// were added, each refit from the model the earlier removals left. The
+// refits from the current model run at once (RefitsWithout: most effects
+// stay, and those refits are the ones the serial pass would run); after a
+// removal the later ones run again from the model without it.
 void DiscoveryLoop::BackwardPass() {
   const std::vector<std::string> added = report_.selected;
   if (status_ != nullptr) status_->BeginPhase("backward pass");
   if (stage_) stage_("discovery backward pass");
-  for (size_t k = 0; k + 1 < added.size(); ++k) {
-    const Candidate candidate = CandidateNamed(added[k]);
-    if (RefinedInModel(candidate.effect, job_->model.structure)) continue;
+  size_t next = 0;  // the first of `added` not yet decided
+  while (next + 1 < added.size()) {
+    std::vector<size_t> index;
+    std::vector<Candidate> batch;
+    for (size_t k = next; k + 1 < added.size(); ++k) {
+      const Candidate candidate = CandidateNamed(added[k]);
+      if (RefinedInModel(candidate.effect, job_->model.structure)) continue;
+      index.push_back(k);
+      batch.push_back(candidate);
+    }
+    if (batch.empty()) break;
     if (status_ != nullptr) {
-      status_->Status("discovery backward pass: refit without " + candidate.name + " (" +
-                          std::to_string(k + 1) + " of " + std::to_string(added.size() - 1) +
-                          ")",
-                      static_cast<double>(k) / static_cast<double>(added.size() - 1));
+      std::string names;
+      for (const Candidate& c : batch) names += (names.empty() ? "" : ", ") + c.name;
+      status_->Status(std::string("discovery backward pass: refit without ") +
+                          (batch.size() > 1 ? "each of " : "") + names,
+                      static_cast<double>(next) / static_cast<double>(added.size() - 1));
     }
-    EstimationProblem without;
-    auto [record, refit] =
-        RefitWithout(candidate, EffectParameters(candidate), job_, *result_, &without);
-    report_.steps.push_back(record);
-    if (progress_) {
-      *progress_ << "  refit without " << candidate.name << ": BIC " << record.bic_before
-                 << " -> " << BoundMark(record) << record.bic_after
-                 << (record.kept ? " (removed)" : " (stays)")
-                 << (record.stopped.empty() ? "" : ": stopped " + record.stopped) << "\n";
-    }
-    if (record.kept) {
-      DropEffect(candidate.name, std::move(without), std::move(refit), job_, result_,
-                 &report_);
+    std::vector<Removal> removals = RefitsWithout(batch, job_, *result_);
+    next = added.size();
+    for (size_t b = 0; b < batch.size(); ++b) {
+      Removal& r = removals[b];
+      report_.steps.push_back(r.record);
+      if (progress_) {
+        *progress_ << "  refit without " << batch[b].name << ": BIC " << r.record.bic_before
+                   << " -> " << BoundMark(r.record) << r.record.bic_after
+                   << (r.record.kept ? " (removed)" : " (stays)")
+                   << (r.record.stopped.empty() ? "" : ": stopped " + r.record.stopped) << "\n";
+      }
+      if (r.record.kept) {
+        DropEffect(batch[b].name, std::move(r.without), std::move(r.refit), job_, result_,
+                   &report_);
+        next = index[b] + 1;  // the later ones again, from the model without it
+        break;
+      }
     }
   }
 }
