@@ -66,7 +66,7 @@ endfunction()
 # it is the level in force.
 function(axis_test_optimization target)
   if(AXIS_TEST_OPTIMIZATION)
-    target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:${AXIS_TEST_OPTIMIZATION}>)
+    target_compile_options(${target} PRIVATE "$<$<CONFIG:Release>:${AXIS_TEST_OPTIMIZATION}>")
   endif()
 endfunction()
 

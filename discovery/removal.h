@@ -29,17 +29,20 @@ std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
                                                  EstimationProblem* job, const FitResult& result,
                                                  EstimationProblem* without);
 
-// RefitWithout for each of `candidates` (its parameters EffectParameters),
-// every refit from the same `result` (written into `job` first), up to
-// job->solver.threads of them at once (FitConcurrently, estimation/fit.h):
-// the refits one after the other would give, up to the last bits of a cost
-// summed on another number of threads; in `candidates`' order, each
-// record's seconds its refit's own wall time. Throws as FitParameters does.
+// One refit of RefitsWithout: the removal step, the refit and its job.
 struct Removal {
   DiscoveryStep record;
   FitResult refit;
   EstimationProblem without;  // the job refitted
 };
+
+// RefitWithout for each of `candidates` (its parameters EffectParameters),
+// every refit from the same `result` (written into `job` first), up to
+// job->solver.threads of them at once (FitConcurrently, estimation/fit.h):
+// the refits one after the other would give, up to the last bits of a cost
+// summed on another number of threads; in `candidates`' order, each
+// record's seconds its refit's own wall time. Throws as FitParameters does
+// (the lowest-indexed refit's exception, after every refit has run).
 std::vector<Removal> RefitsWithout(const std::vector<Candidate>& candidates,
                                    EstimationProblem* job, const FitResult& result);
 

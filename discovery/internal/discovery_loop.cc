@@ -902,10 +902,12 @@ void DiscoveryLoop::PrintRefit(const Pending& q, const DiscoveryStep& record) co
 // ---------------------------------------------------------------- after the forward steps
 
 // Backward pass: without each added effect but the last, in the order they
-// were added, each refit from the model the earlier removals left. The
-// refits from the current model run at once (RefitsWithout: most effects
-// stay, and those refits are the ones the serial pass would run); after a
-// removal the later ones run again from the model without it.
+// were added, each refit from the model the earlier removals left. Up to
+// solver.threads of the refits from the current model run at once
+// (RefitsWithout: most effects stay, and those refits are the ones one
+// after the other would run); after a removal the later ones of the batch
+// are dropped and run again from the model without it (with one thread a
+// batch is one refit: the pass one after the other).
 void DiscoveryLoop::BackwardPass() {
   const std::vector<std::string> added = report_.selected;
   if (status_ != nullptr) status_->BeginPhase("backward pass");
@@ -914,7 +916,8 @@ void DiscoveryLoop::BackwardPass() {
   while (next + 1 < added.size()) {
     std::vector<size_t> index;
     std::vector<Candidate> batch;
-    for (size_t k = next; k + 1 < added.size(); ++k) {
+    const size_t width = static_cast<size_t>(std::max(1, job_->solver.threads));
+    for (size_t k = next; k + 1 < added.size() && batch.size() < width; ++k) {
       const Candidate candidate = CandidateNamed(added[k]);
       if (RefinedInModel(candidate.effect, job_->model.structure)) continue;
       index.push_back(k);
@@ -925,11 +928,13 @@ void DiscoveryLoop::BackwardPass() {
       std::string names;
       for (const Candidate& c : batch) names += (names.empty() ? "" : ", ") + c.name;
       status_->Status(std::string("discovery backward pass: refit without ") +
-                          (batch.size() > 1 ? "each of " : "") + names,
+                          (batch.size() > 1 ? "each of " : "") + names + " (" +
+                          std::to_string(index.back() + 1) + " of " +
+                          std::to_string(added.size() - 1) + ")",
                       static_cast<double>(next) / static_cast<double>(added.size() - 1));
     }
     std::vector<Removal> removals = RefitsWithout(batch, job_, *result_);
-    next = added.size();
+    next = index.back() + 1;
     for (size_t b = 0; b < batch.size(); ++b) {
       Removal& r = removals[b];
       report_.steps.push_back(r.record);
