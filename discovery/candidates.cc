@@ -264,7 +264,7 @@ void RemoveEffect(const Candidate& c, const std::vector<std::string>& params,
   job->model.structure = WithEffect(job->model.structure, c, false);
   // The Stribeck term stays: without its own exponent it has the Gaussian
   // shape again.
-  if (c.effect == "stribeck_shape") job->model.params.delta_st = AxisParams<double>().delta_st;
+  if (c.effect == "stribeck_shape") job->model.params.delta_st = kGaussianStribeckShape;
   std::vector<FreeParameter> kept;
   for (const FreeParameter& f : job->free) {
     if (std::find(params.begin(), params.end(), f.name) == params.end()) kept.push_back(f);
@@ -371,7 +371,7 @@ std::vector<Candidate> ListCandidates(const EstimationProblem& job,
     // not where the job fits δ itself.
     if (name == "stribeck_shape" &&
         (!job.model.structure.effects.stribeck ||
-         job.model.params.delta_st != AxisParams<double>().delta_st ||
+         job.model.params.delta_st != kGaussianStribeckShape ||
          std::any_of(job.free.begin(), job.free.end(),
                      [](const FreeParameter& f) { return f.name == "delta_st"; }))) {
       continue;

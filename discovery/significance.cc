@@ -53,7 +53,7 @@ EffectSignificance EffectWald(const std::string& effect, const FitResult& fit) {
       chi2 = d * d / var;
     } else if (base == "stribeck_shape") {
       // The exponent against the Gaussian shape the term had without it.
-      const double d = e->value - AxisParams<double>().delta_st;
+      const double d = e->value - kGaussianStribeckShape;
       chi2 = d * d / covariance(p, p);
     } else if (base == "cogging") {
       w.dof = 2;

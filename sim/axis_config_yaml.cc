@@ -33,7 +33,7 @@ void EmitEffects(const AxisConfig& config, AxisParams<double>& params, YAML::Emi
       // A Stribeck exponent off the Gaussian 2 (a job that freed
       // delta_st) is written as its own block too, so that it loads back.
       const bool shaped = std::string(e.name) == "stribeck_shape" &&
-                          sw.stribeck && config.params.delta_st != AxisParams<double>().delta_st;
+                          sw.stribeck && config.params.delta_st != kGaussianStribeckShape;
       if (sw.*(e.flag) || shaped) switched.push_back(&e);
     }
   }

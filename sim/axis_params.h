@@ -169,6 +169,11 @@ struct AxisStructure {
 
 // Numerical parameters. Defaults are the X axis of MODEL.md §2 and the
 // "off" values of the §7 effects. Units are SI as listed in VisitParams.
+// The Stribeck term's Gaussian shape exponent, exp(−(v/v_st)²): delta_st's
+// default, and the value the stribeck_shape candidate is tested against and
+// reset to (MODEL.md §7).
+inline constexpr double kGaussianStribeckShape = 2.0;
+
 template <typename T>
 struct AxisParams {
   // MODEL.md §2 (paper table, fitted values and assumptions).
@@ -204,7 +209,7 @@ struct AxisParams {
   T F_c{0.0};
   T F_st{0.0};
   T v_st{0.01};
-  T delta_st{2.0};    // Stribeck shape exponent δ: exp(−|v/v_st|^δ), > 0
+  T delta_st{kGaussianStribeckShape};  // Stribeck shape exponent δ: exp(−|v/v_st|^δ), > 0
   T Delta_B{0.0};
   T F_0{0.0};
   T k_x{0.0};
