@@ -194,8 +194,7 @@ class MoveTuner {
     ForEachConcurrently(tasks.size(), threads_, [&](size_t k) {
       MoveTuner worker(*this);
       worker.threads_ = inner;
-      worker.scenarios_.clear();
-      worker.simulations_ = 0;
+      worker.simulations_ = 0;  // Search clears the scenarios itself
       worker.shaping_ = tasks[k].shaping;
       worker.shaped_start_ = tasks[k].shaped_start ? &*tasks[k].shaped_start : nullptr;
       found[k] = worker.Search(tasks[k].profile);
@@ -203,6 +202,13 @@ class MoveTuner {
     });
     for (int n : simulations) simulations_ += n;
     return found;
+  }
+
+  // The addresses of `checks`, for CheckEach.
+  static std::vector<const Check*> AddressesOf(const std::vector<Check>& checks) {
+    std::vector<const Check*> out;
+    for (const Check& check : checks) out.push_back(&check);
+    return out;
   }
 
   // The move of `controller` and `reference` on each of `checks` (the run
@@ -371,9 +377,8 @@ class MoveTuner {
     s.violations = MoveViolations(s.metrics, spec_);
     s.objective = ObjectiveOf(s.metrics);
     // The worst over the models the robust search has added.
-    std::vector<const Check*> added;
-    for (const Check& check : scenarios_) added.push_back(&check);
-    for (const MoveResponse& r : CheckEach(added, c, s.reference, spec_.settle)) {
+    for (const MoveResponse& r : CheckEach(AddressesOf(scenarios_), c, s.reference,
+                                           spec_.settle)) {
       s.objective = std::max(s.objective, ObjectiveOf(MeasureMove(r, spec_)));
     }
     return s;
@@ -563,9 +568,8 @@ class MoveTuner {
     s->robust = s->violations.empty();
     s->spread = StartSpread(FigureNames(kMoveFigures), FigureValues(s->metrics, kMoveFigures));
     std::vector<double> moved(std::size(kMoveFigures), 0.0);
-    std::vector<const Check*> all;
-    for (const Check& check : checks_) all.push_back(&check);
-    const std::vector<MoveResponse> runs = CheckEach(all, s->controller, s->reference, settle);
+    const std::vector<MoveResponse> runs =
+        CheckEach(AddressesOf(checks_), s->controller, s->reference, settle);
     for (size_t k = 0; k < checks_.size(); ++k) {
       const Check& check = checks_[k];
       const MoveResponse& r = runs[k];

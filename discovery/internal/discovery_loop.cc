@@ -912,11 +912,11 @@ void DiscoveryLoop::BackwardPass() {
   const std::vector<std::string> added = report_.selected;
   if (status_ != nullptr) status_->BeginPhase("backward pass");
   if (stage_) stage_("discovery backward pass");
+  const size_t width = static_cast<size_t>(std::max(1, job_->solver.threads));
   size_t next = 0;  // the first of `added` not yet decided
   while (next + 1 < added.size()) {
     std::vector<size_t> index;
     std::vector<Candidate> batch;
-    const size_t width = static_cast<size_t>(std::max(1, job_->solver.threads));
     for (size_t k = next; k + 1 < added.size() && batch.size() < width; ++k) {
       const Candidate candidate = CandidateNamed(added[k]);
       if (RefinedInModel(candidate.effect, job_->model.structure)) continue;
