@@ -11,6 +11,9 @@ namespace axis {
 void KeepFreedMemory() {
 #if defined(__GLIBC__)
   mallopt(M_TOP_PAD, 64 * 1024 * 1024);
+  // The largest value glibc accepts on 64-bit (DEFAULT_MMAP_THRESHOLD_MAX);
+  // mallopt leaves the threshold as it was where it refuses the value.
+  mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
 #endif
 }
 
