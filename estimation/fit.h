@@ -59,7 +59,9 @@ namespace axis {
 // carries the stages every start ran (FitResult::checkpoint); a fit of the
 // same job given that as control.resume takes those stages as run and goes
 // on after them, with the same end as running them again (bit for bit on
-// the same number of threads; estimation/horizon_checkpoint.h). With
+// the same number of threads; estimation/horizon_checkpoint.h);
+// control.stop_before_whole_record stops every start so after the last
+// shorter horizon. With
 // control.publish_level the fit publishes its BIC there when it ends (also
 // when it throws: +inf); with control.pending_level it stops as under
 // abandon_above_bic at that level once another fit publishes it, and may

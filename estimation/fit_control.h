@@ -25,6 +25,13 @@ struct FitControl {
   // horizon and its BIC's lower bound (a screen: discovery/internal/screen.h); 0 fits
   // to the end.
   double stop_after_horizon = 0.0;
+  // If true, every start stops so after the last shorter horizon of its
+  // continuation, before the whole record (where the continuation has no
+  // shorter horizon the fit runs to the end): the discovery loop's starts
+  // of one candidate, of which only the lowest there go on
+  // (discovery/internal/discovery_loop.cc). Not with pending_level
+  // (FitParameters throws std::invalid_argument).
+  bool stop_before_whole_record = false;
   // The shorter horizons this job's screen ran (FitResult::checkpoint of
   // the same job with stop_after_horizon), which the fit takes as done and
   // goes on after; null runs every stage.

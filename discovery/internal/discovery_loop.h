@@ -21,6 +21,7 @@
 #include "discovery/candidates.h"
 #include "discovery/discovery_report.h"
 #include "discovery/score_test.h"
+#include "estimation/fit_control.h"
 #include "estimation/fit_result.h"
 #include "estimation/horizon_checkpoint.h"
 #include "discovery/discovery_settings.h"
@@ -121,16 +122,31 @@ class DiscoveryLoop {
   // bound, and those whose screen failed.
   void CutAfterScreen();
   void RunAgainstLevel();  // the leader, then the others against its level
-  // Fits candidates [from, to) of order_ against the current level.
+  // Fits candidates [from, to) of order_ against the current level; a
+  // candidate's several starts (StartsOf, the filter beside a delay) to
+  // their last shorter horizon first, then the job's solver.finalists
+  // lowest there to the whole record (ContinueFinalists).
   void RunCandidates(std::vector<size_t>::const_iterator from,
                      std::vector<size_t>::const_iterator to);
+  // The finalists of each candidate among `jobs` (run with `controls`;
+  // owner[j] its candidate; `out`, `secs`: the first run's results and
+  // times, updated in place; jobs[0] goes to fits_[first]): of the starts
+  // that stopped before the whole record, the solver.finalists lowest by
+  // their BIC's bound there resume from their checkpoints; the others are
+  // marked not continued (cut_). Where every finalist of a candidate
+  // fails, its other starts go on too.
+  void ContinueFinalists(const std::vector<EstimationProblem>& jobs,
+                         const std::vector<FitControl>& controls,
+                         const std::vector<size_t>& owner, std::vector<FitResult>* out,
+                         std::vector<double>* secs, size_t first);
   // Whether fitted channel `k`'s residual is above its noise in the
   // current fit: Σ(r/σ)² − n above 3·√(2n) over its samples.
   bool ChannelAboveNoise(int k) const;
   // Stops fitting the records' tail a channel read ahead cannot predict.
   void TrimAheadOfTheRecords();
-  // The callback FitConcurrently calls as each refit of the batch ends.
-  std::function<void(size_t, size_t)> RefitProgress();
+  // The callback FitConcurrently calls as each refit of the batch ends,
+  // `already` of the batch's refits done before that call.
+  std::function<void(size_t, size_t)> RefitProgress(size_t already = 0);
   void SetLevelFromLeader();
   void JudgeCandidate(size_t b);
   // Candidate b's step when it did not go on past the screen.
@@ -142,7 +158,7 @@ class DiscoveryLoop {
   // on one; fills the record's timing and notes.
   size_t ChooseStart(size_t b, std::vector<FitResult>* own, DiscoveryStep* record);
   size_t RetryFromTenth(size_t b, std::vector<FitResult>* own, DiscoveryStep* record);
-  std::string StartsText(const Pending& q, const std::vector<FitResult>& own,
+  std::string StartsText(size_t b, const std::vector<FitResult>& own,
                          size_t best) const;
   void RealignDelay(size_t b, size_t best, std::vector<FitResult>* own, DiscoveryStep* record);
   void WidenIfOnBound(size_t b, size_t best, std::vector<FitResult>* own,
@@ -213,6 +229,12 @@ class DiscoveryLoop {
   std::vector<Level> level_of_;  // the level candidate c ran against
   std::vector<FitResult> fits_;
   std::vector<double> seconds_;
+  // Per entry of fits_: a start not continued to the whole record (not
+  // among its candidate's finalists), and its BIC's bound where it stopped
+  // (its fits_ entry's bic is then +inf, so that it is never kept).
+  std::vector<bool> cut_;
+  std::vector<double> cut_bound_;
+  size_t runs_done_ = 0;  // the batch's refit runs done (progress line)
 };
 
 }  // namespace axis

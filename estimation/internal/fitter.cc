@@ -269,6 +269,11 @@ void Fitter::CheckControl() {
         "screen's stop would not wait for the level), got " +
         std::to_string(control_.stop_after_horizon) + " s");
   }
+  if (pending_ != nullptr && control_.stop_before_whole_record) {
+    throw std::invalid_argument(
+        "FitParameters: expected no FitControl::stop_before_whole_record with a pending_level "
+        "(its stop would not wait for the level)");
+  }
   level_known_ = pending_ == nullptr;
   // A start that can no longer end below control.abandon_above_bic stops.
   // A stage sums the same σ-weighted residuals as the whole record over a
@@ -288,6 +293,9 @@ void Fitter::CheckControl() {
   // RunStage keeps it. The same decisions follow (Joined, PassedBound) as
   // if the stages had run again.
   stop_after_ = control_.stop_after_horizon;
+  // control.stop_before_whole_record: the same stop after the last shorter
+  // horizon (none without a continuation: the fit then runs to the end).
+  if (control_.stop_before_whole_record && last_ > 0) stop_after_ = stages_[last_ - 1].horizon;
   ends_.resize(starts_.size());
   if (stop_after_ > 0.0) {
     checkpoint_ = std::make_shared<HorizonCheckpoint>();
