@@ -39,9 +39,11 @@ void PrependConventionStep(const DiscoveryStep& step, DiscoveryReport* report) {
 }
 
 DiscoveryReport JoinSecondPass(DiscoveryReport first, const DiscoveryStep& convention,
-                               DiscoveryReport second) {
+                               DiscoveryReport second,
+                               const std::vector<DiscoveryStep>& between) {
   DiscoveryReport out = std::move(second);
   first.steps.push_back(convention);
+  first.steps.insert(first.steps.end(), between.begin(), between.end());
   out.steps.insert(out.steps.begin(), first.steps.begin(), first.steps.end());
   first.selected.push_back(convention.effect);
   out.selected.insert(out.selected.begin(), first.selected.begin(), first.selected.end());

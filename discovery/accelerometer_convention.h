@@ -13,6 +13,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "discovery/discovery_report.h"
 #include "estimation/fit_result.h"
@@ -44,13 +45,16 @@ void PrependConventionStep(const DiscoveryStep& step, DiscoveryReport* report);
 // adopted on the model the first run discovered (run/job_run.cc: a plant
 // effect's misfit can hide the convention from the check on the declared
 // model, and a delay on `a` then stands in for it): `first`'s steps, then
-// `convention`, then `second`'s; the selected effects of both in that
+// `convention`, then `between` (the steps taken after the convention and
+// before the second run: the significance rule's removals of the first
+// run's stand-ins), then `second`'s; the selected effects of both in that
 // order (the convention between them); the removed ones of both; the
 // seconds and score rankings summed; the rest (ranking, stop reason,
 // significance, final diagnostics, verdict) `second`'s. Never throws
 // (except std::bad_alloc).
 DiscoveryReport JoinSecondPass(DiscoveryReport first, const DiscoveryStep& convention,
-                               DiscoveryReport second);
+                               DiscoveryReport second,
+                               const std::vector<DiscoveryStep>& between = {});
 
 }  // namespace axis
 

@@ -277,5 +277,31 @@ TEST(SamplingCheckTest, TheSecondPassJoinsTheFirstAfterTheConvention) {
   EXPECT_EQ(joined.verdict.verdict, "explained");
 }
 
+// The first run's stand-ins dropped by the significance rule after the
+// convention and before the second run (discovery/discovery_session.cc):
+// their removal steps follow the convention, before the second run's
+// steps; the dropped effect is among the removed, not the selected.
+TEST(SamplingCheckTest, RemovalsBetweenThePassesFollowTheConvention) {
+  DiscoveryReport first;
+  first.steps = {Step("coulomb"), Step("sensor_delay.a")};
+  first.selected = {"coulomb"};
+  first.removed = {"sensor_delay.a"};
+  DiscoveryStep removal = Step("sensor_delay.a");
+  removal.removal = true;
+  DiscoveryReport second;
+  second.steps = {Step("sensor_delay.tach")};
+  second.selected = {"sensor_delay.tach"};
+  const DiscoveryReport joined =
+      JoinSecondPass(first, Step("accelerometer.instant"), second, {removal});
+  ASSERT_EQ(joined.steps.size(), 5u);
+  EXPECT_EQ(joined.steps[2].effect, "accelerometer.instant");
+  EXPECT_EQ(joined.steps[3].effect, "sensor_delay.a");
+  EXPECT_TRUE(joined.steps[3].removal);
+  EXPECT_EQ(joined.steps[4].effect, "sensor_delay.tach");
+  EXPECT_EQ(joined.selected, (std::vector<std::string>{"coulomb", "accelerometer.instant",
+                                                       "sensor_delay.tach"}));
+  EXPECT_EQ(joined.removed, std::vector<std::string>{"sensor_delay.a"});
+}
+
 }  // namespace
 }  // namespace axis
