@@ -112,14 +112,22 @@ class DiscoverySession {
     out_ << "\nnote: " << outcome_.sampling_check.note << "\nFront end: " << convention->effect
          << " adopted on the discovered model, BIC " << convention->bic_before << " -> "
          << convention->bic_after << "; the loop runs again from there\n";
+    // The second run adds at most what the first left of max_effects: an
+    // effect the significance rule drops below still counts as one the
+    // loop added.
     DiscoverySettings second_settings = settings_;
     int added = 0;
     for (const std::string& name : report.selected) added += !IsConventionStep(name);
     second_settings.max_effects = std::max(0, settings_.max_effects - added);
     const size_t steps_before = report.steps.size();
     DropInsignificant(report.level, &problem_, &result_, &report, &out_);
-    const std::vector<DiscoveryStep> removals(report.steps.begin() + steps_before,
-                                              report.steps.end());
+    // The removals are reported here; an effect the rule kept (its
+    // likelihood ratio significant) is judged again at the end and
+    // reported there, once.
+    std::vector<DiscoveryStep> removals;
+    for (size_t k = steps_before; k < report.steps.size(); ++k) {
+      if (report.steps[k].kept) removals.push_back(report.steps[k]);
+    }
     report.steps.resize(steps_before);
     DiscoveryReport second = Discover(second_settings, &problem_, &result_, &out_, stage_);
     report = JoinSecondPass(std::move(report), *convention, std::move(second), removals);

@@ -48,9 +48,11 @@ struct DiscoveryOutcome {
 //    order stand-ins for the convention: a period mean is a box filter and
 //    a half-period delay of instant samples), the convention is judged
 //    again on the discovered model (kMisfit when unexplained, kBestBic when
-//    a stand-in was kept); if the other wins, it is adopted, the loop runs
-//    again with the effects left to add, every selected effect meets the
-//    significance rule again, and the final model is judged;
+//    a stand-in was kept); if the other wins, it is adopted, the first
+//    run's effects meet the significance rule (DropInsignificant: a
+//    stand-in goes there), the loop runs again with the effects left to
+//    add, every selected effect meets the rule again, and the final model
+//    is judged;
 // 4. with settings.force_map, the force map (discovery/force_map.h).
 // Prints the convention's adoption, the final diagnostics, the loop's
 // table and the force map's to `out`. `stage`, if set, is told each step

@@ -68,9 +68,10 @@ namespace axis {
 // block until then (estimation/shared_level.h).
 //
 // Throws std::invalid_argument for an inconsistent job (LoadFitJob has
-// checked), for a control.resume that is not a checkpoint of this job, and
-// for a pending_level with solver.starts > 0 or a stop_after_horizon; the
-// solver itself never throws.
+// checked), for a control.resume that is not a checkpoint of this job, for
+// a pending_level with solver.starts > 0, a stop_after_horizon or
+// stop_before_whole_record, and for stop_after_horizon with
+// stop_before_whole_record; the solver itself never throws.
 FitResult FitParameters(const EstimationProblem& job, std::ostream* progress = nullptr,
                         const FitControl& control = {});
 

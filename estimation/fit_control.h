@@ -29,20 +29,21 @@ struct FitControl {
   // continuation, before the whole record (where the continuation has no
   // shorter horizon the fit runs to the end): the discovery loop's starts
   // of one candidate, of which only the lowest there go on
-  // (discovery/internal/discovery_loop.cc). Not with pending_level
-  // (FitParameters throws std::invalid_argument).
+  // (discovery/internal/discovery_loop.cc). Not with pending_level nor with
+  // stop_after_horizon > 0 (FitParameters throws std::invalid_argument).
   bool stop_before_whole_record = false;
   // The shorter horizons this job's screen ran (FitResult::checkpoint of
-  // the same job with stop_after_horizon), which the fit takes as done and
-  // goes on after; null runs every stage.
+  // the same job with stop_after_horizon or stop_before_whole_record),
+  // which the fit takes as done and goes on after; null runs every stage.
   std::shared_ptr<const HorizonCheckpoint> resume;
   // The level of competing refits that run side by side (SharedLevel).
   // publish_level: this fit publishes its BIC there when it ends (also when
   // it throws: +inf). pending_level: this fit stops as if abandon_above_bic
   // were that level (the lower of the two), its shorter horizons' bounds
   // checked once the level is published (waiting for it at the end if need
-  // be); one start only (solver.starts 0 and no stop_after_horizon, else
-  // FitParameters throws std::invalid_argument).
+  // be); one start only (solver.starts 0, no stop_after_horizon and no
+  // stop_before_whole_record, else FitParameters throws
+  // std::invalid_argument).
   std::shared_ptr<SharedLevel> publish_level;
   std::shared_ptr<const SharedLevel> pending_level;
 };

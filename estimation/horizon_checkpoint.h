@@ -9,14 +9,15 @@
 
 namespace axis {
 
-// Written by a fit stopped by control.stop_after_horizon (FitResult::
-// checkpoint), read by a fit given it as control.resume. The points are in
+// Written by a fit stopped by control.stop_after_horizon or
+// control.stop_before_whole_record (FitResult::checkpoint), read by a fit
+// given it as control.resume. The points are in
 // the internal coordinates of the job's free parameters (estimation/fit.cc
 // ParameterMap: log for positive parameters, then the estimated initial
 // states), so a checkpoint belongs to one job: the same model, free
 // parameters with their bounds and initial values, experiments and solver
-// settings; only control.abandon_above_bic, stop_after_horizon, threads and
-// progress may differ. FitParameters throws std::invalid_argument for one
+// settings; only control.abandon_above_bic, stop_after_horizon,
+// stop_before_whole_record, threads and progress may differ. FitParameters throws std::invalid_argument for one
 // that does not fit the job: another number of starts or size of θ, other
 // start points (initial values, bounds, seed), other horizons, more stages
 // than the job's shorter ones, or another cost at the first start on the

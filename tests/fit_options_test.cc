@@ -643,6 +643,70 @@ TEST(FitOptionsTest, AFitResumedAfterItsScreenEndsWhereTheWholeFitEnds) {
   EXPECT_FALSE(refused([](FitJob* j) { j->problem.solver.threads = 1; }));
 }
 
+// FitControl::stop_before_whole_record (the discovery loop's several starts
+// of one candidate, of which only the finalists go on): every start stops
+// after the last shorter horizon (0.2 s of the 0.3 s window), and a fit
+// resumed from that checkpoint ends exactly where the whole fit ends (same
+// threads: bit for bit), also when the stopped fit had itself resumed from
+// an earlier screen's checkpoint; without shorter horizons the fit runs to
+// the end; with stop_after_horizon or a pending_level it is refused.
+TEST(FitOptionsTest, AFitStoppedBeforeTheWholeRecordGoesOnToTheWholeFitsEnd) {
+  FitJob job = LoadFitJob(ScreenedJob(4));
+  job.problem.solver.progress = false;
+  const FitResult whole = FitParameters(job.problem);
+  ASSERT_TRUE(std::isfinite(whole.final_cost));
+
+  const auto expect_whole = [&](const FitResult& r) {
+    EXPECT_EQ(r.abandoned_horizon, 0.0);
+    EXPECT_EQ(r.final_cost, whole.final_cost);
+    EXPECT_EQ(r.bic, whole.bic);
+    ASSERT_EQ(r.parameters.size(), whole.parameters.size());
+    for (size_t k = 0; k < whole.parameters.size(); ++k) {
+      EXPECT_EQ(r.parameters[k].value, whole.parameters[k].value) << whole.parameters[k].name;
+    }
+  };
+  FitControl before;
+  before.stop_before_whole_record = true;
+  const FitResult stopped = FitParameters(job.problem, nullptr, before);
+  EXPECT_DOUBLE_EQ(stopped.abandoned_horizon, 0.2);
+  ASSERT_NE(stopped.checkpoint, nullptr);
+  EXPECT_EQ(stopped.checkpoint->horizons.size(), 3u);
+  FitControl go_on;
+  go_on.resume = stopped.checkpoint;
+  expect_whole(FitParameters(job.problem, nullptr, go_on));
+
+  // After a screen (0.05 and 0.1 s), then stopped before the whole record,
+  // then to the end.
+  FitControl screen;
+  screen.stop_after_horizon = 0.1;
+  FitControl screened_then_before;
+  screened_then_before.resume = FitParameters(job.problem, nullptr, screen).checkpoint;
+  screened_then_before.stop_before_whole_record = true;
+  const FitResult stopped_again = FitParameters(job.problem, nullptr, screened_then_before);
+  EXPECT_DOUBLE_EQ(stopped_again.abandoned_horizon, 0.2);
+  FitControl go_on_again;
+  go_on_again.resume = stopped_again.checkpoint;
+  expect_whole(FitParameters(job.problem, nullptr, go_on_again));
+
+  // No shorter horizon: the whole record at once, as without the control.
+  FitJob at_once = job;
+  at_once.problem.solver.first_horizon = 0.0;
+  const FitResult at_once_whole = FitParameters(at_once.problem);
+  const FitResult at_once_before = FitParameters(at_once.problem, nullptr, before);
+  EXPECT_EQ(at_once_before.abandoned_horizon, 0.0);
+  EXPECT_EQ(at_once_before.checkpoint, nullptr);
+  EXPECT_EQ(at_once_before.final_cost, at_once_whole.final_cost);
+
+  FitControl both = before;
+  both.stop_after_horizon = 0.1;
+  EXPECT_THROW(FitParameters(job.problem, nullptr, both), std::invalid_argument);
+  FitJob one_start = job;
+  one_start.problem.solver.starts = 0;
+  FitControl pending = before;
+  pending.pending_level = std::make_shared<SharedLevel>(1.0);
+  EXPECT_THROW(FitParameters(one_start.problem, nullptr, pending), std::invalid_argument);
+}
+
 TEST(FitOptionsTest, QuickFormWritesTheReport) {
   const std::string out = axis::testing_files::TestTempDir() + "quick_out";
   std::filesystem::remove_all(out);

@@ -632,11 +632,13 @@ void DiscoveryLoop::RunAgainstLevel() {
 
 // On copies of their starts (those in batch_, one of which the loop may
 // adopt, keep no level and no checkpoint); pos_[c]: candidate c's first
-// start in fits_, level_of_[c]: the level it ran against. A candidate's
-// several starts stop before the whole record and only its finalists go on
-// (ContinueFinalists), as FitParameters does with the starts of one fit
-// (estimation/fit.h: the solver.finalists lowest on the longest shorter
-// horizon fit the whole record). The starts of a filter beside a delay
+// start in fits_, level_of_[c]: the level it ran against. The starts of a
+// candidate with more of them than solver.finalists stop before the whole
+// record and only its finalists go on (ContinueFinalists), as
+// FitParameters does with the starts of one fit (estimation/fit.h: the
+// solver.finalists lowest on the longest shorter horizon fit the whole
+// record; here ranked by the BIC bound there, which takes the lower of the
+// stage's end and the start's own cost). The starts of a filter beside a delay
 // ended together: on the independent square + sweep records their three
 // whole-record stages, 0.8–3.5 s each, reached the same cost to 1e-4
 // where their 3.2 s stages had differed by 30.
@@ -653,7 +655,7 @@ void DiscoveryLoop::RunCandidates(std::vector<size_t>::const_iterator from,
       FitControl control;
       control.abandon_above_bic = kStopFactor * level_.bic;
       if (k < resume_[*it].size()) control.resume = resume_[*it][k];
-      control.stop_before_whole_record = batch_[*it].starts.size() > 1;
+      control.stop_before_whole_record = batch_[*it].starts.size() > Finalists();
       controls.push_back(std::move(control));
       owner.push_back(*it);
     }
@@ -687,7 +689,7 @@ void DiscoveryLoop::ContinueFinalists(const std::vector<EstimationProblem>& jobs
                                       const std::vector<size_t>& owner,
                                       std::vector<FitResult>* out, std::vector<double>* secs,
                                       size_t first) {
-  const size_t finalists = static_cast<size_t>(std::max(1, job_->solver.finalists));
+  const size_t finalists = Finalists();
   // Per round: the starts that go on (indices into jobs), lowest bound first
   // per candidate; the second round only where every finalist failed.
   std::vector<size_t> waiting;  // stopped before the whole record, not yet run on
@@ -745,17 +747,22 @@ void DiscoveryLoop::ContinueFinalists(const std::vector<EstimationProblem>& jobs
   }
 }
 
+size_t DiscoveryLoop::Finalists() const {
+  return static_cast<size_t>(std::max(1, job_->solver.finalists));
+}
+
 // The progress line while a batch's refits run: k of n done, with the
 // phase's remaining time extrapolated (common/progress.h); n counts every
 // start of the candidates that went on past the screen, and for a
-// candidate of several starts its finalists' runs to the whole record.
+// candidate of more starts than finalists its finalists' runs to the whole
+// record (a start stopped on its bound, or failed, leaves n a little high;
+// k is kept at most n).
 std::function<void(size_t, size_t)> DiscoveryLoop::RefitProgress(size_t already) {
   if (status_ == nullptr) return {};
-  const size_t finalists = static_cast<size_t>(std::max(1, job_->solver.finalists));
   size_t total = 0;
   for (size_t c : order_) {
     const size_t n = batch_[c].starts.size();
-    total += n + (n > 1 ? std::min(n, finalists) : 0);
+    total += n + (n > Finalists() ? Finalists() : 0);
   }
   return [this, already, total](size_t done, size_t) {
     const size_t k = std::min(already + done, total);

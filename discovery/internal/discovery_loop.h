@@ -122,10 +122,11 @@ class DiscoveryLoop {
   // bound, and those whose screen failed.
   void CutAfterScreen();
   void RunAgainstLevel();  // the leader, then the others against its level
-  // Fits candidates [from, to) of order_ against the current level; a
-  // candidate's several starts (StartsOf, the filter beside a delay) to
-  // their last shorter horizon first, then the job's solver.finalists
-  // lowest there to the whole record (ContinueFinalists).
+  // Fits candidates [from, to) of order_ against the current level; the
+  // starts of a candidate with more of them than solver.finalists
+  // (StartsOf, the filter beside a delay) to their last shorter horizon
+  // first, then the finalists lowest there to the whole record
+  // (ContinueFinalists).
   void RunCandidates(std::vector<size_t>::const_iterator from,
                      std::vector<size_t>::const_iterator to);
   // The finalists of each candidate among `jobs` (run with `controls`;
@@ -146,7 +147,9 @@ class DiscoveryLoop {
   void TrimAheadOfTheRecords();
   // The callback FitConcurrently calls as each refit of the batch ends,
   // `already` of the batch's refits done before that call.
-  std::function<void(size_t, size_t)> RefitProgress(size_t already = 0);
+  std::function<void(size_t, size_t)> RefitProgress(size_t already);
+  // The job's solver.finalists, at least 1.
+  size_t Finalists() const;
   void SetLevelFromLeader();
   void JudgeCandidate(size_t b);
   // Candidate b's step when it did not go on past the screen.

@@ -269,6 +269,12 @@ void Fitter::CheckControl() {
         "screen's stop would not wait for the level), got " +
         std::to_string(control_.stop_after_horizon) + " s");
   }
+  if (control_.stop_before_whole_record && control_.stop_after_horizon > 0.0) {
+    throw std::invalid_argument(
+        "FitParameters: expected either FitControl::stop_after_horizon or "
+        "stop_before_whole_record, got both (stop_after_horizon " +
+        std::to_string(control_.stop_after_horizon) + " s)");
+  }
   if (pending_ != nullptr && control_.stop_before_whole_record) {
     throw std::invalid_argument(
         "FitParameters: expected no FitControl::stop_before_whole_record with a pending_level "
