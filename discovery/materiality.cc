@@ -97,9 +97,9 @@ void DropNegligible(EstimationProblem* job, FitResult* result, DiscoveryReport* 
     if (RefinedInModel(candidate.effect, job->model.structure)) continue;
     const Contribution c = EffectContribution(candidate.name, *job, *result);
     if (c.material) continue;
-    EstimationProblem without;
-    auto [record, refit] =
-        RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);
+    Removal removal = std::move(RefitsWithout({candidate}, job, *result)[0]);
+    DiscoveryStep& record = removal.record;
+    const FitResult& refit = removal.refit;
     if (!record.stopped.empty() || !std::isfinite(refit.final_cost)) continue;
     record.negligible = NegligibleNote(candidate.name, c, job->model.structure.motion);
     record.kept = true;  // removed whatever BIC says
@@ -109,7 +109,8 @@ void DropNegligible(EstimationProblem* job, FitResult* result, DiscoveryReport* 
       *progress << "  refit without " << candidate.name << ": " << record.negligible << "; BIC "
                 << record.bic_before << " -> " << record.bic_after << " (removed)\n";
     }
-    DropEffect(candidate.name, std::move(without), std::move(refit), job, result, report);
+    DropEffect(candidate.name, std::move(removal.without), std::move(removal.refit), job, result,
+               report);
   }
 }
 

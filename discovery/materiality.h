@@ -69,7 +69,7 @@ std::string NegligibleNote(const std::string& effect, const Contribution& c,
 // The rule on its own, after the significance rule: each effect of
 // report->selected (the last first; the accelerometer's convention step
 // and Coulomb while Stribeck is in skipped) that is not material at the
-// fit `result` is refitted away (RefitWithout, discovery/removal.h) and
+// fit `result` is refitted away (RefitsWithout, discovery/removal.h) and
 // dropped whatever BIC says: a removal step with DiscoveryStep::negligible
 // set, and its NegligibleNote in report->notes. A refit without it that
 // stops or fails keeps it. Progress lines go to `progress`. Throws as

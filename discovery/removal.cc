@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <chrono>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -21,13 +20,6 @@
 
 namespace axis {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-// Wall time since `start`, s.
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // `job` without `c` (its parameters `params` fixed), as a warm refit.
 // Without a large effect the optimum can be far from this start: the
@@ -66,18 +58,6 @@ DiscoveryStep RemovalRecord(const Candidate& c, const FitResult& result, const F
 }
 
 }  // namespace
-
-std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
-                                                 const std::vector<std::string>& params,
-                                                 EstimationProblem* job, const FitResult& result,
-                                                 EstimationProblem* without) {
-  ApplyEstimates(result, job);
-  *without = WithoutJob(c, params, *job);
-  const Clock::time_point start = Clock::now();
-  FitResult refit = FitParameters(*without, nullptr, RemovalControl(result));
-  DiscoveryStep record = RemovalRecord(c, result, refit, SecondsSince(start));
-  return {record, refit};
-}
 
 std::vector<Removal> RefitsWithout(const std::vector<Candidate>& candidates,
                                    EstimationProblem* job, const FitResult& result) {
@@ -125,9 +105,9 @@ void DropInsignificant(double level, EstimationProblem* job, FitResult* result,
                          " (not significant)",
                      std::numeric_limits<double>::quiet_NaN());
     }
-    EstimationProblem without;
-    auto [record, refit] =
-        RefitWithout(candidate, EffectParameters(candidate), job, *result, &without);
+    Removal removal = std::move(RefitsWithout({candidate}, job, *result)[0]);
+    DiscoveryStep& record = removal.record;
+    const FitResult& refit = removal.refit;
     // The likelihood ratio of the same refit must agree: a Wald test is not
     // invariant to the parametrisation (a second-order filter's (τ, ζ)
     // ridge, where removing the effect raised BIC from 8.0e3 past 2.0e4 on
@@ -164,7 +144,8 @@ void DropInsignificant(double level, EstimationProblem* job, FitResult* result,
                 << "; BIC " << record.bic_before << " -> " << record.bic_after
                 << " (removed)\n";
     }
-    DropEffect(candidate.name, std::move(without), std::move(refit), job, result, report);
+    DropEffect(candidate.name, std::move(removal.without), std::move(removal.refit), job, result,
+               report);
   }
   ApplyEstimates(*result, job);
   report->significance.clear();

@@ -17,18 +17,6 @@
 
 namespace axis {
 
-// Refits `job` without `c` (its parameters `params` fixed), warm-started at
-// the optimum `result` with the effect switched off (ApplyEstimates writes
-// `result` into `job` first); `without` receives the job. The removal step
-// records BIC with and without (bic_before, bic_after) and the refit's
-// wall time; kept = BIC improved. A refit that can no longer fall below
-// the BIC with the effect stops early (DiscoveryStep::stopped, not kept).
-// Throws as FitParameters does.
-std::pair<DiscoveryStep, FitResult> RefitWithout(const Candidate& c,
-                                                 const std::vector<std::string>& params,
-                                                 EstimationProblem* job, const FitResult& result,
-                                                 EstimationProblem* without);
-
 // One refit of RefitsWithout: the removal step, the refit and its job.
 struct Removal {
   DiscoveryStep record;
@@ -36,13 +24,18 @@ struct Removal {
   EstimationProblem without;  // the job refitted
 };
 
-// RefitWithout for each of `candidates` (its parameters EffectParameters),
-// every refit from the same `result` (written into `job` first), up to
-// job->solver.threads of them at once (FitConcurrently, estimation/fit.h):
-// the refits one after the other would give, up to the last bits of a cost
-// summed on another number of threads; in `candidates`' order, each
-// record's seconds its refit's own wall time. Throws as FitParameters does
-// (the lowest-indexed refit's exception, after every refit has run).
+// Refits `job` without each of `candidates` (its parameters
+// EffectParameters fixed), warm-started at the optimum `result` with the
+// effect switched off (ApplyEstimates writes `result` into `job` first).
+// Each removal step records BIC with and without (bic_before, bic_after)
+// and the refit's own wall time; kept = BIC improved. A refit that can no
+// longer fall below the BIC with the effect stops early
+// (DiscoveryStep::stopped, not kept). Up to job->solver.threads refits run
+// at once (FitConcurrently, estimation/fit.h), with what the refits one
+// after the other would give, up to the last bits of a cost summed on
+// another number of threads (one candidate: one refit on all the threads);
+// in `candidates`' order. Throws as FitParameters does (the lowest-indexed
+// refit's exception, after every refit has run).
 std::vector<Removal> RefitsWithout(const std::vector<Candidate>& candidates,
                                    EstimationProblem* job, const FitResult& result);
 
